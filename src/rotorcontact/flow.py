@@ -1,0 +1,109 @@
+"""Exact free flight in closed form (MODEL.md §3).
+
+With V = U - k the deviation from the regular equilibrium k, the co-rotating
+flow is w' = A w with A = [[0, 1], [b, -2a]], where
+
+    a = (gamma + 2i) / 2,   b = 1 - omega^2 - i gamma.
+
+Writing m = tr(A)/2 = -a and h^2 = (gamma^2 - 4 omega^2) / 4 (a real number),
+(A - m I)^2 = h^2 I, so
+
+    e^{A t} = e^{-gamma t/2} e^{-i t} [C(t) I + S(t) (A + a I)],
+    C = cosh(h t),  S = sinh(h t) / h,
+
+with C and S real: cos / sin(nu t)/nu when underdamped (h = i nu), cosh /
+sinh(kappa t)/kappa when overdamped, and 1 / t at critical damping. This form
+has no eigenvector cancellation near gamma = 2 omega, and the factor e^{-it}
+is exactly the rotation between the co-rotating and the inertial frame.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+import numpy as np
+from numba import njit
+
+from .params import Parameters
+
+__all__ = ["propagate", "free_flight", "to_inertial", "equilibrium_point"]
+
+
+@njit(cache=True)
+def scaled_cs(t: float, gamma: float, h2: float) -> tuple[float, float]:
+    """Return e^{-gamma t/2} C(t) and e^{-gamma t/2} S(t) for h^2 = h2."""
+    g2 = 0.5 * gamma
+    if h2 < 0.0:
+        nu = math.sqrt(-h2)
+        e = math.exp(-g2 * t)
+        return e * math.cos(nu * t), e * math.sin(nu * t) / nu
+    if h2 > 0.0:
+        kap = math.sqrt(h2)
+        x = kap * t
+        if abs(x) < 20.0:
+            e = math.exp(-g2 * t)
+            return e * math.cosh(x), e * math.sinh(x) / kap
+        ep = math.exp((kap - g2) * t)
+        em = math.exp((-kap - g2) * t)
+        return 0.5 * (ep + em), 0.5 * (ep - em) / kap
+    e = math.exp(-g2 * t)
+    return e, e * t
+
+
+@njit(cache=True)
+def propagate(v0: complex, dv0: complex, t: float, gamma: float, omega: float) -> tuple[complex, complex]:
+    """Exact flow of the homogeneous part: (V, V') at time t from (V, V') = (v0, dv0) at 0."""
+    a = complex(0.5 * gamma, 1.0)
+    b = complex(1.0 - omega * omega, -gamma)
+    h2 = 0.25 * gamma * gamma - omega * omega
+    c, s = scaled_cs(t, gamma, h2)
+    rot = complex(math.cos(t), -math.sin(t))
+    v = rot * (c * v0 + s * (a * v0 + dv0))
+    dv = rot * (c * dv0 + s * (b * v0 - a * dv0))
+    return v, dv
+
+
+@njit(cache=True)
+def equilibrium_point(gamma: float, omega: float, rho: float, phi: float) -> complex:
+    """k = rho e^{i phi} / (omega^2 - 1 + i gamma), the regular equilibrium (MODEL.md §3)."""
+    return rho * cmath.exp(1j * phi) / complex(omega * omega - 1.0, gamma)
+
+
+@njit(cache=True)
+def _flow_many(u0: complex, du0: complex, t: np.ndarray, gamma: float, omega: float, k: complex):
+    u = np.empty(t.shape[0], dtype=np.complex128)
+    du = np.empty(t.shape[0], dtype=np.complex128)
+    for i in range(t.shape[0]):
+        v, dv = propagate(u0 - k, du0, t[i], gamma, omega)
+        u[i] = k + v
+        du[i] = dv
+    return u, du
+
+
+def free_flight(params: Parameters, u0: complex, du0: complex, t) -> tuple[np.ndarray, np.ndarray]:
+    """Contact-free motion from (U, U') = (u0, du0) at t = 0, evaluated exactly at times ``t``.
+
+    Parameters
+    ----------
+    params : Parameters
+        Model parameters.
+    u0, du0 : complex
+        Position and velocity in the co-rotating frame at t = 0.
+    t : array_like
+        Dimensionless times (any sign).
+
+    Returns
+    -------
+    U, dU : numpy.ndarray
+        Complex position and velocity in the co-rotating frame, shaped like ``t``.
+    """
+    tt = np.asarray(t, dtype=float)
+    k = equilibrium_point(params.gamma, params.omega, params.rho, params.phi)
+    u, du = _flow_many(complex(u0), complex(du0), tt.ravel(), params.gamma, params.omega, k)
+    return u.reshape(tt.shape), du.reshape(tt.shape)
+
+
+def to_inertial(u, t):
+    """Inertial-frame position Z = U e^{i t} (MODEL.md §2)."""
+    return np.asarray(u) * np.exp(1j * np.asarray(t, dtype=float))

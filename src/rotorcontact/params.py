@@ -1,0 +1,314 @@
+"""Parameters of the rotor model: dimensionless `Parameters` and the SI `Machine`.
+
+The dimensionless groups are those of MODEL.md §2::
+
+    gamma = c / (m Omega),  omega**2 = k / (m Omega**2),  rho = e_c / c_r,
+
+together with the friction coefficient mu, the restitution d, the unbalance
+phase phi and r_ratio = R / c_r, which sets the direction of the friction force
+through v_rel = r_ratio + 1 + thetadot.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import asdict, dataclass, fields, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any, Mapping
+
+from .errors import ParameterError
+
+__all__ = [
+    "Parameters",
+    "Machine",
+    "reference_machine",
+    "load_machine",
+    "check_finite",
+    "check_range",
+]
+
+
+def check_finite(name: str, value: Any) -> float:
+    """Return ``value`` as a float, or raise `ParameterError` if it is not a finite real number."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        try:
+            value = float(value)
+        except (TypeError, ValueError):
+            raise ParameterError(
+                f"{name} = {value!r} is not a number; a finite real number is required"
+            ) from None
+    value = float(value)
+    if not math.isfinite(value):
+        raise ParameterError(f"{name} = {value!r} is not finite; a finite real number is required")
+    return value
+
+
+def check_range(
+    name: str,
+    value: Any,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> float:
+    """Check that ``value`` is finite and lies in the given interval; return it as a float."""
+    v = check_finite(name, value)
+    lo_bad = low is not None and (v <= low if low_open else v < low)
+    hi_bad = high is not None and (v >= high if high_open else v > high)
+    if lo_bad or hi_bad:
+        left = "(" if low_open else "["
+        right = ")" if high_open else "]"
+        lo = "-inf" if low is None else f"{low:g}"
+        hi = "inf" if high is None else f"{high:g}"
+        if low is None:
+            left = "("
+        if high is None:
+            right = ")"
+        raise ParameterError(f"{name} = {v!r} is out of range; allowed: {left}{lo}, {hi}{right}")
+    return v
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """Dimensionless parameters of the co-rotating model (MODEL.md §2).
+
+    Attributes
+    ----------
+    gamma : float
+        Damping c / (m Omega). Any finite value; negative values are allowed for
+        the analysis of orbits, not for a physical machine.
+    omega : float
+        Stiffness ratio sqrt(k / (m Omega^2)), > 0.
+    rho : float
+        Eccentricity over clearance e_c / c_r, >= 0.
+    mu : float
+        Coulomb friction coefficient, >= 0.
+    d : float
+        Newton restitution coefficient, in [0, 1].
+    phi : float
+        Unbalance phase in radians.
+    r_ratio : float
+        Rotor radius over clearance R / c_r, >= 0; sets sgn(v_rel).
+    """
+
+    gamma: float
+    omega: float
+    rho: float
+    mu: float
+    d: float
+    phi: float = 0.0
+    r_ratio: float = 0.0
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            object.__setattr__(self, f.name, check_finite(f.name, getattr(self, f.name)))
+        check_range("omega", self.omega, low=0.0, low_open=True)
+        check_range("rho", self.rho, low=0.0)
+        check_range("mu", self.mu, low=0.0)
+        check_range("d", self.d, low=0.0, high=1.0)
+        check_range("r_ratio", self.r_ratio, low=0.0)
+
+    @classmethod
+    def reference(cls) -> "Parameters":
+        """The dimensionless parameters of the built-in reference machine."""
+        return reference_machine().parameters()
+
+    def replace(self, **changes: float) -> "Parameters":
+        """Return a copy with some parameters changed (validated again)."""
+        unknown = set(changes) - {f.name for f in fields(self)}
+        if unknown:
+            name = sorted(unknown)[0]
+            raise ParameterError(
+                f"unknown parameter {name!r}; allowed: {', '.join(f.name for f in fields(self))}"
+            )
+        return replace(self, **changes)
+
+    def as_dict(self) -> dict[str, float]:
+        """The parameters as a plain dict of floats."""
+        return asdict(self)
+
+    @property
+    def k(self) -> complex:
+        """Regular equilibrium U = k = rho e^{i phi} / (omega^2 - 1 + i gamma) (MODEL.md §3)."""
+        return self.rho * complex(math.cos(self.phi), math.sin(self.phi)) / complex(
+            self.omega**2 - 1.0, self.gamma
+        )
+
+
+_MACHINE_RULES: dict[str, dict[str, Any]] = {
+    "mass": dict(low=0.0, low_open=True, unit="kg"),
+    "damping": dict(low=0.0, unit="N s/m"),
+    "stiffness": dict(low=0.0, low_open=True, unit="N/m"),
+    "eccentricity": dict(low=0.0, unit="m"),
+    "clearance": dict(low=0.0, low_open=True, unit="m"),
+    "rotor_radius": dict(low=0.0, unit="m"),
+    "unbalance_phase": dict(unit="rad"),
+    "speed": dict(low=0.0, low_open=True, unit="rad/s"),
+    "friction": dict(low=0.0, unit="1"),
+    "restitution": dict(low=0.0, high=1.0, unit="1"),
+}
+
+
+@dataclass(frozen=True)
+class Machine:
+    """A rotor in its touchdown bearing, in SI units (MODEL.md §1).
+
+    Attributes
+    ----------
+    mass : float
+        Rotor mass m in kg, > 0.
+    damping : float
+        Bearing damping c in N s/m, >= 0.
+    stiffness : float
+        Bearing stiffness k in N/m, > 0.
+    eccentricity : float
+        Unbalance eccentricity e_c in m, >= 0.
+    clearance : float
+        Radial clearance c_r in m, > 0.
+    rotor_radius : float
+        Rotor radius R in m, >= 0.
+    unbalance_phase : float
+        Unbalance phase phi in rad.
+    speed : float
+        Spin speed Omega in rad/s, > 0.
+    friction : float
+        Coulomb friction coefficient mu, >= 0.
+    restitution : float
+        Newton restitution coefficient d, in [0, 1].
+    """
+
+    mass: float
+    damping: float
+    stiffness: float
+    eccentricity: float
+    clearance: float
+    rotor_radius: float
+    unbalance_phase: float
+    speed: float
+    friction: float
+    restitution: float
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            rule = {k: v for k, v in _MACHINE_RULES[f.name].items() if k != "unit"}
+            object.__setattr__(self, f.name, check_range(f.name, getattr(self, f.name), **rule))
+
+    @staticmethod
+    def units() -> dict[str, str]:
+        """SI unit of each field."""
+        return {name: rule["unit"] for name, rule in _MACHINE_RULES.items()}
+
+    def parameters(self) -> Parameters:
+        """Convert to the dimensionless `Parameters` (MODEL.md §2)."""
+        m, om = self.mass, self.speed
+        return Parameters(
+            gamma=self.damping / (m * om),
+            omega=math.sqrt(self.stiffness / (m * om * om)),
+            rho=self.eccentricity / self.clearance,
+            mu=self.friction,
+            d=self.restitution,
+            phi=self.unbalance_phase,
+            r_ratio=self.rotor_radius / self.clearance,
+        )
+
+    def with_speed(self, speed: float) -> "Machine":
+        """The same machine at another spin speed (rad/s)."""
+        return replace(self, speed=speed)
+
+    # Scales that turn dimensionless results into SI (MODEL.md §2: u = c_r U, t = Omega tau).
+    @property
+    def length_scale(self) -> float:
+        """Metres per unit of U (the clearance c_r)."""
+        return self.clearance
+
+    @property
+    def time_scale(self) -> float:
+        """Seconds per unit of dimensionless time (1 / Omega)."""
+        return 1.0 / self.speed
+
+    @property
+    def force_scale(self) -> float:
+        """Newtons per unit of dimensionless force per unit mass (m c_r Omega^2)."""
+        return self.mass * self.clearance * self.speed**2
+
+    @property
+    def impulse_scale(self) -> float:
+        """Newton seconds per unit of dimensionless impulse per unit mass (m c_r Omega)."""
+        return self.mass * self.clearance * self.speed
+
+    def as_dict(self) -> dict[str, float]:
+        """The machine as a plain dict of SI floats."""
+        return asdict(self)
+
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any], source: str = "machine") -> "Machine":
+        """Build a machine from a mapping of field names to SI values.
+
+        Raises
+        ------
+        ParameterError
+            On unknown or missing keys, or invalid values.
+        """
+        if not isinstance(data, Mapping):
+            raise ParameterError(f"{source}: expected a table of machine parameters, got {type(data).__name__}")
+        allowed = [f.name for f in fields(cls)]
+        unknown = [key for key in data if key not in allowed]
+        if unknown:
+            raise ParameterError(
+                f"{source}: unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}"
+            )
+        missing = [key for key in allowed if key not in data]
+        if missing:
+            raise ParameterError(
+                f"{source}: missing key {missing[0]!r}; required keys: {', '.join(allowed)}"
+            )
+        values = {}
+        for key in allowed:
+            raw = data[key]
+            if isinstance(raw, bool) or not isinstance(raw, (int, float)):
+                raise ParameterError(
+                    f"{source}: {key} = {raw!r} is not a number; a finite real number in "
+                    f"{_MACHINE_RULES[key]['unit']} is required"
+                )
+            values[key] = raw
+        return cls(**values)
+
+
+def _machine_file(name: str) -> Path:
+    return Path(str(resources.files("rotorcontact").joinpath("machines", f"{name}.toml")))
+
+
+def load_machine(path: str | Path) -> Machine:
+    """Load a `Machine` from a TOML file, or a built-in machine by name (``"reference"``).
+
+    The file holds the fields of `Machine` as top-level keys in SI units, or
+    under a ``[machine]`` table.
+
+    Raises
+    ------
+    ParameterError
+        If the file is missing, is not valid TOML, or its keys or values are invalid.
+    """
+    path_str = str(path)
+    if path_str == "reference":
+        path = _machine_file("reference")
+    path = Path(path)
+    if not path.is_file():
+        raise ParameterError(
+            f"machine = {path_str!r}: no such file; give a TOML file or the built-in name 'reference'"
+        )
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ParameterError(f"{path}: malformed TOML ({exc})") from None
+    if "machine" in data and isinstance(data["machine"], Mapping) and len(data) == 1:
+        data = data["machine"]
+    return Machine.from_mapping(data, source=str(path))
+
+
+def reference_machine() -> Machine:
+    """The experimental rig of MODEL.md §1, the built-in ``reference`` machine."""
+    return load_machine("reference")
