@@ -1,34 +1,37 @@
 """Guaranteed location of the next impact: the first t > 0 with |U(t)| = 1, |U| increasing.
 
-Method (safe stepping on f(t) = |U(t)|^2 - 1). At a point tau with f(tau) < 0,
-Taylor's theorem gives, for every s in the interval of validity of a bound
-M >= max |f''|,
+Method: safe stepping on f(s) = |U(s)|^2 - 1, with s the time since the start
+of the flight. At a point with f < 0, Taylor's theorem gives
 
-    f(tau + s) <= f(tau) + f'(tau) s + M s^2 / 2,
+    f(s + h) <= f + f' h + f'' h^2 / 2 + M3 h^3 / 6      (M3 >= |f'''| ahead)
+    f(s + h) <= f + f' h + M2 h^2 / 2                     (M2 >= |f''| ahead)
 
-so no crossing lies before the positive root h of the right-hand side. M comes
-from rigorous bounds on |V|, |V'|, |V''| (V = U - k) along the exact flow of
-`rotorcontact.flow`: with p_n = V^{(n)}(tau) and q_n = a p_n + p_{n+1},
+so no crossing lies before the first positive root of either right-hand side,
+and the step to it is safe. The bounds M2, M3 are rigorous: |U| = |Z| with Z
+the inertial position, and in the flight's own inertial frame
 
-    V^{(n)}(tau + s) = e^{-gamma s/2} e^{-is} [C(s) p_n + S(s) q_n],
+    Z(s) = k e^{i s} + W(s),   W'' + gamma W' + omega^2 W = 0,
 
-so |V^{(n)}| <= sqrt(|p_n|^2 + |q_n|^2 / nu^2) for all s >= 0 when the flow is
-underdamped with gamma >= 0, and |V^{(n)}| <= Cmax |p_n| + Smax |q_n| on a
-finite window otherwise. Then |f''| <= 2 |V'|^2 + 2 (|k| + |V|) |V''|.
+so every derivative obeys W^{(n)}(s + h) = e^{-gamma h/2}[C(h) p_n + S(h) q_n]
+(p_n = W^{(n)}(s), q_n = gamma p_n / 2 + p_{n+1}, C and S as in `flow`), which
+gives |W^{(n)}| <= sqrt(|p_n|^2 + |q_n|^2 / nu^2) for all h >= 0 when the flow
+is underdamped with gamma >= 0, and |W^{(n)}| <= Cmax |p_n| + Smax |q_n| on a
+finite window otherwise; then |Z^{(n)}| <= |k| + |W^{(n)}|.
 
-Stepping by h never crosses the surface; near a transversal crossing the steps
-converge to it quadratically from below (like Newton), near a tangency that
-stays below 1 they walk past it, and a crossing whose excursion above 1 is
-tiny is still found because the steps can never jump over it.
+Stepping never crosses the surface. Near a transversal crossing the steps
+converge to it from below at least quadratically (like Newton); near a tangency
+that stays below 1 they walk past it; a crossing whose excursion above 1 is
+tiny is still found because no step can jump over it.
 """
 
 from __future__ import annotations
 
+import cmath
 import math
 
 from numba import njit
 
-from .flow import propagate
+from .flow import scaled_cs
 
 NO_CROSSING = 0
 CROSSING = 1
@@ -40,8 +43,19 @@ EPS = 2.220446049250313e-16
 
 
 @njit(cache=True)
+def inertial_flow(w0: complex, dw0: complex, s: float, gamma: float, omega: float) -> tuple[complex, complex]:
+    """(W, W') at time s of W'' + gamma W' + omega^2 W = 0 from (w0, dw0) at 0."""
+    h2 = 0.25 * gamma * gamma - omega * omega
+    c, sn = scaled_cs(s, gamma, h2)
+    g2 = 0.5 * gamma
+    w = c * w0 + sn * (g2 * w0 + dw0)
+    dw = c * dw0 + sn * (-omega * omega * w0 - g2 * dw0)
+    return w, dw
+
+
+@njit(cache=True)
 def _window(gamma: float, h2: float, width: float) -> tuple[float, float]:
-    """Bounds Cmax >= e^{-gamma s/2}|C(s)| and Smax >= e^{-gamma s/2}|S(s)| for s in [0, width]."""
+    """Cmax >= e^{-gamma s/2}|C(s)| and Smax >= e^{-gamma s/2}|S(s)| for s in [0, width]."""
     g2 = 0.5 * gamma
     if h2 > 0.0:
         kap = math.sqrt(h2)
@@ -54,66 +68,122 @@ def _window(gamma: float, h2: float, width: float) -> tuple[float, float]:
 
 
 @njit(cache=True)
-def _taylor_bounds(p0, p1, p2, p3, a, cmax, smax, sqrt_form, nu):
-    """Bounds on |V|, |V'|, |V''| ahead of the current point."""
-    q0 = a * p0 + p1
-    q1 = a * p1 + p2
-    q2 = a * p2 + p3
+def _bound(p: complex, q: complex, cmax: float, smax: float, sqrt_form: bool, nu: float) -> float:
+    """Bound on |e^{-gamma h/2}(C(h) p + S(h) q)| ahead of the current point."""
+    pp = p.real * p.real + p.imag * p.imag
+    qq = q.real * q.real + q.imag * q.imag
     if sqrt_form:
-        b0 = math.sqrt(abs(p0) ** 2 + (abs(q0) / nu) ** 2)
-        b1 = math.sqrt(abs(p1) ** 2 + (abs(q1) / nu) ** 2)
-        b2 = math.sqrt(abs(p2) ** 2 + (abs(q2) / nu) ** 2)
-    else:
-        b0 = cmax * abs(p0) + smax * abs(q0)
-        b1 = cmax * abs(p1) + smax * abs(q1)
-        b2 = cmax * abs(p2) + smax * abs(q2)
-    return b0, b1, b2
+        return math.sqrt(pp + qq / (nu * nu))
+    return cmax * math.sqrt(pp) + smax * math.sqrt(qq)
 
 
 @njit(cache=True)
-def _safe_root(f: float, fp: float, m: float) -> float:
-    """Positive root of f + fp s + m s^2 / 2 = 0 for f < 0 (cancellation-free)."""
-    if m <= 0.0:
-        if fp > 0.0:
-            return -f / fp
+def _first_positive_root(c0: float, c1: float, c2: float) -> float:
+    """Smallest s > 0 with c0 + c1 s + c2 s^2 / 2 = 0 for c0 <= 0 (inf if none)."""
+    if c2 == 0.0:
+        return -c0 / c1 if c1 > 0.0 else math.inf
+    disc = c1 * c1 - 2.0 * c2 * c0
+    if disc < 0.0:
         return math.inf
-    disc = math.sqrt(fp * fp - 2.0 * m * f)
-    if fp >= 0.0:
-        return -2.0 * f / (fp + disc)
-    return (disc - fp) / m
+    sq = math.sqrt(disc)
+    if c2 > 0.0:
+        if c1 >= 0.0:
+            return -2.0 * c0 / (c1 + sq)
+        return (sq - c1) / c2
+    if c1 <= 0.0:
+        return math.inf
+    return -2.0 * c0 / (c1 + sq)
 
 
 @njit(cache=True)
-def _safe_step(p0, p1, k_abs, f, fp, a, b, gamma, h2, horizon, window):
-    """Largest step from the current point guaranteed free of crossings."""
-    p2 = b * p0 - 2.0 * a * p1
-    p3 = b * p1 - 2.0 * a * p2
-    best = 0.0
-    # infinite-horizon bound (decaying underdamped flow)
-    if gamma >= 0.0 and h2 < 0.0:
-        nu = math.sqrt(-h2)
-        b0, b1, b2 = _taylor_bounds(p0, p1, p2, p3, a, 1.0, 1.0, True, nu)
-        best = _safe_root(f, fp, 2.0 * b1 * b1 + 2.0 * (k_abs + b0) * b2)
-    # finite window bound
-    width = min(window, horizon)
-    if best < width:
-        cmax, smax = _window(gamma, h2, width)
-        b0, b1, b2 = _taylor_bounds(p0, p1, p2, p3, a, cmax, smax, False, 1.0)
-        h = min(_safe_root(f, fp, 2.0 * b1 * b1 + 2.0 * (k_abs + b0) * b2), width)
-        if h > best:
-            best = h
+def _step_from_bounds(f, fp, fpp, z0, z1, z2, z3):
+    """Largest crossing-free step given bounds z_n >= |Z^{(n)}| ahead.
+
+    For any trial S, min(S, first root of f + f' h + (f'' + M3 S/3) h^2/2) is
+    safe, since the cubic Taylor bound is below that quadratic on [0, S].
+    """
+    best = _first_positive_root(f, fp, 2.0 * z1 * z1 + 2.0 * z0 * z2)
+    m3 = 6.0 * z1 * z2 + 2.0 * z0 * z3
+    if m3 <= 0.0:
+        return best
+    trial = 2.0 * best
+    if fpp < 0.0:
+        trial = max(trial, -1.5 * fpp / m3)
+    for _ in range(4):
+        g = _first_positive_root(f, fp, fpp + m3 * trial / 3.0)
+        if g >= trial:
+            best = max(best, trial)
+            trial *= 2.0
+        else:
+            best = max(best, g)
+            trial = 0.5 * (g + trial)
     return best
+
+
+@njit(cache=True)
+def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, window):
+    """Largest step from the current point guaranteed free of crossings."""
+    om2 = omega * omega
+    g2 = 0.5 * gamma
+    w2 = -gamma * dw - om2 * w
+    w3 = -gamma * w2 - om2 * dw
+    w4 = -gamma * w3 - om2 * w2
+    q0 = g2 * w + dw
+    q1 = g2 * dw + w2
+    q2 = g2 * w2 + w3
+    q3 = g2 * w3 + w4
+    best = 0.0
+    nu = math.sqrt(-h2) if h2 < 0.0 else 0.0
+    if gamma >= 0.0 and h2 < 0.0:
+        best = _step_from_bounds(
+            f, fp, fpp,
+            k_abs + _bound(w, q0, 1.0, 1.0, True, nu),
+            k_abs + _bound(dw, q1, 1.0, 1.0, True, nu),
+            k_abs + _bound(w2, q2, 1.0, 1.0, True, nu),
+            k_abs + _bound(w3, q3, 1.0, 1.0, True, nu),
+        )
+    width = min(window, horizon)
+    # the finite window helps only where the all-time bound is poor (growth, or nu small)
+    if best < width and (gamma < 0.0 or nu < 0.5 * omega):
+        cmax, smax = _window(gamma, h2, width)
+        h = min(
+            _step_from_bounds(
+                f, fp, fpp,
+                k_abs + _bound(w, q0, cmax, smax, False, 1.0),
+                k_abs + _bound(dw, q1, cmax, smax, False, 1.0),
+                k_abs + _bound(w2, q2, cmax, smax, False, 1.0),
+                k_abs + _bound(w3, q3, cmax, smax, False, 1.0),
+            ),
+            width,
+        )
+        best = max(best, h)
+    return best
+
+
+@njit(cache=True)
+def _surface(k, w0, dw0, s, gamma, omega):
+    """Z, Z', W, W' and f, f', f'' at time s of the flight."""
+    w, dw = inertial_flow(w0, dw0, s, gamma, omega)
+    rot = cmath.exp(1j * s)
+    kr = k * rot
+    z = kr + w
+    dz = 1j * kr + dw
+    ddz = -kr - gamma * dw - omega * omega * w
+    f = (z.real * z.real + z.imag * z.imag) - 1.0
+    fp = 2.0 * (z.real * dz.real + z.imag * dz.imag)
+    fpp = 2.0 * (dz.real * dz.real + dz.imag * dz.imag) + 2.0 * (z.real * ddz.real + z.imag * ddz.imag)
+    return z, dz, w, dw, f, fp, fpp
 
 
 @njit(cache=True)
 def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: float,
                   horizon: float, on_boundary: bool) -> tuple[int, float]:
-    """First time tau in (0, horizon] where |k + V(tau)| reaches 1 while increasing.
+    """First time s in (0, horizon] where |k + V(s)| reaches 1 while increasing.
 
     Parameters
     ----------
     v0, dv0 : complex
-        V = U - k and V' at tau = 0.
+        V = U - k and V' (co-rotating frame) at s = 0.
     k : complex
         Regular equilibrium.
     gamma, omega : float
@@ -125,70 +195,50 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
 
     Returns
     -------
-    code, tau : int, float
+    code, s : int, float
         ``CROSSING`` and the time; ``NO_CROSSING`` and ``horizon``; ``STUCK``
-        when starting on the boundary with no inward motion and outward
+        when starting on the boundary with no inward velocity and outward
         acceleration (impacts accumulate); ``ITERATION_LIMIT``.
     """
-    a = complex(0.5 * gamma, 1.0)
-    b = complex(1.0 - omega * omega, -gamma)
+    # the flight's inertial frame: Z(s) = U(s) e^{is}, W = V e^{is}
+    w0 = v0
+    dw0 = dv0 + 1j * v0
     h2 = 0.25 * gamma * gamma - omega * omega
     k_abs = abs(k)
     window = 1.0
-    tau = 0.0
+    s = 0.0
     for _ in range(MAX_STEPS):
-        v, dv = propagate(v0, dv0, tau, gamma, omega)
-        u = k + v
-        scale = (k_abs + abs(v)) ** 2 + 1.0
-        f = (u.real * u.real + u.imag * u.imag) - 1.0
-        fp = 2.0 * (u.real * dv.real + u.imag * dv.imag)
+        z, dz, w, dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
+        scale = (k_abs + abs(w)) ** 2 + 1.0
         ftol = 16.0 * EPS * scale
-        if on_boundary and tau == 0.0:
+        if on_boundary and s == 0.0:
             f = 0.0
-            if fp > -ftol * (1.0 + abs(dv)):
-                # no inward velocity: decide by the sign of f'' (third-order safe step)
-                p2 = b * v - 2.0 * a * dv
-                p3 = b * dv - 2.0 * a * p2
-                p4 = b * p2 - 2.0 * a * p3
-                fpp = 2.0 * abs(dv) ** 2 + 2.0 * (u.real * p2.real + u.imag * p2.imag)
+            if fp > -ftol * (1.0 + abs(dz)):
+                # no inward velocity: the sign of f'' decides
                 if fpp >= -ftol:
                     return STUCK, 0.0
-                width = min(window, horizon)
-                cmax, smax = _window(gamma, h2, width)
-                b0 = cmax * abs(v) + smax * abs(a * v + dv)
-                b1 = cmax * abs(dv) + smax * abs(a * dv + p2)
-                b2 = cmax * abs(p2) + smax * abs(a * p2 + p3)
-                b3 = cmax * abs(p3) + smax * abs(a * p3 + p4)
-                m3 = 6.0 * b1 * b2 + 2.0 * (k_abs + b0) * b3
-                h = min(1.5 * (-fpp) / m3, width)
-                if h >= horizon:
-                    return NO_CROSSING, horizon
-                tau = h
-                continue
+                fp = min(fp, 0.0)
         elif f >= -ftol:
             if fp > 0.0:
                 # converged onto a transversal crossing from below: polish by Newton
                 for _p in range(2):
                     step = f / fp
-                    if abs(step) > 1e-9 * (1.0 + tau):
+                    if abs(step) > 1e-9 * (1.0 + s):
                         break
-                    tau -= step
-                    v, dv = propagate(v0, dv0, tau, gamma, omega)
-                    u = k + v
-                    f = (u.real * u.real + u.imag * u.imag) - 1.0
-                    fp = 2.0 * (u.real * dv.real + u.imag * dv.imag)
+                    s -= step
+                    z, dz, w, dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
                     if fp <= 0.0:
                         break
-                return CROSSING, tau
+                return CROSSING, s
             # tangency at rounding level, not moving outward: walk past it
             f = -ftol
-        h = _safe_step(v, dv, k_abs, f, fp, a, b, gamma, h2, horizon - tau, window)
-        if tau + h == tau:
-            # the step is below the resolution of tau: we are on the crossing
+        h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon - s, window)
+        if s + h == s:
+            # the step is below the resolution of s: we are on the crossing
             if fp > 0.0:
-                return CROSSING, tau
-            h = 4.0 * EPS * abs(tau)
-        if tau + h >= horizon:
+                return CROSSING, s
+            h = 4.0 * EPS * abs(s)
+        if s + h >= horizon:
             return NO_CROSSING, horizon
-        tau += h
-    return ITERATION_LIMIT, tau
+        s += h
+    return ITERATION_LIMIT, s
