@@ -17,6 +17,7 @@ They are exposed through the session fixture ``ref``.
 
 from __future__ import annotations
 
+import inspect
 import math
 from types import SimpleNamespace
 
@@ -118,6 +119,12 @@ class MPFlightCritical(MPFlight):
             return out
 
 
+def make_flight(p, u0, du0, dps=DPS):
+    """`MPFlight`, or `MPFlightCritical` where gamma = 2 omega exactly."""
+    critical = mp.mpf(p.gamma) == 2 * mp.mpf(p.omega)
+    return (MPFlightCritical if critical else MPFlight)(p.gamma, p.omega, p.rho, p.phi, u0, du0, dps)
+
+
 def _bracket_root(fun, a, b, dps):
     """Root of fun in [a, b] (fun(a) < 0 < fun(b)): bisection down to a small bracket, then findroot."""
     with mp.workdps(dps):
@@ -147,13 +154,19 @@ def mp_first_crossing(flight: MPFlight, t_max: float, dt: float = 0.01):
     n = int(math.ceil(t_max / dt))
     with mp.workdps(dps):
         ts = [mp.mpf(t_max) * j / n for j in range(n + 1)]
+        f0 = flight.f(0)
+        if abs(f0) < mp.mpf(10) ** -12:
+            # starting on the boundary (just after an impact, or a point rounded onto
+            # |U| = 1 in double precision): start just inside, where f < 0
+            fp0 = flight.fp(0)
+            assert fp0 < 0
+            ts[0] = 10 * abs(f0) / abs(fp0) + mp.mpf(10) ** (-dps // 2)
+            assert ts[0] < ts[1] and flight.f(ts[0]) < 0
         f_prev, fp_prev = flight.f(ts[0]), flight.fp(ts[0])
+        assert f_prev < 0
         for j in range(1, n + 1):
             a, b = ts[j - 1], ts[j]
             f_b, fp_b = flight.f(b), flight.fp(b)
-            if j == 1 and f_prev >= 0:
-                # starting on the boundary: only look ahead once inside
-                f_prev = -abs(f_prev) if fp_prev < 0 else f_prev
             if f_prev < 0 < f_b:
                 return _bracket_root(flight.f, a, b, dps)
             if f_prev < 0 and f_b < 0 and fp_prev > 0 > fp_b:
@@ -194,7 +207,7 @@ def mp_simulate(p, u0, du0, n_impacts, seg_max=60.0, dt=0.01, dps=DPS):
         t0 = mp.mpf(0)
         u, du = mp.mpc(u0), mp.mpc(du0)
         for _ in range(n_impacts):
-            fl = MPFlight(p.gamma, p.omega, p.rho, p.phi, u, du, dps)
+            fl = make_flight(p, u, du, dps)
             tau = mp_first_crossing(fl, seg_max, dt)
             if tau is None:
                 break
@@ -307,6 +320,35 @@ def f1_expm(p, T):
     return 1.0 + (q * a_matrix(p, T)[1, 1]).real
 
 
+# ---------------------------------------------------------------------------
+# calling the simulator
+# ---------------------------------------------------------------------------
+
+#: Statuses a run may end with. "max-events" is the name of the run-length cap
+#: where the simulator counts flights and contact phases rather than impacts.
+MAX_STATUSES = {"max-impacts", "max-events"}
+STATUSES = {"completed", "chatter"} | MAX_STATUSES
+
+
+def run_simulation(params, u0=0j, du0=0j, t_end=500.0, *, max_impacts=None, stop_on_chatter=True, **kw):
+    """Call `rotorcontact.simulate` with a cap on the number of impacts.
+
+    Where the simulator can continue through continuous contact, it is asked to
+    stop at an accumulation of impacts (status "chatter"), the behaviour these
+    tests check. The cap is passed as ``max_impacts`` or, where the simulator
+    counts events (flights and contact phases), as ``max_events``: without
+    contact each flight ends in one impact, so both mean the same here.
+    """
+    from rotorcontact import simulate
+
+    sig = inspect.signature(simulate).parameters
+    if max_impacts is not None:
+        kw["max_impacts" if "max_impacts" in sig else "max_events"] = max_impacts
+    if "on_chatter" in sig and "on_chatter" not in kw:
+        kw["on_chatter"] = "stop" if stop_on_chatter else "contact"
+    return simulate(params, u0, du0, t_end, **kw)
+
+
 def angle_diff(a, b):
     """Signed difference a - b of angles, in (-pi, pi]."""
     return np.angle(np.exp(1j * (np.asarray(a) - np.asarray(b))))
@@ -318,6 +360,7 @@ def ref():
     return SimpleNamespace(
         MPFlight=MPFlight,
         MPFlightCritical=MPFlightCritical,
+        flight=make_flight,
         mp_first_crossing=mp_first_crossing,
         mp_reset=mp_reset,
         mp_simulate=mp_simulate,
@@ -329,6 +372,9 @@ def ref():
         a_matrix=a_matrix,
         f1_expm=f1_expm,
         angle_diff=angle_diff,
+        run=run_simulation,
+        STATUSES=STATUSES,
+        MAX_STATUSES=MAX_STATUSES,
         DPS=DPS,
     )
 

@@ -1,4 +1,4 @@
-"""Classification of the long-run motion of a trajectory from its impact sequence."""
+"""Classification of the long-run motion of a trajectory."""
 
 from __future__ import annotations
 
@@ -10,37 +10,47 @@ import numpy as np
 if TYPE_CHECKING:
     from .trajectory import Trajectory
 
-__all__ = ["MotionSummary", "classify", "detect_period"]
+__all__ = ["MotionSummary", "classify", "detect_period", "REGIMES"]
 
 MAX_PERIOD_IMPACTS = 16
 REPEAT_TOL = 1e-6
 MIN_IRREGULAR = 30
+WINDOW = 1.0 / 3.0
+REGIMES = ("no-contact", "periodic-impacting", "irregular-impacting", "forward-rub", "backward-whirl", "mixed")
 
 
 @dataclass(frozen=True)
 class MotionSummary:
-    """Long-run motion of a trajectory.
+    """Long-run motion of a trajectory, judged on the last third of the run.
 
     Attributes
     ----------
     motion : str
-        ``"no-contact"`` (no impact in the last third of the run: the rotor
-        settles towards the regular equilibrium), ``"periodic-impacting"``,
-        ``"irregular"`` (impacting with no period up to `MAX_PERIOD_IMPACTS`
-        impacts), ``"chatter"`` (impacts accumulate) or ``"undetermined"``
-        (too few impacts to tell).
+        What the impact sequence does: ``"no-contact"`` (no impact and no
+        contact: the rotor settles towards the regular equilibrium),
+        ``"periodic-impacting"``, ``"irregular"`` (impacting with no period of
+        up to `MAX_PERIOD_IMPACTS` impacts), ``"chatter"`` (impacts accumulate
+        and the run stopped there), ``"contact"`` (continuous contact, no
+        impacts) or ``"undetermined"`` (too few impacts to tell).
+    regime : str or None
+        The contact regime, one of `REGIMES`: ``"forward-rub"`` is sliding
+        forward only (settling onto a pseudo-equilibrium), ``"backward-whirl"``
+        ends rolling round the stator, ``"mixed"`` has impacts and contact.
+        None when the run stopped at chatter.
     n_impacts : int
         Number of impacts in the run.
-    impacts_per_period : int or None
-        Impacts per period of a periodic impacting motion.
-    period : float or None
-        Its period in dimensionless time.
+    impacts_per_period, period : int or None, float or None
+        Impacts per period and period of a periodic impacting motion.
+    contact_fraction : float
+        Fraction of the last third of the run spent in contact.
     """
 
     motion: str
+    regime: str | None
     n_impacts: int
     impacts_per_period: int | None = None
     period: float | None = None
+    contact_fraction: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -79,13 +89,28 @@ def classify(traj: "Trajectory") -> MotionSummary:
     """Classify the long-run motion of ``traj`` (see `MotionSummary`)."""
     imp = traj.impacts
     n = len(imp)
+    t_win = traj.t_stop * (1.0 - WINDOW)
     if traj.status == "chatter":
-        return MotionSummary("chatter", n)
-    if n == 0 or imp.t[-1] < traj.t_stop * (2.0 / 3.0):
-        return MotionSummary("no-contact", n)
+        return MotionSummary("chatter", None, n)
+    late_impacts = int(np.count_nonzero(imp.t >= t_win))
+    late = [c for c in traj.contact_intervals if c.t_end > t_win]
+    contact_time = sum(min(c.t_end, traj.t_stop) - max(c.t_start, t_win) for c in late)
+    fraction = contact_time / max(traj.t_stop - t_win, 1e-300)
+    if late_impacts == 0 and not late:
+        return MotionSummary("no-contact", "no-contact", n)
+    if late_impacts == 0:
+        kinds = {c.kind for c in late}
+        if late[-1].kind == "rolling":
+            regime = "backward-whirl"
+        elif kinds == {"sliding-forward"}:
+            regime = "forward-rub"
+        else:
+            regime = "mixed"
+        return MotionSummary("contact", regime, n, contact_fraction=fraction)
+    if late:
+        return MotionSummary("irregular", "mixed", n, contact_fraction=fraction)
     p, period = detect_period(imp.theta, imp.rdot, imp.thetadot, imp.t)
     if p is not None:
-        return MotionSummary("periodic-impacting", n, p, period)
-    if n >= MIN_IRREGULAR:
-        return MotionSummary("irregular", n)
-    return MotionSummary("undetermined", n)
+        return MotionSummary("periodic-impacting", "periodic-impacting", n, p, period)
+    motion = "irregular" if n >= MIN_IRREGULAR else "undetermined"
+    return MotionSummary(motion, "irregular-impacting", n)

@@ -79,7 +79,17 @@ def _bound(p: complex, q: complex, cmax: float, smax: float, sqrt_form: bool, nu
 
 @njit(cache=True)
 def _first_positive_root(c0: float, c1: float, c2: float) -> float:
-    """Smallest s > 0 with c0 + c1 s + c2 s^2 / 2 = 0 for c0 <= 0 (inf if none)."""
+    """Smallest s > 0 with c0 + c1 s + c2 s^2 / 2 = 0 for c0 <= 0 (inf if none).
+
+    With c0 = 0 the answer is the second root when the polynomial dips below
+    zero, and 0 when it does not (no safe step).
+    """
+    if c0 == 0.0:
+        if c1 < 0.0:
+            return -2.0 * c1 / c2 if c2 > 0.0 else math.inf
+        if c1 == 0.0 and c2 < 0.0:
+            return math.inf
+        return 0.0
     if c2 == 0.0:
         return -c0 / c1 if c1 > 0.0 else math.inf
     disc = c1 * c1 - 2.0 * c2 * c0
@@ -161,6 +171,43 @@ def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, windo
 
 
 @njit(cache=True)
+def _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window):
+    """A step away from a lift-off point, where f = f' = f'' = 0 to the event tolerance.
+
+    With f3 = f''' < 0 and M4 >= |f''''| ahead, f(h) <= f3 h^3/6 + M4 h^4/24 < 0
+    on (0, -4 f3/M4); half of that is returned (0 when f3 >= 0).
+    """
+    om2 = omega * omega
+    g2 = 0.5 * gamma
+    w2 = -gamma * dw - om2 * w
+    w3 = -gamma * w2 - om2 * dw
+    w4 = -gamma * w3 - om2 * w2
+    w5 = -gamma * w4 - om2 * w3
+    kr = z - w  # k e^{is}
+    ddz = -kr + w2
+    dddz = -1j * kr + w3
+    f3 = 6.0 * (dz.real * ddz.real + dz.imag * ddz.imag) + 2.0 * (z.real * dddz.real + z.imag * dddz.imag)
+    if f3 >= 0.0:
+        return 0.0
+    width = min(window, horizon)
+    if gamma >= 0.0 and h2 < 0.0:
+        cmax, smax, sq, nu = 1.0, 1.0, True, math.sqrt(-h2)
+    else:
+        cmax, smax = _window(gamma, h2, width)
+        sq, nu = False, 1.0
+    z0 = k_abs + _bound(w, g2 * w + dw, cmax, smax, sq, nu)
+    z1 = k_abs + _bound(dw, g2 * dw + w2, cmax, smax, sq, nu)
+    z2 = k_abs + _bound(w2, g2 * w2 + w3, cmax, smax, sq, nu)
+    z3 = k_abs + _bound(w3, g2 * w3 + w4, cmax, smax, sq, nu)
+    z4 = k_abs + _bound(w4, g2 * w4 + w5, cmax, smax, sq, nu)
+    m4 = 6.0 * z2 * z2 + 8.0 * z1 * z3 + 2.0 * z0 * z4
+    h = -2.0 * f3 / m4
+    if not sq:
+        h = min(h, width)
+    return h
+
+
+@njit(cache=True)
 def _surface(k, w0, dw0, s, gamma, omega):
     """Z, Z', W, W' and f, f', f'' at time s of the flight."""
     w, dw = inertial_flow(w0, dw0, s, gamma, omega)
@@ -177,7 +224,7 @@ def _surface(k, w0, dw0, s, gamma, omega):
 
 @njit(cache=True)
 def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: float,
-                  horizon: float, on_boundary: bool) -> tuple[int, float]:
+                  horizon: float, on_boundary: bool, liftoff: bool = False) -> tuple[int, float]:
     """First time s in (0, horizon] where |k + V(s)| reaches 1 while increasing.
 
     Parameters
@@ -192,6 +239,10 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
         Search up to this time.
     on_boundary : bool
         True when the start lies on |U| = 1 (just after an impact).
+    liftoff : bool
+        True when the start is a lift-off from continuous contact: on the
+        boundary with rdot = 0 and N = 0 to the event tolerance; the flight
+        leaves when the third derivative of |U|^2 is negative (`_liftoff_step`).
 
     Returns
     -------
@@ -211,6 +262,14 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
         z, dz, w, dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
         scale = (k_abs + abs(w)) ** 2 + 1.0
         ftol = 16.0 * EPS * scale
+        if on_boundary and s == 0.0 and liftoff:
+            h = _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window)
+            if h <= 0.0:
+                return STUCK, 0.0
+            if h >= horizon:
+                return NO_CROSSING, horizon
+            s = h
+            continue
         if on_boundary and s == 0.0:
             f = 0.0
             if fp > -ftol * (1.0 + abs(dz)):

@@ -8,6 +8,9 @@ from typing import Any
 
 import numpy as np
 from numba import njit
+from scipy.interpolate import BPoly
+
+from .contact import KIND_NAMES, ROLLING
 
 from .errors import ParameterError
 from .flow import equilibrium_point, propagate, to_inertial
@@ -74,7 +77,7 @@ class ImpactTable:
 
 
 @njit(cache=True)
-def _evaluate(t, starts, u_start, du_start, k, gamma, omega):
+def _evaluate_flights(t, starts, u_start, du_start, k, gamma, omega):
     n = t.shape[0]
     u = np.empty(n, dtype=np.complex128)
     du = np.empty(n, dtype=np.complex128)
@@ -86,6 +89,27 @@ def _evaluate(t, starts, u_start, du_start, k, gamma, omega):
         u[i] = k + v
         du[i] = dv
     return u, du
+
+
+@dataclass(frozen=True)
+class ContactInterval:
+    """A phase of continuous contact.
+
+    Attributes
+    ----------
+    t_start, t_end : float
+        Its time span.
+    kind : str
+        ``"sliding-forward"`` (v_rel > 0), ``"rolling"`` (v_rel = 0) or
+        ``"sliding-backward"`` (v_rel < 0).
+    """
+
+    t_start: float
+    t_end: float
+    kind: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"t_start": self.t_start, "t_end": self.t_end, "kind": self.kind}
 
 
 @dataclass(frozen=True)
@@ -103,10 +127,16 @@ class Trajectory:
     t_stop : float
         Time the simulation reached (``t_end`` unless it stopped early).
     status : str
-        ``"completed"``, ``"chatter"`` (impacts accumulate), ``"max-impacts"``
-        or ``"failed"``.
+        ``"completed"``, ``"chatter"`` (impacts accumulate and the run was
+        asked to stop there), ``"max-events"`` or ``"failed"``.
     records : numpy.ndarray
         Raw impact records, columns `COLUMNS`.
+    flights : numpy.ndarray
+        Start time and (U, U') (as re, im pairs) of each free flight.
+    contacts : numpy.ndarray
+        t_start, t_end, kind code, first and last row in ``path`` of each contact phase.
+    path : numpy.ndarray
+        (t, theta, thetadot, thetadot') along the contact phases.
     machine : Machine or None
         The machine the parameters come from, for SI outputs.
     """
@@ -118,12 +148,20 @@ class Trajectory:
     t_stop: float
     status: str
     records: np.ndarray = field(repr=False)
+    flights: np.ndarray = field(repr=False)
+    contacts: np.ndarray = field(repr=False)
+    path: np.ndarray = field(repr=False)
     machine: Machine | None = None
 
     @cached_property
     def impacts(self) -> ImpactTable:
         """The table of impacts."""
         return ImpactTable(self.records)
+
+    @cached_property
+    def contact_intervals(self) -> list[ContactInterval]:
+        """The phases of continuous contact, in time order."""
+        return [ContactInterval(float(c[0]), float(c[1]), KIND_NAMES[int(c[2])]) for c in self.contacts]
 
     @property
     def success(self) -> bool:
@@ -134,42 +172,123 @@ class Trajectory:
     def message(self) -> str:
         """A sentence describing how the run ended."""
         n = len(self.impacts)
+        c = len(self.contact_intervals)
         if self.status == "completed":
-            return f"Reached t_end = {self.t_end:g} after {n} impacts."
+            return f"Reached t_end = {self.t_end:g} after {n} impacts and {c} contact phases."
         if self.status == "chatter":
             th = self.impacts.theta[-1] if n else float(np.angle(self.u0))
             return (
                 f"Impacts accumulate (chatter) at t = {self.t_stop:.12g}, theta = {th:.6g}, "
                 f"after {n} impacts; continuous contact follows."
             )
-        if self.status == "max-impacts":
-            return f"Stopped after the maximum of {n} impacts at t = {self.t_stop:.12g}."
-        return f"Impact location failed to converge at t = {self.t_stop:.12g}."
+        if self.status == "max-events":
+            return f"Stopped after the maximum number of events at t = {self.t_stop:.12g} ({n} impacts)."
+        return f"The simulation could not continue at t = {self.t_stop:.12g} (no progress in contact)."
 
     @cached_property
-    def _segments(self):
-        rec = self.records
-        starts = np.concatenate(([0.0], rec[:, 0]))
-        u_start = np.concatenate(([self.u0], rec[:, 9] + 1j * rec[:, 10]))
-        du_start = np.concatenate(([self.du0], rec[:, 11] + 1j * rec[:, 12]))
-        return starts, u_start, du_start
+    def _flight_table(self):
+        fl = self.flights
+        return fl[:, 0].copy(), fl[:, 1] + 1j * fl[:, 2], fl[:, 3] + 1j * fl[:, 4]
+
+    @cached_property
+    def _contact_splines(self) -> list:
+        out = []
+        for c in self.contacts:
+            rows = self.path[int(c[3]) : int(c[4]) + 1]
+            if int(c[2]) == ROLLING or rows.shape[0] < 2:
+                out.append(None)
+                continue
+            # quintic Hermite through theta, thetadot, thetadot' at the integrator's steps
+            t, keep = np.unique(rows[:, 0], return_index=True)
+            out.append(BPoly.from_derivatives(t, rows[keep, 1:4]) if t.size >= 2 else None)
+        return out
+
+    def _contact_state(self, j: int, t: np.ndarray):
+        c = self.contacts[j]
+        rows = self.path[int(c[3]) : int(c[4]) + 1]
+        spline = self._contact_splines[j]
+        if spline is None:
+            theta = rows[0, 1] + rows[0, 2] * (t - rows[0, 0])
+            thetadot = np.full_like(t, rows[0, 2])
+        else:
+            theta = spline(t)
+            thetadot = spline(t, 1)
+        e = np.exp(1j * theta)
+        return e, 1j * thetadot * e
+
+    def in_contact(self, t) -> np.ndarray:
+        """Index of the contact phase holding each time, or -1 in free flight."""
+        tt = np.asarray(t, dtype=float)
+        out = np.full(tt.shape, -1, dtype=int)
+        if len(self.contacts) == 0:
+            return out
+        c_start, c_end = self.contacts[:, 0], self.contacts[:, 1]
+        j = np.searchsorted(c_start, tt, side="right") - 1
+        f_start = self._flight_table[0]
+        i = np.searchsorted(f_start, tt, side="right") - 1
+        last_flight = np.where(i >= 0, f_start[np.clip(i, 0, None)], -np.inf)
+        jj = np.clip(j, 0, None)
+        inside = (j >= 0) & (tt <= c_end[jj]) & (c_start[jj] >= last_flight)
+        out[inside] = j[inside]
+        return out
 
     def state(self, t) -> tuple[np.ndarray, np.ndarray]:
         """Exact (U, U') in the co-rotating frame at times ``t`` in [0, t_stop].
 
-        At an impact time the state just after the impact is returned.
+        In free flight the closed form is evaluated; in contact phases the
+        rolling motion is exact and sliding is the integrator's solution,
+        interpolated by quintic Hermite polynomials. At an impact time the
+        state just after the impact is returned.
         """
         tt = np.asarray(t, dtype=float)
         flat = tt.ravel()
-        if flat.size and (not np.all(np.isfinite(flat)) or flat.min() < 0.0 or flat.max() > self.t_stop * (1 + 1e-14)):
+        if flat.size and (
+            not np.all(np.isfinite(flat)) or flat.min() < 0.0 or flat.max() > self.t_stop * (1 + 1e-14)
+        ):
             raise ParameterError(
                 f"t must lie in [0, t_stop] = [0, {self.t_stop:g}]; got values in [{flat.min():g}, {flat.max():g}]"
             )
         p = self.params
         k = equilibrium_point(p.gamma, p.omega, p.rho, p.phi)
-        starts, u_start, du_start = self._segments
-        u, du = _evaluate(flat, starts, u_start, du_start, k, p.gamma, p.omega)
+        starts, u_start, du_start = self._flight_table
+        u, du = _evaluate_flights(flat, starts, u_start, du_start, k, p.gamma, p.omega)
+        phase = self.in_contact(flat)
+        for j in np.unique(phase[phase >= 0]):
+            sel = phase == j
+            u[sel], du[sel] = self._contact_state(int(j), flat[sel])
         return u.reshape(tt.shape), du.reshape(tt.shape)
+
+    def contact_forces(self, t) -> tuple[np.ndarray, np.ndarray]:
+        """Normal force N and tangential contact force per unit mass (dimensionless) at times ``t``.
+
+        Both are zero in free flight. The tangential force is along +theta:
+        -mu N sgn(v_rel) when sliding, and the force that holds v_rel = 0 when
+        rolling (MODEL.md §4).
+        """
+        from .contact import free_tangential, normal_force
+
+        tt = np.asarray(t, dtype=float)
+        r, theta, _rdot, thetadot = self.polar(tt)
+        phase = self.in_contact(tt)
+        p = self.params
+        n = np.zeros(tt.shape)
+        ft = np.zeros(tt.shape)
+        for j in np.unique(phase[phase >= 0]):
+            sel = phase == j
+            kind = int(self.contacts[j, 2])
+            nn = normal_force(theta[sel], thetadot[sel], p.omega, p.rho, p.phi)
+            n[sel] = nn
+            if kind == ROLLING:
+                ft[sel] = -free_tangential(theta[sel], thetadot[sel], p.gamma, p.rho, p.phi)
+            else:
+                ft[sel] = -p.mu * nn * (1.0 if kind == 0 else -1.0)
+        return n, ft
+
+    def friction_power(self, t) -> np.ndarray:
+        """Power dissipated by friction per unit mass (dimensionless), |F_t v_rel|, at times ``t``."""
+        _n, ft = self.contact_forces(t)
+        thetadot = self.polar(t)[3]
+        return np.abs(ft * (self.params.r_ratio + 1.0 + thetadot))
 
     def U(self, t) -> np.ndarray:
         """Co-rotating position U(t)."""
@@ -205,6 +324,26 @@ class Trajectory:
         base = np.linspace(0.0, self.t_stop, n)
         return np.unique(np.concatenate((base, self.impacts.t)))
 
+    def contact_dicts(self, samples: int = 64) -> list[dict[str, Any]]:
+        """Contact intervals as plain dicts; with a machine, also their forces and friction power in SI."""
+        out = []
+        m = self.machine
+        for c in self.contact_intervals:
+            row = c.to_dict()
+            if m is not None:
+                t = np.linspace(c.t_start, min(c.t_end, self.t_stop), samples)
+                n, ft = self.contact_forces(t)
+                power = self.friction_power(t)
+                row.update(
+                    t_start_s=c.t_start * m.time_scale,
+                    t_end_s=c.t_end * m.time_scale,
+                    max_normal_force_N=float(n.max()) * m.force_scale,
+                    max_friction_force_N=float(np.abs(ft).max()) * m.force_scale,
+                    mean_friction_power_W=float(power.mean()) * m.force_scale * m.clearance * m.speed,
+                )
+            out.append(row)
+        return out
+
     @cached_property
     def summary(self):
         """Classification of the long-run motion (`rotorcontact.motion.MotionSummary`)."""
@@ -222,6 +361,7 @@ class Trajectory:
             "t_stop": self.t_stop,
             "initial_state": {"u0": [self.u0.real, self.u0.imag], "du0": [self.du0.real, self.du0.imag]},
             "impacts": self.impacts.to_dicts(self.machine),
+            "contact_intervals": self.contact_dicts(),
             "summary": self.summary.to_dict(),
         }
         if self.machine is not None:

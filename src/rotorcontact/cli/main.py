@@ -15,7 +15,7 @@ import sys
 from .. import __version__
 from ..errors import ParameterError
 
-SUBCOMMANDS = ("simulate",)
+SUBCOMMANDS = ("simulate", "equilibria")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -1,0 +1,133 @@
+"""``rotorcontact equilibria``: regular, pseudo- and boundary equilibria, as JSON, text or a figure."""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from ..equilibria import BRANCH_PARAMETERS, Equilibria, EquilibriumBranches, equilibria, equilibrium_branches
+from ..errors import ParameterError
+from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "equilibria",
+        help="regular and pseudo-equilibria, and the boundary equilibrium bifurcation",
+        description=(
+            "Equilibria of the rotor (MODEL.md §4): the regular equilibrium x_R, the pseudo-equilibria "
+            "x_P1 and x_P2 (rub on the stator), and the boundary equilibrium x_B at gamma* with the type "
+            "of its bifurcation (non-smooth fold or persistence). With --from/--to, also the events "
+            "along a parameter range; with --plot, a figure of r against that parameter."
+        ),
+    )
+    add_parameter_options(p)
+    p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+    p.add_argument("--plot", default=None, metavar="FILE.png", help="write r of x_R and x_P against --param")
+    p.add_argument(
+        "--param",
+        default="gamma",
+        metavar="NAME",
+        help=f"parameter of the branches: {', '.join(BRANCH_PARAMETERS)} (default gamma)",
+    )
+    p.add_argument("--from", dest="start", default=None, metavar="A", help="start of the parameter range")
+    p.add_argument("--to", dest="stop", default=None, metavar="B", help="end of the parameter range")
+    p.add_argument("--points", default="401", metavar="N", help="grid points bracketing the events (default 401)")
+    p.set_defaults(func=run)
+
+
+def _branches(args: argparse.Namespace, params) -> EquilibriumBranches | None:
+    if args.param not in BRANCH_PARAMETERS:
+        raise ParameterError(f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}")
+    if args.start is None and args.stop is None:
+        if args.plot:
+            raise ParameterError("--plot needs a parameter range; give --from A --to B")
+        return None
+    if args.start is None or args.stop is None:
+        raise ParameterError("--from and --to go together; give both")
+    start = parse_float("from", args.start)
+    stop = parse_float("to", args.stop)
+    try:
+        points = int(args.points)
+    except ValueError:
+        raise ParameterError(f"--points = {args.points!r} is not an integer; allowed: an integer >= 2") from None
+    if points < 2:
+        raise ParameterError(f"--points = {points} is out of range; allowed: an integer >= 2")
+    try:
+        return equilibrium_branches(params, args.param, start, stop, points)
+    except ParameterError as exc:
+        raise ParameterError(f"--from/--to: {exc}") from None
+
+
+def _text(eq: Equilibria, branches: EquilibriumBranches | None) -> list[str]:
+    def num(x: Any, fmt: str = ".8g") -> str:
+        return "-" if x is None else format(x, fmt)
+
+    lines = []
+    reg = eq.regular
+    if reg.exists:
+        state = "admissible" if reg.admissible else "virtual"
+        lines.append(
+            f"x_R : r = {num(reg.r)}, theta = {num(reg.theta)}, {state}, {'stable' if reg.stable else 'unstable'}"
+        )
+    else:
+        lines.append(f"x_R : does not exist ({reg.reason})")
+    for pe in eq.pseudo:
+        if pe.exists:
+            lines.append(
+                f"x_{pe.name}: theta = {num(pe.theta)}, N = {num(pe.normal_force)}, "
+                f"{'admissible' if pe.admissible else 'virtual'}, {'stable' if pe.stable else 'unstable'}"
+            )
+        else:
+            lines.append(f"x_{pe.name}: does not exist ({pe.reason})")
+    b = eq.boundary
+    if b.gamma_star is None:
+        lines.append(f"x_B : none ({b.reason})")
+    else:
+        kind = b.kind if b.kind is not None else f"unclassified ({b.reason})"
+        partner = f" with x_{b.partner}" if b.partner else ""
+        lines.append(f"x_B : gamma* = {num(b.gamma_star)}, theta = {num(b.theta)}, {kind}{partner}")
+    if branches is not None:
+        lines.append(f"events for {branches.param} in [{branches.values[0]:g}, {branches.values[-1]:g}]:")
+        if not branches.events:
+            lines.append("  none")
+        for e in branches.events:
+            extra = f" (meets x_{e.partner})" if e.partner else ""
+            lines.append(f"  {e.param} = {e.value:.12g}: {e.branch} {e.kind}, {e.before} -> {e.after}{extra}")
+    return lines
+
+
+def run(args: argparse.Namespace) -> int:
+    params, _machine = parameters_from_args(args)
+    branches = _branches(args, params)
+    if args.plot:
+        from pathlib import Path
+
+        if Path(args.plot).suffix.lower() not in {".png", ".svg", ".pdf"}:
+            raise ParameterError(f"--plot = {args.plot!r} has an unsupported suffix; allowed: .png, .svg, .pdf")
+    eq = equilibria(params)
+    if args.plot:
+        from ..plotting.equilibria import plot_equilibrium_branches
+        from ..plotting.style import save_figure
+
+        fig, ax = plot_equilibrium_branches(branches)
+        ax.set_title(
+            ", ".join(f"{n}={getattr(params, n):.4g}" for n in BRANCH_PARAMETERS if n != args.param), fontsize=9
+        )
+        save_figure(fig, args.plot)
+    if args.json:
+        data = eq.to_dict()
+        if branches is not None:
+            data["branches"] = {
+                "param": branches.param,
+                "from": float(branches.values[0]),
+                "to": float(branches.values[-1]),
+                "events": [e.to_dict() for e in branches.events],
+            }
+        print_json(data)
+    else:
+        for line in _text(eq, branches):
+            print(line)
+        if args.plot:
+            print(f"figure written to {args.plot}")
+    return 0

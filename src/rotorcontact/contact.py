@@ -1,0 +1,238 @@
+"""Continuous contact on r = 1: sliding with Coulomb friction, rolling, slip and lift-off (MODEL.md §4).
+
+On the stator (r = 1, rdot = 0) the normal force per unit mass that keeps
+rdot'' = 0 is
+
+    N = (1 + thetadot)^2 - omega^2 + rho cos(phi - theta),
+
+and contact persists while N > 0. The tangential motion is
+
+    thetadot' = F(theta, thetadot) - mu N sgn(v_rel),
+    F = -(1 + thetadot) gamma + rho sin(phi - theta),
+
+with v_rel = r_ratio + 1 + thetadot. Sliding phases are integrated with an
+adaptive Dormand-Prince 5(4) scheme (rtol = atol = `CONTACT_TOL`), and every
+switch is located on the integrator's own steps to `EVENT_TOL` in time.
+
+Rolling (v_rel = 0 held) is exact: thetadot = -(1 + r_ratio) and theta is
+linear in time. The tangential force that holds it is -F, and rolling lasts
+while |F| <= mu N; with psi = phi - theta moving at the constant rate
+1 + r_ratio, both limits are of the form a + b cos(psi) + c sin(psi), so the
+first slip or lift-off is found in closed form.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+CONTACT_TOL = 1e-11
+EVENT_TOL = 1e-12
+MAX_CONTACT_STEPS = 2_000_000
+
+SLIDE_FORWARD = 0
+ROLLING = 1
+SLIDE_BACKWARD = 2
+KIND_NAMES = ("sliding-forward", "rolling", "sliding-backward")
+
+# exit codes of a contact phase
+END = 0
+LIFTOFF = 1
+TO_ROLLING = 2
+TO_SLIDE_FORWARD = 3
+TO_SLIDE_BACKWARD = 4
+STEP_LIMIT = 5
+
+
+@njit(cache=True)
+def normal_force(theta, thetadot, omega: float, rho: float, phi: float):
+    """N on r = 1 with rdot = 0 (MODEL.md §4); scalars or arrays."""
+    return (1.0 + thetadot) ** 2 - omega * omega + rho * np.cos(phi - theta)
+
+
+@njit(cache=True)
+def free_tangential(theta, thetadot, gamma: float, rho: float, phi: float):
+    """Tangential acceleration on r = 1 without friction, F = -(1 + thetadot) gamma + rho sin(phi - theta)."""
+    return -(1.0 + thetadot) * gamma + rho * np.sin(phi - theta)
+
+
+@njit(cache=True)
+def _accel(theta, thetadot, sgn, gamma, omega, rho, mu, phi):
+    n = normal_force(theta, thetadot, omega, rho, phi)
+    return free_tangential(theta, thetadot, gamma, rho, phi) - mu * n * sgn
+
+
+# Dormand-Prince 5(4) tableau
+_C2, _C3, _C4, _C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
+_A21 = 1.0 / 5.0
+_A31, _A32 = 3.0 / 40.0, 9.0 / 40.0
+_A41, _A42, _A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+_A51, _A52, _A53, _A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+_A61, _A62, _A63, _A64, _A65 = 9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0
+_B1, _B3, _B4, _B5, _B6 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
+_E1, _E3, _E4, _E5, _E6, _E7 = (
+    71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0,
+)
+
+
+@njit(cache=True)
+def _dp_step(x, v, h, sgn, gamma, omega, rho, mu, phi):
+    """One Dormand-Prince step of (theta, thetadot); returns the new state and the error norm."""
+    k1x, k1v = v, _accel(x, v, sgn, gamma, omega, rho, mu, phi)
+    x2, v2 = x + h * _A21 * k1x, v + h * _A21 * k1v
+    k2x, k2v = v2, _accel(x2, v2, sgn, gamma, omega, rho, mu, phi)
+    x3, v3 = x + h * (_A31 * k1x + _A32 * k2x), v + h * (_A31 * k1v + _A32 * k2v)
+    k3x, k3v = v3, _accel(x3, v3, sgn, gamma, omega, rho, mu, phi)
+    x4 = x + h * (_A41 * k1x + _A42 * k2x + _A43 * k3x)
+    v4 = v + h * (_A41 * k1v + _A42 * k2v + _A43 * k3v)
+    k4x, k4v = v4, _accel(x4, v4, sgn, gamma, omega, rho, mu, phi)
+    x5 = x + h * (_A51 * k1x + _A52 * k2x + _A53 * k3x + _A54 * k4x)
+    v5 = v + h * (_A51 * k1v + _A52 * k2v + _A53 * k3v + _A54 * k4v)
+    k5x, k5v = v5, _accel(x5, v5, sgn, gamma, omega, rho, mu, phi)
+    x6 = x + h * (_A61 * k1x + _A62 * k2x + _A63 * k3x + _A64 * k4x + _A65 * k5x)
+    v6 = v + h * (_A61 * k1v + _A62 * k2v + _A63 * k3v + _A64 * k4v + _A65 * k5v)
+    k6x, k6v = v6, _accel(x6, v6, sgn, gamma, omega, rho, mu, phi)
+    xn = x + h * (_B1 * k1x + _B3 * k3x + _B4 * k4x + _B5 * k5x + _B6 * k6x)
+    vn = v + h * (_B1 * k1v + _B3 * k3v + _B4 * k4v + _B5 * k5v + _B6 * k6v)
+    k7x, k7v = vn, _accel(xn, vn, sgn, gamma, omega, rho, mu, phi)
+    ex = h * (_E1 * k1x + _E3 * k3x + _E4 * k4x + _E5 * k5x + _E6 * k6x + _E7 * k7x)
+    ev = h * (_E1 * k1v + _E3 * k3v + _E4 * k4v + _E5 * k5v + _E6 * k6v + _E7 * k7v)
+    sx = CONTACT_TOL * (1.0 + max(abs(x), abs(xn)))
+    sv = CONTACT_TOL * (1.0 + max(abs(v), abs(vn)))
+    err = math.sqrt(0.5 * ((ex / sx) ** 2 + (ev / sv) ** 2))
+    return xn, vn, err
+
+
+@njit(cache=True)
+def _events(x, v, r_ratio, omega, rho, phi, sgn):
+    """Switching functions of a sliding phase: N (lift-off) and sgn * v_rel (end of slip)."""
+    return normal_force(x, v, omega, rho, phi), sgn * (r_ratio + 1.0 + v)
+
+
+@njit(cache=True)
+def _grow(path, n):
+    if n < path.shape[0]:
+        return path
+    bigger = np.empty((2 * path.shape[0], path.shape[1]))
+    bigger[:n] = path[:n]
+    return bigger
+
+
+@njit(cache=True)
+def _append(path, n, t, x, v, sgn, gamma, omega, rho, mu, phi):
+    path = _grow(path, n)
+    path[n, 0] = t
+    path[n, 1] = x
+    path[n, 2] = v
+    path[n, 3] = _accel(x, v, sgn, gamma, omega, rho, mu, phi)
+    return path, n + 1
+
+
+@njit(cache=True)
+def slide(theta, thetadot, t0, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio, path, n_path):
+    """Integrate a sliding phase until lift-off, the end of slip, or t_end.
+
+    Appends (t, theta, thetadot, thetadot') rows to ``path`` at every
+    accepted step. Returns (code, t, theta, thetadot, path, n_path).
+    """
+    t = t0
+    x = theta
+    v = thetadot
+    h = 1e-3
+    path, n_path = _append(path, n_path, t, x, v, sgn, gamma, omega, rho, mu, phi)
+    for _ in range(MAX_CONTACT_STEPS):
+        if t >= t_end:
+            return END, t, x, v, path, n_path
+        h = min(h, t_end - t)
+        xn, vn, err = _dp_step(x, v, h, sgn, gamma, omega, rho, mu, phi)
+        if err > 1.0:
+            h *= max(0.2, 0.9 * err ** -0.2)
+            continue
+        g_n, g_v = _events(xn, vn, r_ratio, omega, rho, phi, sgn)
+        if g_n <= 0.0 or g_v <= 0.0:
+            # locate the first switch inside the step by bisection on single steps from t
+            lo, hi = 0.0, h
+            for _b in range(200):
+                if hi - lo <= EVENT_TOL * (1.0 + t):
+                    break
+                mid = 0.5 * (lo + hi)
+                xm, vm, _e = _dp_step(x, v, mid, sgn, gamma, omega, rho, mu, phi)
+                a_n, a_v = _events(xm, vm, r_ratio, omega, rho, phi, sgn)
+                if a_n <= 0.0 or a_v <= 0.0:
+                    hi = mid
+                else:
+                    lo = mid
+            xe, ve, _e = _dp_step(x, v, hi, sgn, gamma, omega, rho, mu, phi)
+            g_n, g_v = _events(xe, ve, r_ratio, omega, rho, phi, sgn)
+            t = t + hi
+            if g_n <= 0.0:
+                path, n_path = _append(path, n_path, t, xe, ve, sgn, gamma, omega, rho, mu, phi)
+                return LIFTOFF, t, xe, ve, path, n_path
+            # slip ends: v_rel = 0 exactly
+            ve = -(1.0 + r_ratio)
+            path, n_path = _append(path, n_path, t, xe, ve, sgn, gamma, omega, rho, mu, phi)
+            return stick_or_slip(xe, ve, gamma, omega, rho, mu, phi), t, xe, ve, path, n_path
+        t += h
+        x, v = xn, vn
+        path, n_path = _append(path, n_path, t, x, v, sgn, gamma, omega, rho, mu, phi)
+        h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
+    return STEP_LIMIT, t, x, v, path, n_path
+
+
+@njit(cache=True)
+def stick_or_slip(theta, thetadot, gamma, omega, rho, mu, phi):
+    """Phase that follows from a point with v_rel = 0: rolling, or slip in the direction of the force."""
+    n = normal_force(theta, thetadot, omega, rho, phi)
+    if n <= 0.0:
+        return LIFTOFF
+    f = free_tangential(theta, thetadot, gamma, rho, phi)
+    if abs(f) <= mu * n:
+        return TO_ROLLING
+    return TO_SLIDE_FORWARD if f > 0.0 else TO_SLIDE_BACKWARD
+
+
+@njit(cache=True)
+def _first_zero(a, b, c, psi0):
+    """Smallest x >= 0 with a + b cos(psi0 + x) + c sin(psi0 + x) <= 0 (inf if never)."""
+    amp = math.hypot(b, c)
+    if a > amp:
+        return math.inf
+    if a + b * math.cos(psi0) + c * math.sin(psi0) <= 0.0:
+        return 0.0
+    delta = math.atan2(c, b)
+    half = math.acos(max(-1.0, min(1.0, -a / amp)))
+    # zeros at psi = delta +- half (mod 2 pi); the first after psi0 where g turns negative
+    two_pi = 2.0 * math.pi
+    best = math.inf
+    for root in (delta + half, delta - half):
+        x = (root - psi0) % two_pi
+        if x < best:
+            best = x
+    return best
+
+
+@njit(cache=True)
+def roll(theta, t0, t_end, gamma, omega, rho, mu, phi, r_ratio):
+    """Exact rolling from (theta, thetadot = -(1 + r_ratio)) at t0.
+
+    Returns (code, t, theta) at the first slip or lift-off, or at t_end.
+    """
+    rate = 1.0 + r_ratio  # psi = phi - theta grows at this rate
+    psi0 = phi - theta
+    base_n = r_ratio * r_ratio - omega * omega
+    # mu N - F >= 0 and mu N + F >= 0 with F = r_ratio gamma + rho sin(psi), N = base_n + rho cos(psi)
+    x_fwd = _first_zero(mu * base_n - r_ratio * gamma, mu * rho, -rho, psi0)
+    x_bwd = _first_zero(mu * base_n + r_ratio * gamma, mu * rho, rho, psi0)
+    x_lift = _first_zero(base_n, rho, 0.0, psi0)
+    x = min(x_fwd, x_bwd, x_lift)
+    t_switch = t0 + x / rate
+    if t_switch >= t_end:
+        return END, t_end, theta - rate * (t_end - t0)
+    th = theta - x / rate
+    if x == x_lift:
+        return LIFTOFF, t_switch, th
+    if x == x_fwd:
+        return TO_SLIDE_FORWARD, t_switch, th
+    return TO_SLIDE_BACKWARD, t_switch, th
