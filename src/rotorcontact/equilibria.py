@@ -221,7 +221,7 @@ def contact_jacobian(theta: float, thetadot: float, params: Parameters) -> np.nd
             [0.0, 1.0],
             [
                 -p.rho * math.cos(psi) - p.mu * sg * p.rho * math.sin(psi),
-                -p.gamma - p.mu * sg * (1.0 + thetadot),
+                -p.gamma - 2.0 * p.mu * sg * (1.0 + thetadot),
             ],
         ]
     )

@@ -19,6 +19,13 @@ def register(sub) -> None:
     p.add_argument("--u0", default="0,0", metavar="RE,IM", help="initial position U(0) (co-rotating, |U| <= 1)")
     p.add_argument("--du0", default="0,0", metavar="RE,IM", help="initial velocity U'(0) (co-rotating)")
     p.add_argument("--t-end", dest="t_end", default="500", metavar="T", help="final dimensionless time (default 500)")
+    p.add_argument(
+        "--on-chatter",
+        dest="on_chatter",
+        choices=("contact", "stop"),
+        default="contact",
+        help="at an accumulation of impacts, continue in continuous contact (default) or stop",
+    )
     p.add_argument("--json", action="store_true", help="print the whole result as JSON on stdout")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="write a three-panel figure")
     p.set_defaults(func=run)
@@ -29,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     u0 = parse_complex("u0", args.u0)
     du0 = parse_complex("du0", args.du0)
     t_end = check_range("--t-end", parse_float("t-end", args.t_end), low=0.0, low_open=True)
-    traj = simulate(params, u0, du0, t_end, machine=machine)
+    traj = simulate(params, u0, du0, t_end, on_chatter=args.on_chatter, machine=machine)
     if args.plot:
         from ..plotting.trajectory import save_trajectory_figure
 
@@ -39,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         s = traj.summary
         print(traj.message)
-        line = f"motion: {s.motion}"
+        line = f"regime: {s.regime}, impacts: {s.motion}"
         if s.period is not None:
             line += f" ({s.impacts_per_period} impact(s) per period, T = {s.period:.10g})"
         print(line)

@@ -9,11 +9,25 @@ from ..trajectory import Trajectory
 from .style import draw_clearance, new_axes, save_figure
 
 
+MAX_CONTACT_SAMPLES = 20000
+
+
 def _times(traj: Trajectory, t_from: float | None, n: int) -> np.ndarray:
+    """Plot times: uniform, every impact, and contact phases fine enough to follow fast whirl."""
     t0 = 0.0 if t_from is None else max(0.0, min(t_from, traj.t_stop))
-    t = np.linspace(t0, traj.t_stop, n)
+    parts = [np.linspace(t0, traj.t_stop, n)]
     imp = traj.impacts.t
-    return np.unique(np.concatenate((t, imp[imp >= t0])))
+    parts.append(imp[imp >= t0])
+    budget = MAX_CONTACT_SAMPLES
+    for c, row in zip(traj.contact_intervals, traj.contacts):
+        a, b = max(c.t_start, t0), min(c.t_end, traj.t_stop)
+        if b <= a or budget <= 0:
+            continue
+        rate = np.abs(traj.path[int(row[3]) : int(row[4]) + 1, 2]).max() + 1.0
+        m = int(min(budget, max(2, rate * (b - a) / 0.05)))
+        parts.append(np.linspace(a, b, m))
+        budget -= m
+    return np.unique(np.concatenate(parts))
 
 
 def plot_inertial(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000):
@@ -47,12 +61,29 @@ def plot_corotating(traj: Trajectory, ax=None, *, t_from: float | None = None, n
     return fig, ax
 
 
+CONTACT_COLORS = {"sliding-forward": "tab:orange", "rolling": "tab:red", "sliding-backward": "tab:purple"}
+
+
+def shade_contact(traj: Trajectory, ax, t_from: float = 0.0) -> None:
+    """Shade the contact phases of ``traj`` on a time axis, one colour per kind."""
+    seen = set()
+    for c in traj.contact_intervals:
+        if c.t_end < t_from:
+            continue
+        label = None if c.kind in seen else c.kind
+        seen.add(c.kind)
+        ax.axvspan(max(c.t_start, t_from), c.t_end, color=CONTACT_COLORS[c.kind], alpha=0.25, lw=0, label=label)
+    if seen:
+        ax.legend(loc="lower right", fontsize=8)
+
+
 def plot_radius(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000):
-    """r(t) = |U(t)|, with the clearance r = 1."""
+    """r(t) = |U(t)|, with the clearance r = 1 and the contact phases shaded."""
     fig, ax = new_axes(ax)
     t = _times(traj, t_from, n)
     ax.plot(t, traj.r(t), lw=0.8)
     ax.axhline(1.0, color="0.6", lw=1.5, zorder=0)
+    shade_contact(traj, ax, t[0])
     ax.set_xlabel("t (dimensionless)")
     ax.set_ylabel("r")
     ax.set_title("radius")
@@ -68,7 +99,7 @@ def plot_trajectory(traj: Trajectory, *, t_from: float | None = None, n: int = 4
     p = traj.params
     fig.suptitle(
         f"gamma={p.gamma:.4g}, omega={p.omega:.4g}, rho={p.rho:.4g}, mu={p.mu:.4g}, d={p.d:.4g}  "
-        f"({traj.summary.motion})",
+        f"({traj.summary.regime or traj.summary.motion})",
         fontsize=10,
     )
     fig.tight_layout()
