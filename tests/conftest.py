@@ -330,7 +330,8 @@ MAX_STATUSES = {"max-impacts", "max-events"}
 STATUSES = {"completed", "chatter"} | MAX_STATUSES
 
 
-def run_simulation(params, u0=0j, du0=0j, t_end=500.0, *, max_impacts=None, stop_on_chatter=True, **kw):
+def run_simulation(params, u0=0j, du0=0j, t_end=500.0, *, max_impacts=None, stop_on_chatter=True,
+                   impacts_only=False, **kw):
     """Call `rotorcontact.simulate` with a cap on the number of impacts.
 
     Where the simulator can continue through continuous contact, it is asked to
@@ -338,6 +339,8 @@ def run_simulation(params, u0=0j, du0=0j, t_end=500.0, *, max_impacts=None, stop
     tests check. The cap is passed as ``max_impacts`` or, where the simulator
     counts events (flights and contact phases), as ``max_events``: without
     contact each flight ends in one impact, so both mean the same here.
+    With ``impacts_only`` every chatter criterion other than ``chatter_rdot`` is
+    switched off, so that sequences of fast bounces are resolved impact by impact.
     """
     from rotorcontact import simulate
 
@@ -346,6 +349,8 @@ def run_simulation(params, u0=0j, du0=0j, t_end=500.0, *, max_impacts=None, stop
         kw["max_impacts" if "max_impacts" in sig else "max_events"] = max_impacts
     if "on_chatter" in sig and "on_chatter" not in kw:
         kw["on_chatter"] = "stop" if stop_on_chatter else "contact"
+    if impacts_only and "chatter_dt" in sig:
+        kw["chatter_dt"] = 0.0
     return simulate(params, u0, du0, t_end, **kw)
 
 

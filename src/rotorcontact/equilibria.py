@@ -250,7 +250,7 @@ def _linear_eigenvalues(params: Parameters) -> tuple[complex, ...]:
 
 
 def _complex_list(values: Iterable[complex]) -> list[list[float]]:
-    return [[float(z.real), float(z.imag)] for z in values]
+    return [[float(z.real) + 0.0, float(z.imag) + 0.0] for z in values]  # + 0.0: no -0.0
 
 
 @dataclass(frozen=True)
@@ -524,7 +524,9 @@ def regular_equilibrium(params: Parameters) -> RegularEquilibrium:
 
 def _pseudo_absent(reason: str) -> tuple[PseudoEquilibrium, PseudoEquilibrium]:
     return tuple(  # type: ignore[return-value]
-        PseudoEquilibrium(name=n, exists=False, theta=None, normal_force=None, admissible=False, stable=None, reason=reason)
+        PseudoEquilibrium(
+            name=n, exists=False, theta=None, normal_force=None, admissible=False, stable=None, reason=reason
+        )
         for n in PSEUDO_NAMES
     )
 

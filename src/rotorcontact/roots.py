@@ -106,21 +106,45 @@ def _first_positive_root(c0: float, c1: float, c2: float) -> float:
 
 
 @njit(cache=True)
-def _step_from_bounds(f, fp, fpp, z0, z1, z2, z3):
+def _dot(a: complex, b: complex) -> float:
+    """Re(conj(a) b)."""
+    return a.real * b.real + a.imag * b.imag
+
+
+@njit(cache=True)
+def _step_from_bounds(f, fp, fpp, f3, f4, z0, z1, z2, z3, z4, z5):
     """Largest crossing-free step given bounds z_n >= |Z^{(n)}| ahead.
 
-    For any trial S, min(S, first root of f + f' h + (f'' + M3 S/3) h^2/2) is
-    safe, since the cubic Taylor bound is below that quadratic on [0, S].
+    With M3 >= |f3| and M4 >= |f4| ahead, for h in [0, S]
+
+        f(h) <= f + f1 h + c2(S) h^2 / 2,
+        c2(S) = min(f2 + M3 S / 3,
+                    f2 + max(f3, 0) S / 3 + M4 S^2 / 12,
+                    f2 + max(f3, 0) S / 3 + max(f4, 0) S^2 / 12 + M5 S^3 / 60),
+
+    (h^n / n! <= S^(n-2) h^2 / n! on [0, S]; M_n = sum_j C(n, j) z_j z_(n-j)),
+
+    so min(S, first root of that quadratic) is safe for any trial S, and a
+    few trials pick a good one. The second-order bound M2 >= |f2| gives a
+    safe step to start from.
     """
     best = _first_positive_root(f, fp, 2.0 * z1 * z1 + 2.0 * z0 * z2)
     m3 = 6.0 * z1 * z2 + 2.0 * z0 * z3
-    if m3 <= 0.0:
-        return best
+    m4 = 6.0 * z2 * z2 + 8.0 * z1 * z3 + 2.0 * z0 * z4
+    m5 = 2.0 * z0 * z5 + 10.0 * z1 * z4 + 20.0 * z2 * z3
+    f3p = max(f3, 0.0)
+    f4p = max(f4, 0.0)
     trial = 2.0 * best
     if fpp < 0.0:
         trial = max(trial, -1.5 * fpp / m3)
-    for _ in range(4):
-        g = _first_positive_root(f, fp, fpp + m3 * trial / 3.0)
+    for _ in range(5):
+        t2 = trial * trial
+        c2 = min(
+            fpp + m3 * trial / 3.0,
+            fpp + f3p * trial / 3.0 + m4 * t2 / 12.0,
+            fpp + f3p * trial / 3.0 + f4p * t2 / 12.0 + m5 * t2 * trial / 60.0,
+        )
+        g = _first_positive_root(f, fp, c2)
         if g >= trial:
             best = max(best, trial)
             trial *= 2.0
@@ -138,19 +162,31 @@ def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, windo
     w2 = -gamma * dw - om2 * w
     w3 = -gamma * w2 - om2 * dw
     w4 = -gamma * w3 - om2 * w2
+    w5 = -gamma * w4 - om2 * w3
+    w6 = -gamma * w5 - om2 * w4
     q0 = g2 * w + dw
     q1 = g2 * dw + w2
     q2 = g2 * w2 + w3
     q3 = g2 * w3 + w4
+    q4 = g2 * w4 + w5
+    q5 = g2 * w5 + w6
+    kr = z - w  # k e^{is}
+    ddz = -kr + w2
+    dddz = -1j * kr + w3
+    ddddz = kr + w4
+    f3 = 6.0 * _dot(dz, ddz) + 2.0 * _dot(z, dddz)
+    f4 = 6.0 * _dot(ddz, ddz) + 8.0 * _dot(dz, dddz) + 2.0 * _dot(z, ddddz)
     best = 0.0
     nu = math.sqrt(-h2) if h2 < 0.0 else 0.0
     if gamma >= 0.0 and h2 < 0.0:
         best = _step_from_bounds(
-            f, fp, fpp,
+            f, fp, fpp, f3, f4,
             k_abs + _bound(w, q0, 1.0, 1.0, True, nu),
             k_abs + _bound(dw, q1, 1.0, 1.0, True, nu),
             k_abs + _bound(w2, q2, 1.0, 1.0, True, nu),
             k_abs + _bound(w3, q3, 1.0, 1.0, True, nu),
+            k_abs + _bound(w4, q4, 1.0, 1.0, True, nu),
+            k_abs + _bound(w5, q5, 1.0, 1.0, True, nu),
         )
     width = min(window, horizon)
     # the finite window helps only where the all-time bound is poor (growth, or nu small)
@@ -158,11 +194,13 @@ def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, windo
         cmax, smax = _window(gamma, h2, width)
         h = min(
             _step_from_bounds(
-                f, fp, fpp,
+                f, fp, fpp, f3, f4,
                 k_abs + _bound(w, q0, cmax, smax, False, 1.0),
                 k_abs + _bound(dw, q1, cmax, smax, False, 1.0),
                 k_abs + _bound(w2, q2, cmax, smax, False, 1.0),
                 k_abs + _bound(w3, q3, cmax, smax, False, 1.0),
+                k_abs + _bound(w4, q4, cmax, smax, False, 1.0),
+                k_abs + _bound(w5, q5, cmax, smax, False, 1.0),
             ),
             width,
         )

@@ -89,7 +89,8 @@ def test_text_output(capsys):
 
 def test_plot(tmp_path, capsys):
     path = tmp_path / "fig3a.png"
-    code = main(["equilibria", "--omega", "0.76", "--plot", str(path), "--param", "gamma", "--from", "0", "--to", "0.2"])
+    args = ["--omega", "0.76", "--plot", str(path), "--param", "gamma", "--from", "0", "--to", "0.2"]
+    code = main(["equilibria", *args])
     assert code == 0 and path.is_file() and path.stat().st_size > 1000
     assert "figure written" in capsys.readouterr().out
 

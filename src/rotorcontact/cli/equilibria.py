@@ -38,7 +38,9 @@ def register(sub) -> None:
 
 def _branches(args: argparse.Namespace, params) -> EquilibriumBranches | None:
     if args.param not in BRANCH_PARAMETERS:
-        raise ParameterError(f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}")
+        raise ParameterError(
+            f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
+        )
     if args.start is None and args.stop is None:
         if args.plot:
             raise ParameterError("--plot needs a parameter range; give --from A --to B")

@@ -93,7 +93,8 @@ def plot_equilibrium_branches(
     pseudo : {"partner", "both", "P1", "P2", "none"}
         Which pseudo-equilibria to draw on r = 1. ``"partner"`` (the paper's
         choice) draws those that meet x_R at a boundary equilibrium in the
-        range, or both when there is none.
+        range, or both when there is none. Both lie on r = 1, so where both
+        are drawn they overlap (P2 is drawn over P1).
     ylim : (float, float), optional
         Vertical range; by default the range of r of x_R and 1, padded, with
         the top capped at 3 (x_R goes to infinity at the undamped resonance).
@@ -201,7 +202,9 @@ def plot_equilibria(
     return fig, ax
 
 
-def save_equilibria_figure(params: Parameters, path, param: str = "gamma", start: float = 0.0, stop: float = 0.2, **kwargs):
+def save_equilibria_figure(
+    params: Parameters, path, param: str = "gamma", start: float = 0.0, stop: float = 0.2, **kwargs
+):
     """Draw `plot_equilibria` and save it to ``path`` (.png, .svg or .pdf); returns the path."""
     from pathlib import Path
 
