@@ -204,11 +204,6 @@ def test_machine_out_of_range(name, value, allowed):
     check_message(exc, f"{name} = {value!r}", repr(value), allowed)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="library bug: a valid machine whose dimensionless groups overflow (speed > 0 but tiny) "
-    "raises ZeroDivisionError from Machine.parameters() instead of ParameterError",
-)
 def test_machine_whose_dimensionless_groups_overflow():
     m = Machine(**dict(RIG, speed=1e-170))
     with pytest.raises(ParameterError):

@@ -106,7 +106,7 @@ def test_tangency_just_below_is_not_an_impact(ref, graze_case, delta):
 
 
 def test_sampling_event_detector_misses_a_crossing_that_simulate_finds(ref):
-    """The case of the issue: max |U| exceeds 1 by 1e-10 inside a free-flight arc."""
+    """A free-flight arc whose maximum of |U| exceeds 1 by only 1e-10."""
     p = Parameters(**REF, gamma=0.1)
     T, alpha, beta = 1.5, 0.21 + PI, -0.5
     u0, du0 = grazing_state(ref, p, 1e-10, T, alpha, beta)
@@ -238,12 +238,6 @@ def test_no_crossing_for_a_decaying_flight():
     assert next_crossing(0j, 0j, k, p.gamma, p.omega, 1e4, False) == (NO_CROSSING, 1e4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="library bug: at rest at the regular equilibrium (|k| < 1) the safe steps stay O(1) "
-    "(bounds |Z^(n)| <= |k| + |W^(n)| do not vanish), so a horizon beyond ~1.4e5 exhausts "
-    "MAX_STEPS and next_crossing returns ITERATION_LIMIT instead of NO_CROSSING",
-)
 def test_no_crossing_at_the_regular_equilibrium_over_a_long_horizon():
     p = Parameters(**REF, gamma=0.3)
     k = k_of(p)

@@ -35,7 +35,8 @@ MAX_CONTACT_STEPS = 2_000_000
 SLIDE_FORWARD = 0
 ROLLING = 1
 SLIDE_BACKWARD = 2
-KIND_NAMES = ("sliding-forward", "rolling", "sliding-backward")
+ACCUMULATION = 3  # from the last resolved impact of a chatter sequence to its accumulation point
+KIND_NAMES = ("sliding-forward", "rolling", "sliding-backward", "accumulation")
 
 # exit codes of a contact phase
 END = 0

@@ -58,8 +58,8 @@ This gives M >= max |g''| on the window. From a point where sigma g(tau) > 0,
 
     sigma g(tau + s) >= sigma g(tau) + sigma g'(tau) s - M s^2 / 2 > 0
 
-for s below the positive root h of the right-hand side, so the step to
-tau + h cannot pass a zero. The steps converge onto each transversal zero from
+for s below the positive root h of the right-hand side (and within the
+window), so the step to tau + h cannot pass a zero. The steps converge onto each transversal zero from
 its own side (quadratically, like Newton); the zero is polished by Newton and
 left on the other side through the monotone neighbourhood |s| < |g'|/M (a
 single zero there). Two zeros about to merge are therefore both found however
@@ -72,8 +72,10 @@ fold itself).
 
 The zeros alternate in sign change. F1 > 0 near T = 0 for d < 1, so the n-th
 zero where F1 turns negative is T0,n,a and the next zero, where F1 turns
-positive again, is T0,n,b. At gamma = 0 exactly F1 has poles (D = 0); g
-vanishes there too and those points are discarded.
+positive again, is T0,n,b (for d = 1, F1(0) = 0 and the sign just after 0 is
+that of gamma - 2 mu). At gamma = 0 exactly F1 has poles at the resonances
+(D = 0), which are the limits of zeros as gamma -> 0; g vanishes there too.
+Such points keep their place in the labelling but give no orbit.
 
 The fixed points
 ----------------
@@ -90,6 +92,17 @@ sign (q = (1 + d)(1 + i mu)). An orbit is `slipping` when the slip-bounded law
 of `rotorcontact.reset` gives the same impact, i.e. v_rel = r_ratio + 1 +
 thetadot > mu (1 + d) rdot; only then is it a fixed point of the simulator,
 and only then can it be plausible.
+
+Plausibility and the extrema of r
+---------------------------------
+The interior extrema of r are the zeros of r rdot = Re(conj(U) U') on (0, T),
+isolated by the same safe stepping with a rigorous bound on its second
+derivative along the exact flow (bounds on |V^(n)| from the closed form, as in
+`rotorcontact.roots`). Each is polished to rounding, so r_max_interior is
+exact. An admissible orbit starts inwards (rdot+ = -d rdot- < 0) and arrives
+outwards, so r < 1 on (0, T) exactly when every interior maximum is below 1.
+This is cross-checked with the simulator's impact location: the first impact
+after the reset must be the one at T.
 """
 
 from __future__ import annotations
@@ -831,7 +844,21 @@ def _check_time(name: str, t) -> np.ndarray:
 
 
 def a_matrix(params: Parameters, T: float) -> np.ndarray:
-    """[a_ij(T)] = (e^{-AT} - I)^{-1}, a 2x2 complex array (MODEL.md §5); T > 0."""
+    """[a_ij(T)] = (e^{-AT} - I)^{-1} (MODEL.md §5).
+
+    Parameters
+    ----------
+    params : Parameters
+        Model parameters.
+    T : float
+        Period, > 0 (at gamma = 0 also away from the resonances, where the
+        matrix is singular).
+
+    Returns
+    -------
+    numpy.ndarray
+        2x2 complex array, from the closed form of the module docstring.
+    """
     _params_tuple(params)
     T = float(_check_time("T", T))
     a11, a12, a21, a22, da12, da22 = _coefficients(T, params.gamma, params.omega)
@@ -923,6 +950,12 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
     """
     _params_tuple(params)
     t_max = _check_t_max(params, t_max)
+    if params.gamma == 0.0 and params.mu == 0.0 and params.d == 1.0:
+        # no damping, no friction, elastic impacts: 1 + 2 Re(a22) vanishes for every T
+        raise ParameterError(
+            "gamma = 0, mu = 0 and d = 1 make F1 vanish identically (every period is a zero); "
+            "allowed: gamma != 0, mu != 0 or d < 1"
+        )
     zt, zd, zf, s0, status = _f1_zeros_kernel(params.gamma, params.omega, params.d, params.mu, t_max)
     if status != ISO_OK:
         raise RuntimeError("F1 zero isolation did not finish (iteration limit)")
@@ -932,17 +965,19 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
     zeros = []
     for t, direction, flag in zip(zt, zd, zf):
         t = float(t)
-        if t <= 0.0:
+        if t <= 0.0 or t > t_max:
             continue
-        if params.gamma == 0.0:
-            d0, d1, d2, p0, p1, p2, sd, sp = _dp_tilde(t, params.gamma, h2)
-            if abs(d0) <= 1e-8 * abs(d0 + q * p0):
-                continue  # a pole of F1 (resonance at gamma = 0), not a zero
         if direction < 0:
             n += 1
             kind = "a"
         else:
             kind = "b"
+        if params.gamma == 0.0:
+            d0, d1, d2, p0, p1, p2, sd, sp = _dp_tilde(t, params.gamma, h2)
+            if abs(d0) <= 1e-8 * abs(d0 + q * p0):
+                # a pole of F1 (a resonance at gamma = 0), the limit of a zero as gamma -> 0:
+                # it keeps its place in the labelling but has no orbit
+                continue
         slope = 0.0 if flag else float(f1_derivative(params, t))
         zeros.append(F1Zero(T=t, n=max(n, 1), kind=kind, slope=slope, double=bool(flag)))
     return tuple(zeros)
@@ -1184,10 +1219,14 @@ def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> Impact
         multipliers = tuple(complex(x) for x in ev)
         stable = bool(np.all(np.abs(ev) < 1.0))
         if slipping and (r_max is None or r_max < 1.0):
-            # guaranteed check that the flight does not reach |U| = 1 before T
+            # With the extrema of r isolated, r < 1 on (0, T) already follows: r falls after
+            # the impact, rises into the next one, and every interior maximum is below 1.
+            # Cross-check with the simulator's guaranteed impact location: the first impact
+            # is the one at T, up to the resolution of a crossing at speed rdot.
             horizon = T * (1.0 + 1e-6) + 1e-9
             code, tau = next_crossing(u0 - k, du0, k, g, w, horizon, True)
-            plausible = code == CROSSING and abs(tau - T) <= 1e-8 * (1.0 + T)
+            slack = max(1e-8 * (1.0 + T), 64.0 * EPS * ((abs(k) + 1.0) ** 2 + 1.0) / rdot)
+            plausible = code == CROSSING and T - slack <= tau <= T + slack
     return ImpactOrbit(
         label=f"B{zero.n},{branch}",
         n=zero.n,

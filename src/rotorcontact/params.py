@@ -204,6 +204,11 @@ class Machine:
     def parameters(self) -> Parameters:
         """Convert to the dimensionless `Parameters` (MODEL.md §2)."""
         m, om = self.mass, self.speed
+        if not (m * om * om > 0.0 and math.isfinite(m * om * om)):
+            raise ParameterError(
+                f"speed = {om!r} with mass = {m!r} puts m Omega^2 = {m * om * om!r} outside floating-point "
+                "range; choose SI values whose products are representable"
+            )
         return Parameters(
             gamma=self.damping / (m * om),
             omega=math.sqrt(self.stiffness / (m * om * om)),

@@ -246,6 +246,22 @@ def _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window):
 
 
 @njit(cache=True)
+def _all_time_bound(w: complex, dw: complex, gamma: float, h2: float) -> float:
+    """Bound on |W(s)| for all s >= 0 of the decaying flow (gamma > 0).
+
+    e^{-gamma s/2} C(s) <= 1 always; e^{-gamma s/2} S(s) <= 1/nu (underdamped,
+    where the two combine as a Euclidean norm), <= 1/(2 kappa) (overdamped,
+    kappa < gamma/2) and <= 2/(e gamma) (critical).
+    """
+    q = 0.5 * gamma * w + dw
+    if h2 < 0.0:
+        return math.sqrt(abs(w) ** 2 + abs(q) ** 2 / (-h2))
+    if h2 > 0.0:
+        return abs(w) + abs(q) / (2.0 * math.sqrt(h2))
+    return abs(w) + abs(q) * 2.0 / (math.e * gamma)
+
+
+@njit(cache=True)
 def _surface(k, w0, dw0, s, gamma, omega):
     """Z, Z', W, W' and f, f', f'' at time s of the flight."""
     w, dw = inertial_flow(w0, dw0, s, gamma, omega)
@@ -315,6 +331,9 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
                 if fpp >= -ftol:
                     return STUCK, 0.0
                 fp = min(fp, 0.0)
+        elif gamma > 0.0 and k_abs + _all_time_bound(w, dw, gamma, h2) < 1.0 - ftol:
+            # |Z| <= |k| + |W| stays below 1 for ever: no impact in any horizon
+            return NO_CROSSING, horizon
         elif f >= -ftol:
             if fp > 0.0:
                 # converged onto a transversal crossing from below: polish by Newton

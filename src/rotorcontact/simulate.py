@@ -16,6 +16,7 @@ from .flow import equilibrium_point, propagate
 from .params import Machine, Parameters, check_finite, check_range
 from .reset import apply_reset, polar_velocity
 from .contact import (
+    ACCUMULATION,
     LIFTOFF,
     ROLLING,
     SLIDE_BACKWARD,
@@ -43,6 +44,19 @@ STATUS_NAMES = {COMPLETED: "completed", CHATTER: "chatter", MAX_EVENTS: "max-eve
 
 NCOL = len(COLUMNS)
 BOUNDARY_TOL = 1e-12
+RDOT_MIN = 1e-13  # normal velocities below this (relative) are touches, not impacts
+MAX_STALLS = 50
+K_MAX = 1e3  # largest |k| (in clearances) for which the closed form keeps its accuracy
+
+NO_FAILURE = 0
+ROOT_LIMIT = 1
+CONTACT_STALL = 2
+CONTACT_STEP_LIMIT = 3
+FAILURE_MESSAGES = {
+    ROOT_LIMIT: "the impact search exceeded its step limit",
+    CONTACT_STALL: "contact phases switched repeatedly without progress in time",
+    CONTACT_STEP_LIMIT: "a contact phase exceeded the integrator's step limit",
+}
 
 
 @njit(cache=True)
@@ -66,17 +80,40 @@ def _push(table, n, row):
 
 
 @njit(cache=True)
+def _push_state(table, n, t, u, du):
+    row = np.empty(5)
+    row[0] = t
+    row[1] = u.real
+    row[2] = u.imag
+    row[3] = du.real
+    row[4] = du.imag
+    return _push(table, n, row)
+
+
+@njit(cache=True)
+def _push_linear_phase(contacts, n_ct, path, n_path, kind, t0, t1, theta0, thetadot):
+    """Record a phase on r = 1 where theta moves linearly (rolling, or an accumulation of impacts)."""
+    p_start = n_path
+    path, n_path = _push(path, n_path, np.array([t0, theta0, thetadot, 0.0]))
+    path, n_path = _push(path, n_path, np.array([t1, theta0 + thetadot * (t1 - t0), thetadot, 0.0]))
+    contacts, n_ct = _push(contacts, n_ct, np.array([t0, t1, float(kind), float(p_start), float(n_path - 1)]))
+    return contacts, n_ct, path, n_path
+
+
+@njit(cache=True)
 def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_rdot,
-                    chatter_dt, stop_on_chatter):
+                    chatter_height, stop_on_chatter):
     """Run the rotor from (u0, du0) at t = 0 to t_end through flights, impacts and contact.
 
     Returns
     -------
     impacts : (n, NCOL) array, one row per impact (`trajectory.COLUMNS`).
     flights : (m, 5) array: start time and (U, U') at the start of each free flight.
-    contacts : (c, 5) array: t_start, t_end, kind, first and last row in ``path``.
+    contacts : (c, 5) array: t_start, t_end, kind, first and last row in ``path``
+        (kind `ACCUMULATION` marks the interval from the last impact of a chatter
+        sequence to its accumulation point, where the rotor stays on r = 1).
     path : (q, 4) array: t, theta, thetadot, thetadot' along contact phases.
-    status : int
+    status, reason : int
     t_stop : float
     """
     k = equilibrium_point(gamma, omega, rho, phi)
@@ -89,15 +126,16 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
     n_ct = 0
     n_path = 0
     row = np.empty(NCOL)
-    row5 = np.empty(5)
     roll_dot = -(1.0 + r_ratio)
     status = COMPLETED
+    reason = NO_FAILURE
     t = 0.0
     u = u0
     du = du0
     on_boundary = abs(abs(u0) - 1.0) <= BOUNDARY_TOL
     if on_boundary:
         u = u0 / abs(u0)
+    flights, n_fl = _push_state(flights, n_fl, t, u, du)
     in_contact = False
     liftoff = False
     theta_c = 0.0
@@ -110,13 +148,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             status = MAX_EVENTS
             break
         if not in_contact:
-            row5[0] = t
-            row5[1] = u.real
-            row5[2] = u.imag
-            row5[3] = du.real
-            row5[4] = du.imag
-            flights, n_fl = _push(flights, n_fl, row5)
-            if on_boundary and n_imp == 0 and not liftoff and polar_velocity(u, du)[0] > 0.0:
+            if on_boundary and n_imp == 0 and events == 1 and polar_velocity(u, du)[0] > RDOT_MIN:
                 code, tau = CROSSING, 0.0
             else:
                 code, tau = next_crossing(u - k, du, k, gamma, omega, t_end - t, on_boundary, liftoff)
@@ -125,10 +157,11 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 break
             if code == ITERATION_LIMIT:
                 status = FAILED
+                reason = ROOT_LIMIT
                 t = t + tau
                 break
             if code == STUCK:
-                # on the boundary with no inward velocity and pressed outwards: contact
+                # on the boundary, no inward velocity, pressed outwards: contact
                 if stop_on_chatter:
                     status = CHATTER
                     break
@@ -139,8 +172,15 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             v, dv = propagate(u - k, du, tau, gamma, omega)
             ui = k + v
             ui = ui / abs(ui)
-            du_plus, rd, td, rdp, tdp, vrel, pn, pt = apply_reset(ui, dv, d, mu, r_ratio)
             t = t + tau
+            if polar_velocity(ui, dv)[0] <= RDOT_MIN * (1.0 + abs(dv)):
+                # a touch at rounding level with no normal velocity: no impulse, flight goes on
+                u = ui
+                du = dv
+                on_boundary = True
+                flights, n_fl = _push_state(flights, n_fl, t, u, du)
+                continue
+            du_plus, rd, td, rdp, tdp, vrel, pn, pt = apply_reset(ui, dv, d, mu, r_ratio)
             theta = _wrap(math.atan2(ui.imag, ui.real))
             n_force = normal_force(theta, tdp, omega, rho, phi)
             row[0] = t
@@ -161,27 +201,31 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             u = ui
             du = du_plus
             on_boundary = True
-            if n_force > 0.0 and (rd < chatter_rdot or 2.0 * d * rd < chatter_dt * n_force):
-                # impacts accumulate: sum the geometric tails of the intervals and of the
-                # friction impulses, and continue in contact from the accumulation point
-                t_acc = t
-                q = d
-                if n_imp >= 3:
-                    d1 = impacts[n_imp - 1, 0] - impacts[n_imp - 2, 0]
-                    d0 = impacts[n_imp - 2, 0] - impacts[n_imp - 3, 0]
-                    if d0 > 0.0 and 0.0 < d1 < d0:
-                        q = d1 / d0
-                        t_acc = t + d1 * q / (1.0 - q)
-                tail = mu * (1.0 + d) * rd * d / (1.0 - d) if d < 1.0 else 0.0
+            flights, n_fl = _push_state(flights, n_fl, t, u, du)
+            if n_force > 0.0 and (rd < chatter_rdot or rdp * rdp < 2.0 * chatter_height * n_force):
+                # Impacts accumulate (MODEL.md §3): bounces of a rotor pressed outwards with
+                # force N last 2 d^j rdot / N, so they end after the geometric series
+                # 2 d rdot / (N (1 - d)); their friction impulses add mu (1 + d) rdot d / (1 - d).
+                if d < 1.0:
+                    t_tail = 2.0 * d * rd / (n_force * (1.0 - d))
+                    p_tail = mu * (1.0 + d) * rd * d / (1.0 - d)
+                else:
+                    t_tail = 0.0
+                    p_tail = 0.0
                 vrel_p = r_ratio + 1.0 + tdp
-                tdp = tdp - math.copysign(min(tail, abs(vrel_p)), vrel_p)
-                theta_c = theta + tdp * (t_acc - t)
-                thetadot_c = tdp
-                if t_acc >= t_end:
-                    break
+                td_acc = tdp - math.copysign(min(p_tail, abs(vrel_p)), vrel_p)
+                t_acc = min(t + t_tail, t_end)
+                if t_acc > t:
+                    contacts, n_ct, path, n_path = _push_linear_phase(
+                        contacts, n_ct, path, n_path, ACCUMULATION, t, t_acc, theta, 0.5 * (tdp + td_acc)
+                    )
+                theta_c = theta + 0.5 * (tdp + td_acc) * (t_acc - t)
+                thetadot_c = td_acc
                 t = t_acc
                 if stop_on_chatter:
                     status = CHATTER
+                    break
+                if t >= t_end:
                     break
                 in_contact = True
             continue
@@ -196,32 +240,33 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
         else:
             mode = TO_SLIDE_FORWARD if vrel > 0.0 else TO_SLIDE_BACKWARD
         t_start = t
-        p_start = n_path
         if mode == TO_ROLLING:
-            kind = ROLLING
-            path, n_path = _push(path, n_path, np.array([t, theta_c, roll_dot, 0.0]))
-            code, t, theta_c = roll(theta_c, t, t_end, gamma, omega, rho, mu, phi, r_ratio)
+            code, t, theta_end = roll(theta_c, t, t_end, gamma, omega, rho, mu, phi, r_ratio)
+            contacts, n_ct, path, n_path = _push_linear_phase(
+                contacts, n_ct, path, n_path, ROLLING, t_start, t, theta_c, roll_dot
+            )
+            theta_c = theta_end
             thetadot_c = roll_dot
-            path, n_path = _push(path, n_path, np.array([t, theta_c, roll_dot, 0.0]))
         elif mode == LIFTOFF:
-            kind = -1
             code = LIFTOFF
         else:
             sgn = 1.0 if mode == TO_SLIDE_FORWARD else -1.0
-            kind = SLIDE_FORWARD if sgn > 0.0 else SLIDE_BACKWARD
+            p_start = n_path
             code, t, theta_c, thetadot_c, path, n_path = slide(
                 theta_c, thetadot_c, t, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio, path, n_path
             )
-        if kind >= 0:
-            contacts, n_ct = _push(contacts, n_ct, np.array([t_start, t, kind, p_start, n_path - 1]))
+            kind = SLIDE_FORWARD if sgn > 0.0 else SLIDE_BACKWARD
+            contacts, n_ct = _push(contacts, n_ct, np.array([t_start, t, float(kind), float(p_start), float(n_path - 1)]))
         stalls = stalls + 1 if t == t_start else 0
-        if stalls > 50:
+        if stalls > MAX_STALLS:
             status = FAILED
+            reason = CONTACT_STALL
             break
         if code == END:
             break
         if code == STEP_LIMIT:
             status = FAILED
+            reason = CONTACT_STEP_LIMIT
             break
         if code == LIFTOFF:
             e = complex(math.cos(theta_c), math.sin(theta_c))
@@ -230,11 +275,12 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             in_contact = False
             on_boundary = True
             liftoff = True
+            flights, n_fl = _push_state(flights, n_fl, t, u, du)
         elif code == TO_ROLLING:
             thetadot_c = roll_dot
-    t_stop = min(t, t_end) if status != COMPLETED else t_end
+    t_stop = t_end if status == COMPLETED else min(t, t_end)
     return (impacts[:n_imp].copy(), flights[:n_fl].copy(), contacts[:n_ct].copy(), path[:n_path].copy(),
-            status, t_stop)
+            status, reason, t_stop)
 
 
 def _as_complex(name: str, value) -> complex:
@@ -258,7 +304,7 @@ def simulate(
     on_chatter: str = "contact",
     max_events: int = 10_000_000,
     chatter_rdot: float = 1e-5,
-    chatter_dt: float = 1e-3,
+    chatter_height: float = 1e-9,
     machine: Machine | None = None,
 ) -> Trajectory:
     """Simulate the rotor from (U, U') = (u0, du0) at t = 0 up to t_end.
@@ -282,10 +328,10 @@ def simulate(
     max_events : int
         Stop with status ``"max-events"`` after this many flights and contact
         phases; it bounds the run time whatever the dynamics.
-    chatter_rdot, chatter_dt : float
+    chatter_rdot, chatter_height : float
         With the rotor pressed outwards (N > 0), impacts are taken to
         accumulate when the impact velocity falls below ``chatter_rdot`` or the
-        next bounce, of duration 2 d rdot / N, is shorter than ``chatter_dt``.
+        next bounce, of height (d rdot)^2 / (2 N), is lower than ``chatter_height``.
         The switch to contact is made at the accumulation point, the sum of
         the geometric series of the intervals. The rotor then stays within
         about rdot^2 / (2 N) of the stator, which bounds the error of the switch.
@@ -312,11 +358,19 @@ def simulate(
     if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) or max_events < 1:
         raise ParameterError(f"max_events = {max_events!r} is invalid; allowed: an integer >= 1")
     chatter_rdot = check_range("chatter_rdot", chatter_rdot, low=0.0, low_open=True)
-    chatter_dt = check_range("chatter_dt", chatter_dt, low=0.0)
+    chatter_height = check_range("chatter_height", chatter_height, low=0.0)
+    k_abs = abs(params.k) if (params.omega**2 - 1.0, params.gamma) != (0.0, 0.0) else math.inf
+    if k_abs > K_MAX:
+        raise ParameterError(
+            f"omega = {params.omega!r}, gamma = {params.gamma!r} are too close to undamped resonance "
+            f"(|omega^2 - 1 + i gamma| = {abs(complex(params.omega**2 - 1.0, params.gamma)):.3g}): the forced "
+            f"response |k| = {k_abs:.3g} clearances is beyond the simulator's accurate range; allowed: "
+            f"|omega^2 - 1 + i gamma| >= rho / {K_MAX:g} = {params.rho / K_MAX:.3g}"
+        )
     p = params
-    impacts, flights, contacts, path, status, t_stop = simulate_kernel(
+    impacts, flights, contacts, path, status, reason, t_stop = simulate_kernel(
         p.gamma, p.omega, p.rho, p.mu, p.d, p.phi, p.r_ratio, u0, du0, t_end, int(max_events), chatter_rdot,
-        chatter_dt, on_chatter == "stop",
+        chatter_height, on_chatter == "stop",
     )
     return Trajectory(
         params=params,
@@ -325,6 +379,7 @@ def simulate(
         t_end=t_end,
         t_stop=float(t_stop),
         status=STATUS_NAMES[int(status)],
+        failure=FAILURE_MESSAGES.get(int(reason)),
         records=impacts,
         flights=flights,
         contacts=contacts,

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 from scipy.interpolate import BPoly
 
-from .contact import KIND_NAMES, ROLLING
+from .contact import ACCUMULATION, KIND_NAMES, ROLLING
 
 from .errors import ParameterError
 from .flow import equilibrium_point, propagate, to_inertial
@@ -139,6 +139,8 @@ class Trajectory:
         (t, theta, thetadot, thetadot') along the contact phases.
     machine : Machine or None
         The machine the parameters come from, for SI outputs.
+    failure : str or None
+        Why the run stopped, when ``status == "failed"``.
     """
 
     params: Parameters
@@ -152,6 +154,7 @@ class Trajectory:
     contacts: np.ndarray = field(repr=False)
     path: np.ndarray = field(repr=False)
     machine: Machine | None = None
+    failure: str | None = None
 
     @cached_property
     def impacts(self) -> ImpactTable:
@@ -161,7 +164,11 @@ class Trajectory:
     @cached_property
     def contact_intervals(self) -> list[ContactInterval]:
         """The phases of continuous contact, in time order."""
-        return [ContactInterval(float(c[0]), float(c[1]), KIND_NAMES[int(c[2])]) for c in self.contacts]
+        return [
+            ContactInterval(float(c[0]), float(c[1]), KIND_NAMES[int(c[2])])
+            for c in self.contacts
+            if int(c[2]) != ACCUMULATION
+        ]
 
     @property
     def success(self) -> bool:
@@ -183,7 +190,7 @@ class Trajectory:
             )
         if self.status == "max-events":
             return f"Stopped after the maximum number of events at t = {self.t_stop:.12g} ({n} impacts)."
-        return f"The simulation could not continue at t = {self.t_stop:.12g} (no progress in contact)."
+        return f"The simulation could not continue at t = {self.t_stop:.12g}: {self.failure}."
 
     @cached_property
     def _flight_table(self):
@@ -195,7 +202,7 @@ class Trajectory:
         out = []
         for c in self.contacts:
             rows = self.path[int(c[3]) : int(c[4]) + 1]
-            if int(c[2]) == ROLLING or rows.shape[0] < 2:
+            if int(c[2]) in (ROLLING, ACCUMULATION) or rows.shape[0] < 2:
                 out.append(None)
                 continue
             # quintic Hermite through theta, thetadot, thetadot' at the integrator's steps
@@ -281,7 +288,7 @@ class Trajectory:
             if kind == ROLLING:
                 ft[sel] = -free_tangential(theta[sel], thetadot[sel], p.gamma, p.rho, p.phi)
             else:
-                ft[sel] = -p.mu * nn * (1.0 if kind == 0 else -1.0)
+                ft[sel] = -p.mu * nn * np.sign(p.r_ratio + 1.0 + thetadot[sel])
         return n, ft
 
     def friction_power(self, t) -> np.ndarray:
@@ -312,12 +319,20 @@ class Trajectory:
         return np.where(th <= -np.pi, th + 2 * np.pi, th)
 
     def polar(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """(r, theta, rdot, thetadot) at times ``t``."""
+        """(r, theta, rdot, thetadot) at times ``t``.
+
+        At r = 0 the polar coordinates are singular; there theta is the
+        direction of U' (0 when U' = 0 too), rdot = |U'| and thetadot = 0, the
+        limits along the motion as it leaves the centre.
+        """
         u, du = self.state(t)
         r = np.abs(u)
-        w = np.conj(u / r) * du
-        th = np.angle(u)
-        return r, np.where(th <= -np.pi, th + 2 * np.pi, th), w.real, w.imag / r
+        at_centre = r == 0.0
+        e = np.where(at_centre, np.exp(1j * np.angle(du)), u / np.where(at_centre, 1.0, r))
+        w = np.conj(e) * du
+        th = np.where(at_centre, np.angle(du), np.angle(u))
+        thetadot = np.where(at_centre, 0.0, w.imag / np.where(at_centre, 1.0, r))
+        return r, np.where(th <= -np.pi, th + 2 * np.pi, th), w.real, thetadot
 
     def sample(self, n: int = 2000) -> np.ndarray:
         """Uniform sample times over [0, t_stop] that include every impact time."""

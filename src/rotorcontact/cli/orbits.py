@@ -1,0 +1,66 @@
+"""``rotorcontact orbits``: the periodic orbits with one impact per period, as JSON or a table."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..errors import ParameterError
+from ..impactmap import ImpactOrbit, one_impact_orbits
+from ..params import check_range
+from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "orbits",
+        help="periodic orbits with one impact per period (fixed points of the impact map)",
+        description=(
+            "Every fixed point of the impact map with one impact per period and period T in (0, T_max] "
+            "(MODEL.md §5): the orbits B_n,a..B_n,d from the zeros of F1, with admissibility, physical "
+            "plausibility, the interior extrema of r, the multipliers and stability."
+        ),
+    )
+    add_parameter_options(p)
+    p.add_argument("--t-max", dest="t_max", default="12", metavar="T", help="largest period searched (default 12)")
+    p.add_argument("--json", action="store_true", help="print the orbits as JSON on stdout")
+    p.set_defaults(func=run)
+
+
+def _num(x, fmt: str = ".8g") -> str:
+    return "-" if x is None else format(x, fmt)
+
+
+def _table(orbits: tuple[ImpactOrbit, ...]) -> list[str]:
+    if not orbits:
+        return ["no one-impact periodic orbit with T in (0, T_max]"]
+    head = (
+        f"{'orbit':<6} {'T':>14} {'theta':>14} {'rdot-':>14} {'thetadot-':>14} "
+        f"{'state':<10} {'plausible':<9} {'r_max':>10} {'extrema':>7} {'max|mult|':>10} {'stability'}"
+    )
+    lines = [head, "-" * len(head)]
+    for o in orbits:
+        mult = "-" if o.multipliers is None else format(max(abs(m) for m in o.multipliers), ".6g")
+        stability = "-" if o.stable is None else ("stable" if o.stable else "unstable")
+        lines.append(
+            f"{o.label:<6} {_num(o.T):>14} {_num(o.theta):>14} {_num(o.rdot):>14} {_num(o.thetadot):>14} "
+            f"{'admissible' if o.admissible else 'virtual':<10} {'yes' if o.plausible else 'no':<9} "
+            f"{_num(o.r_max_interior, '.7g'):>10} {o.interior_extrema:>7} {mult:>10} {stability}"
+        )
+    return lines
+
+
+def run(args: argparse.Namespace) -> int:
+    params, _machine = parameters_from_args(args)
+    t_max = check_range("--t-max", parse_float("t-max", args.t_max), low=0.0, low_open=True)
+    try:
+        orbits = one_impact_orbits(params, t_max)
+    except ParameterError as exc:
+        raise ParameterError(str(exc).replace("t_max", "--t-max")) from None
+    if args.json:
+        print_json({"orbits": [o.to_dict() for o in orbits]})
+    else:
+        print(f"one-impact periodic orbits with T in (0, {t_max:g}] at gamma = {params.gamma:g}, "
+              f"omega = {params.omega:g}, rho = {params.rho:g}, mu = {params.mu:g}, d = {params.d:g}")
+        for line in _table(orbits):
+            print(line)
+    return 0

@@ -1,0 +1,153 @@
+"""Brute-force orbit diagrams: the impact section against the swept parameter.
+
+Each recorded impact is a dot at (parameter value, section variable), one
+colour per direction (up, down), so hysteresis shows where the colours part.
+The one-impact fixed points of the impact map can be overlaid: solid where
+stable, dashed where unstable, admissible orbits only. A strip under the
+diagram shows the regime of each direction at each value (rub and rolling
+have no impacts to plot).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..batch import REGIME_NAMES
+from ..errors import ParameterError
+from .style import new_axes, save_figure
+
+__all__ = ["plot_sweep", "plot_regimes", "save_sweep_figure", "SECTION_LABELS", "REGIME_COLORS"]
+
+SECTION_LABELS = {
+    "theta": r"impact angle $\theta$",
+    "rdot": r"$\dot r^-$ at impact",
+    "thetadot": r"$\dot\theta^-$ at impact",
+}
+PARAM_LABELS = {
+    "gamma": r"$\gamma$", "omega": r"$\omega$", "rho": r"$\rho$", "mu": r"$\mu$", "d": r"$d$",
+    "phi": r"$\phi$", "r_ratio": r"$R/c_r$",
+}
+DIRECTION_COLORS = {"up": "C0", "down": "C3", "independent": "k"}
+DIRECTION_OFFSETS = {"up": -0.25, "down": 0.25, "independent": 0.0}
+#: Colour of each regime in the strip.
+REGIME_COLORS = {
+    "no-contact": "#d9d9d9",
+    "periodic-impacting": "#1f77b4",
+    "irregular-impacting": "#9467bd",
+    "rub": "#d62728",
+    "rolling": "#ff7f0e",
+    "mixed": "#8c564b",
+    "undetermined": "#bcbd22",
+    "failed": "#000000",
+}
+
+
+def _param(ds) -> str:
+    return str(ds.attrs["swept_parameter"])
+
+
+def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize: float = 2.0):
+    """Draw the impact section of a sweep.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep (`rotorcontact.sweep.sweep`).
+    variable : {"theta", "rdot", "thetadot"}
+        Section variable.
+    ax : matplotlib Axes, optional
+    overlay : xarray.Dataset, optional
+        Fixed points from `rotorcontact.sweep.one_impact_overlay`.
+    markersize : float
+
+    Returns
+    -------
+    fig, ax
+    """
+    if variable not in SECTION_LABELS:
+        raise ParameterError(f"variable = {variable!r} is invalid; allowed: {', '.join(SECTION_LABELS)}")
+    param = _param(ds)
+    fig, ax = new_axes(ax)
+    values = ds[param].values
+    for d in ds.direction.values:
+        d = str(d)
+        y = ds[variable].sel(direction=d).values
+        x = np.broadcast_to(values[:, None], y.shape)
+        ok = np.isfinite(y)
+        ax.plot(x[ok], y[ok], ls="none", marker=".", ms=markersize, color=DIRECTION_COLORS.get(d, "k"),
+                alpha=0.7, label=f"sweep {d}", gid=f"section:{d}", rasterized=True, zorder=3)
+    if overlay is not None:
+        _draw_overlay(ax, overlay, param, variable)
+    ax.set_xlabel(PARAM_LABELS.get(param, param))
+    ax.set_ylabel(SECTION_LABELS[variable])
+    ax.set_xlim(values.min(), values.max()) if values.size > 1 else None
+    handles, labels = ax.get_legend_handles_labels()
+    if handles:
+        leg = ax.legend(loc="best", fontsize="small", markerscale=6)
+        leg.set_gid("legend")
+    return fig, ax
+
+
+def _draw_overlay(ax, overlay, param: str, variable: str) -> None:
+    x = overlay[param].values
+    for j, label in enumerate(overlay.orbit.values):
+        label = str(label)
+        y = overlay[variable].values[:, j]
+        adm = overlay["admissible"].values[:, j].astype(bool) & np.isfinite(y)
+        stable = overlay["stable"].values[:, j].astype(bool)
+        first = True
+        for want, ls in ((True, "-"), (False, "--")):
+            sel = adm & (stable == want)
+            if not sel.any():
+                continue
+            yy = np.where(sel, y, np.nan)
+            ax.plot(x, yy, ls=ls, lw=0.9, color=f"C{(j + 2) % 10}", zorder=2,
+                    gid=f"orbit:{label}:{'stable' if want else 'unstable'}",
+                    label=f"{label} (fixed points)" if first else None)
+            first = False
+
+
+def plot_regimes(ds, ax=None):
+    """The regime of each direction at each value, as coloured strips. Returns (fig, ax)."""
+    param = _param(ds)
+    fig, ax = new_axes(ax)
+    values = ds[param].values
+    dirs = [str(d) for d in ds.direction.values]
+    codes = ds["regime"].values
+    if values.size > 1:
+        edges = np.concatenate(([values[0] - 0.5 * (values[1] - values[0])], 0.5 * (values[1:] + values[:-1]),
+                                [values[-1] + 0.5 * (values[-1] - values[-2])]))
+    else:
+        edges = np.array([values[0] - 0.5, values[0] + 0.5])
+    from matplotlib.colors import ListedColormap
+
+    cmap = ListedColormap([REGIME_COLORS[name] for name in REGIME_NAMES])
+    ax.pcolormesh(edges, np.arange(len(dirs) + 1), codes, cmap=cmap, vmin=-0.5, vmax=len(REGIME_NAMES) - 0.5)
+    ax.set_yticks(np.arange(len(dirs)) + 0.5, dirs)
+    ax.set_xlabel(PARAM_LABELS.get(param, param))
+    present = sorted({int(c) for c in np.unique(codes)})
+    from matplotlib.patches import Patch
+
+    ax.legend(handles=[Patch(color=REGIME_COLORS[REGIME_NAMES[c]], label=REGIME_NAMES[c]) for c in present],
+              loc="upper center", bbox_to_anchor=(0.5, -0.6), ncol=min(4, len(present)), fontsize="small",
+              frameon=False)
+    return fig, ax
+
+
+def save_sweep_figure(ds, path, variable: str = "theta", *, overlay=None) -> Any:
+    """Write the diagram (section and regime strip) to ``path`` (.png, .svg or .pdf)."""
+    import matplotlib.pyplot as plt
+
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(7.5, 6.0), sharex=True,
+                                  gridspec_kw=dict(height_ratios=(6, 1), hspace=0.08))
+    plot_sweep(ds, variable, ax, overlay=overlay)
+    ax.set_xlabel("")
+    plot_regimes(ds, ax2)
+    p = ds.attrs
+    ax.set_title(
+        f"brute-force diagram, {p.get('n_transient')} transient + {p.get('n_record')} recorded events per value",
+        fontsize="medium",
+    )
+    return save_figure(fig, path)

@@ -1,0 +1,448 @@
+"""Running batches in chunks: in this process, through joblib, or on a Dask cluster.
+
+A large study (a brute-force diagram, a basin of attraction) is cut into
+*chunks*, each a `ChunkTask`: a small block of lanes and steps for the batch
+kernel (`rotorcontact.batch`). The cut is fixed by the study and its
+``chunk_size`` alone, and every chunk is computed by the same compiled code
+from the same inputs, so the results are identical bit for bit whichever
+executor runs them:
+
+* ``n_jobs=None`` and no scheduler: in this process, over all cores through
+  numba's threads;
+* ``n_jobs=N``: N joblib worker processes, one core each;
+* ``scheduler="local"`` (a `distributed.LocalCluster` started and stopped here)
+  or ``scheduler="tcp://host:port"`` (an existing Dask cluster, whose workers
+  must have rotorcontact installed).
+
+Chunks that depend on each other (a sweep with the state carried along) are
+run in *waves*: a wave holds the chunks whose inputs are known.
+
+A `ChunkStore` writes each finished chunk to its own file in a folder beside
+the output, atomically (write, then rename). A study started again with the
+same settings finds the finished chunks there, computes only the others, and
+produces the same result.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import shutil
+import sys
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable, Iterator
+
+import numpy as np
+
+from .batch import BatchSettings, run_lanes
+from .errors import ParameterError
+
+__all__ = ["ChunkTask", "ChunkStore", "make_executor", "progress_bar", "run_task", "write_netcdf"]
+
+STORE_FORMAT = 1
+
+
+@dataclass(frozen=True)
+class ChunkTask:
+    """One chunk of a study: lanes of steps for the batch kernel.
+
+    Attributes
+    ----------
+    key : str
+        Name of the chunk (also its file name in a `ChunkStore`).
+    params : numpy.ndarray
+        (n_lanes, n_steps, 7) parameter rows.
+    u0, du0 : numpy.ndarray
+        (n_lanes, n_steps) complex initial states.
+    carry : bool
+        Carry the state along each lane.
+    settings : BatchSettings
+        Transient and window.
+    """
+
+    key: str
+    params: np.ndarray = field(repr=False)
+    u0: np.ndarray = field(repr=False)
+    du0: np.ndarray = field(repr=False)
+    carry: bool
+    settings: BatchSettings
+
+    @property
+    def n_items(self) -> int:
+        """Number of simulations in the chunk."""
+        return int(self.params.shape[0] * self.params.shape[1])
+
+
+def run_task(task: ChunkTask, parallel: bool = False) -> dict[str, np.ndarray]:
+    """Compute a chunk; returns its raw ``sections`` and ``summary`` arrays."""
+    sections, summary = run_lanes(task.params, task.u0, task.du0, task.settings, carry=task.carry,
+                                  parallel=parallel)
+    return {"sections": sections, "summary": summary}
+
+
+def _indexed(index: int, task: ChunkTask) -> tuple[int, dict[str, np.ndarray]]:
+    return index, run_task(task, parallel=False)
+
+
+# ---------------------------------------------------------------------------
+# executors
+# ---------------------------------------------------------------------------
+
+
+class _Executor:
+    name = "base"
+
+    def run(self, tasks: list[ChunkTask]) -> Iterator[tuple[int, dict[str, np.ndarray]]]:  # pragma: no cover
+        raise NotImplementedError
+
+    def close(self) -> None:
+        pass
+
+    def __enter__(self) -> "_Executor":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+class InProcessExecutor(_Executor):
+    """Chunks one after the other in this process; the lanes of a chunk in parallel over numba's threads.
+
+    Chunks with few lanes (the chunks of a carried sweep, one lane each) are
+    stacked into one kernel call so that their lanes still run in parallel.
+    """
+
+    name = "in-process"
+
+    def __init__(self) -> None:
+        import numba
+
+        self.threads = int(numba.get_num_threads())
+
+    def run(self, tasks):
+        i = 0
+        while i < len(tasks):
+            group = [i]
+            lanes = tasks[i].params.shape[0]
+            while (
+                lanes < self.threads
+                and group[-1] + 1 < len(tasks)
+                and _stackable(tasks[group[0]], tasks[group[-1] + 1])
+            ):
+                group.append(group[-1] + 1)
+                lanes += tasks[group[-1]].params.shape[0]
+            if len(group) == 1:
+                yield i, run_task(tasks[i], parallel=True)
+            else:
+                sub = [tasks[j] for j in group]
+                stacked = ChunkTask(
+                    key="stacked",
+                    params=np.concatenate([t.params for t in sub]),
+                    u0=np.concatenate([t.u0 for t in sub]),
+                    du0=np.concatenate([t.du0 for t in sub]),
+                    carry=sub[0].carry,
+                    settings=sub[0].settings,
+                )
+                res = run_task(stacked, parallel=True)
+                start = 0
+                for j, t in zip(group, sub):
+                    n = t.params.shape[0]
+                    yield j, {name: arr[start : start + n].copy() for name, arr in res.items()}
+                    start += n
+            i = group[-1] + 1
+
+
+def _stackable(a: ChunkTask, b: ChunkTask) -> bool:
+    return a.params.shape[1] == b.params.shape[1] and a.carry == b.carry and a.settings == b.settings
+
+
+class JoblibExecutor(_Executor):
+    """Chunks in joblib worker processes (loky), one core each; the pool is kept across waves."""
+
+    name = "joblib"
+
+    def __init__(self, n_jobs: int) -> None:
+        from joblib import Parallel
+
+        self.n_jobs = n_jobs
+        self._parallel = Parallel(n_jobs=n_jobs, backend="loky", return_as="generator_unordered")
+        self._parallel.__enter__()
+
+    def run(self, tasks):
+        from joblib import delayed
+
+        yield from self._parallel(delayed(_indexed)(i, t) for i, t in enumerate(tasks))
+
+    def close(self) -> None:
+        self._parallel.__exit__(None, None, None)
+
+
+class DaskExecutor(_Executor):
+    """Chunks as tasks on a Dask distributed cluster.
+
+    Parameters
+    ----------
+    scheduler : str or distributed.Client
+        ``"local"`` starts a `distributed.LocalCluster` (``n_workers`` workers
+        of one thread, closed again by `close`); an address such as
+        ``"tcp://10.0.0.1:8786"`` connects to a running scheduler; a Client is used as it is.
+    n_workers : int or None
+        Workers of the local cluster (default: the number of cores).
+    processes : bool
+        Local workers as processes (True) or threads of this process.
+    """
+
+    name = "dask"
+
+    def __init__(self, scheduler: Any, n_workers: int | None = None, processes: bool = True) -> None:
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError:  # pragma: no cover - a declared dependency
+            raise ParameterError("scheduler given but dask.distributed is not installed") from None
+        self._cluster = None
+        self._own_client = True
+        if isinstance(scheduler, Client):
+            self.client = scheduler
+            self._own_client = False
+        elif scheduler == "local":
+            n = n_workers or os.cpu_count() or 1
+            self._cluster = LocalCluster(
+                n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None
+            )
+            self.client = Client(self._cluster)
+        elif isinstance(scheduler, str) and "://" in scheduler:
+            try:
+                self.client = Client(scheduler, timeout="20s")
+            except (OSError, TimeoutError) as exc:
+                raise ParameterError(f"scheduler = {scheduler!r}: cannot connect ({exc})") from None
+        else:
+            raise ParameterError(
+                f"scheduler = {scheduler!r} is invalid; allowed: 'local' or an address such as tcp://host:8786"
+            )
+
+    def run(self, tasks):
+        from distributed import as_completed
+
+        futures = self.client.map(_indexed, range(len(tasks)), tasks, pure=False)
+        try:
+            for fut in as_completed(futures):
+                yield fut.result()
+        finally:
+            for fut in futures:
+                fut.release()
+
+    def close(self) -> None:
+        if self._own_client:
+            self.client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+
+
+def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes: bool = True) -> _Executor:
+    """The executor for ``n_jobs`` / ``scheduler`` (see the module docstring).
+
+    Raises
+    ------
+    ParameterError
+        On an invalid ``n_jobs`` or ``scheduler``.
+    """
+    if n_jobs is not None:
+        if isinstance(n_jobs, bool) or not isinstance(n_jobs, (int, np.integer)) or n_jobs == 0 or n_jobs < -1:
+            raise ParameterError(f"n_jobs = {n_jobs!r} is invalid; allowed: an integer >= 1, or -1 for all cores")
+        n_jobs = int(n_jobs) if n_jobs > 0 else (os.cpu_count() or 1)
+    if scheduler is not None:
+        return DaskExecutor(scheduler, n_workers=n_jobs, processes=processes)
+    if n_jobs is None:
+        return InProcessExecutor()
+    return JoblibExecutor(n_jobs)
+
+
+# ---------------------------------------------------------------------------
+# chunk files
+# ---------------------------------------------------------------------------
+
+
+def _canonical(obj: Any) -> Any:
+    """JSON-ready data with floats written exactly (hex), for comparing settings."""
+    if isinstance(obj, dict):
+        return {str(k): _canonical(v) for k, v in sorted(obj.items())}
+    if isinstance(obj, (list, tuple)):
+        return [_canonical(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [_canonical(v) for v in obj.tolist()]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj).hex()
+    if isinstance(obj, (complex, np.complexfloating)):
+        return [float(obj.real).hex(), float(obj.imag).hex()]
+    if obj is None or isinstance(obj, str):
+        return obj
+    return str(obj)
+
+
+class ChunkStore:
+    """Finished chunks of one study, one ``.npz`` file each, in a folder.
+
+    Parameters
+    ----------
+    folder : path
+        The folder (created if missing).
+    manifest : dict
+        Everything that defines the study. A folder holding chunks of a study
+        with another manifest is refused rather than mixed in.
+    resume : bool
+        Reuse the chunks found in the folder (default); False deletes them first.
+
+    Raises
+    ------
+    ParameterError
+        If the folder holds chunks of a different study.
+    """
+
+    def __init__(self, folder: str | Path, manifest: dict[str, Any], resume: bool = True) -> None:
+        self.folder = Path(folder)
+        data = {"format": STORE_FORMAT, "study": _canonical(manifest)}
+        text = json.dumps(data, sort_keys=True, indent=1)
+        self.digest = hashlib.sha256(text.encode()).hexdigest()
+        path = self.folder / "manifest.json"
+        if self.folder.exists() and not resume:
+            shutil.rmtree(self.folder)
+        if path.exists():
+            try:
+                old = json.loads(path.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                old = None
+            if old != json.loads(text):
+                raise ParameterError(
+                    f"{self.folder} holds partial results of a different study; delete it, "
+                    "start afresh (resume=False, --no-resume) or write to another file"
+                )
+        else:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            _atomic_write_text(path, text)
+
+    def _file(self, key: str) -> Path:
+        return self.folder / f"{key}.npz"
+
+    def done(self, key: str) -> bool:
+        """True when the chunk ``key`` is finished."""
+        return self._file(key).exists()
+
+    def save(self, key: str, arrays: dict[str, np.ndarray]) -> None:
+        """Write a finished chunk (atomically)."""
+        fd, tmp = tempfile.mkstemp(prefix=f".{key}.", suffix=".npz.part", dir=self.folder)
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                np.savez(fh, **arrays)
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.replace(tmp, self._file(key))
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+
+    def load(self, key: str) -> dict[str, np.ndarray]:
+        """Read a finished chunk."""
+        with np.load(self._file(key)) as data:
+            return {name: data[name] for name in data.files}
+
+    def count(self) -> int:
+        """Number of finished chunks in the folder."""
+        return sum(1 for _ in self.folder.glob("*.npz"))
+
+    def remove(self) -> None:
+        """Delete the folder."""
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
+
+
+def chunk_folder(out: str | Path) -> Path:
+    """The folder of chunk files that goes with the output file ``out`` (``out`` + ``.chunks``)."""
+    out = Path(out)
+    return out.with_name(out.name + ".chunks")
+
+
+def write_netcdf(ds, out: str | Path) -> Path:
+    """Write an xarray Dataset to NetCDF (netCDF3 64-bit offset through scipy), atomically."""
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent)
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, engine="scipy", format="NETCDF3_64BIT")
+        os.replace(tmp, out)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return out
+
+
+def check_output_path(out: str | Path) -> Path:
+    """Check that ``out`` is a writable ``.nc`` path."""
+    out = Path(out)
+    if out.suffix.lower() != ".nc":
+        raise ParameterError(f"output file {str(out)!r} must end in .nc (NetCDF)")
+    if out.exists() and out.is_dir():
+        raise ParameterError(f"output file {str(out)!r} is a folder")
+    parent = out.parent if str(out.parent) else Path(".")
+    if parent.exists() and not parent.is_dir():
+        raise ParameterError(f"output folder {str(parent)!r} is not a folder")
+    return out
+
+
+# ---------------------------------------------------------------------------
+# progress
+# ---------------------------------------------------------------------------
+
+
+def progress_bar(total: int, desc: str, enabled: bool, unit: str = "sim"):
+    """A tqdm progress bar on stderr (a silent one when not ``enabled``)."""
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, disable=not enabled, dynamic_ncols=True,
+                mininterval=0.5, smoothing=0.1)
+
+
+def run_waves(
+    executor: _Executor,
+    waves: Iterable[list[ChunkTask]],
+    store: ChunkStore | None,
+    bar,
+    sink: dict[str, dict[str, np.ndarray]],
+) -> int:
+    """Run waves of chunks, skipping finished ones; results go to ``store`` (if any) and ``sink``.
+
+    ``waves`` may be a generator that builds each wave from ``sink`` (the
+    chunks of the previous waves). Returns the number of chunks computed.
+    """
+    computed = 0
+    for wave in waves:
+        todo = []
+        for task in wave:
+            if store is not None and store.done(task.key):
+                sink[task.key] = store.load(task.key)
+                bar.update(task.n_items)
+            else:
+                todo.append(task)
+        for index, result in executor.run(todo):
+            task = todo[index]
+            if store is not None:
+                store.save(task.key, result)
+            sink[task.key] = result
+            computed += 1
+            bar.update(task.n_items)
+    return computed

@@ -1,0 +1,116 @@
+"""``rotorcontact orbits``: JSON contract, table, and bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rotorcontact import Parameters
+from rotorcontact.cli.main import main
+from rotorcontact.impactmap import one_impact_orbits
+
+EXE = Path(sys.executable).parent / "rotorcontact"
+
+KEYS = {
+    "label", "n", "branch", "T", "theta", "rdot", "thetadot", "admissible", "plausible",
+    "r_max_interior", "interior_extrema", "multipliers", "stable",
+}
+
+
+def _no_nan(text):
+    def bad(value):
+        raise AssertionError(f"non-finite JSON constant {value}")
+
+    return json.loads(text, parse_constant=bad)
+
+
+def run_json(capsys, *args):
+    assert main(["orbits", "--json", *args]) == 0
+    return _no_nan(capsys.readouterr().out)
+
+
+def test_json_contract_at_the_reference_with_gamma_01(capsys):
+    data = run_json(capsys, "--gamma", "0.1")
+    assert set(data) == {"orbits"}
+    orbits = data["orbits"]
+    assert [o["label"] for o in orbits] == ["B1,a", "B1,b", "B1,c", "B1,d"]
+    lib = one_impact_orbits(Parameters.reference().replace(gamma=0.1), 12.0)
+    for o, ref in zip(orbits, lib):
+        assert set(o) == KEYS
+        assert o["label"] == f"B{o['n']},{o['branch']}"
+        for key in ("T", "theta", "rdot", "thetadot", "admissible", "plausible", "interior_extrema", "stable"):
+            assert o[key] == getattr(ref, key)
+        assert o["r_max_interior"] == ref.r_max_interior
+        assert o["multipliers"] == [[m.real, m.imag] for m in ref.multipliers]
+        assert -math.pi < o["theta"] <= math.pi
+    d = orbits[3]
+    assert d["stable"] is True and d["plausible"] is True and d["T"] == pytest.approx(2.8635, abs=1e-4)
+    assert all(len(m) == 2 for m in d["multipliers"]) and len(d["multipliers"]) == 3
+
+
+def test_virtual_orbits_have_null_multipliers_and_stability(capsys):
+    orbits = run_json(capsys, "--gamma", "0.05", "--t-max", "40")["orbits"]
+    virtual = [o for o in orbits if not o["admissible"]]
+    assert virtual and all(o["multipliers"] is None and o["stable"] is None for o in virtual)
+    assert all(o["plausible"] is False for o in virtual)
+    admissible = [o for o in orbits if o["admissible"]]
+    assert admissible and all(isinstance(o["stable"], bool) for o in admissible)
+    # the pairs beyond T = 12 appear only with the larger --t-max
+    assert {o["n"] for o in orbits} == {1, 2}
+    assert {o["n"] for o in run_json(capsys, "--gamma", "0.05")["orbits"]} == {1}
+
+
+def test_no_orbits_above_the_first_fold(capsys):
+    assert run_json(capsys, "--gamma", "0.2")["orbits"] == []
+
+
+def test_machine_and_parameter_options(capsys):
+    a = run_json(capsys, "--machine", "reference", "--gamma", "0.1")
+    b = run_json(capsys, "--gamma", "0.1")
+    assert a == b
+    c = run_json(capsys, "--gamma", "0.1", "--phi", "1.0")["orbits"]
+    # the phase only rotates theta (MODEL.md §5)
+    for o1, o2 in zip(b["orbits"], c):
+        assert o1["T"] == pytest.approx(o2["T"], abs=1e-13) and o1["rdot"] == pytest.approx(o2["rdot"], abs=1e-12)
+        assert math.remainder(o2["theta"] - o1["theta"] - (1.0 - 0.21), 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+
+
+def test_text_table(capsys):
+    assert main(["orbits", "--gamma", "0.1"]) == 0
+    out = capsys.readouterr().out
+    for label in ("B1,a", "B1,b", "B1,c", "B1,d"):
+        assert label in out
+    assert "stable" in out and "admissible" in out
+    assert main(["orbits", "--gamma", "0.3"]) == 0
+    assert "no one-impact periodic orbit" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--t-max", "-1"],
+        ["--t-max", "abc"],
+        ["--t-max", "nan"],
+        ["--t-max", "1e7"],
+        ["--gamma", "x"],
+        ["--d", "2"],
+        ["--omega", "1", "--gamma", "0"],
+    ],
+)
+def test_bad_input_exit_status_2_without_traceback(capsys, args):
+    assert main(["orbits", *args]) == 2
+    err = capsys.readouterr().err
+    assert "error" in err and "Traceback" not in err
+
+
+def test_console_script():
+    proc = subprocess.run([str(EXE), "orbits", "--gamma", "0.1", "--json"], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert [o["label"] for o in _no_nan(proc.stdout)["orbits"]] == ["B1,a", "B1,b", "B1,c", "B1,d"]
+    proc = subprocess.run([str(EXE), "orbits", "--t-max", "0"], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr and "--t-max" in proc.stderr

@@ -1,0 +1,213 @@
+"""Brute-force orbit diagrams: agreement with the fixed points, hysteresis, scale-out and resume.
+
+Claims checked here:
+
+* where the rotor settles on a stable one-impact orbit, the recorded impacts
+  sit on the fixed point of the impact map (`one_impact_orbits`);
+* sweeping up and down shows hysteresis: on B1,d the up sweep keeps impacting
+  where the down sweep, coming from rub, keeps rubbing;
+* the results do not depend on how they are computed: in this process,
+  joblib workers, a Dask LocalCluster, any chunk size (bit for bit);
+* an interrupted sweep resumes from its chunk files and writes the same file.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from rotorcontact import ParameterError, Parameters
+from rotorcontact.batch import BatchSettings, simulate_batch
+from rotorcontact.impactmap import one_impact_orbits
+from rotorcontact.scaleout import chunk_folder
+from rotorcontact.sweep import one_impact_overlay, start_state, sweep, sweep_values
+
+REF = Parameters.reference()
+EXE = Path(sys.executable).parent / "rotorcontact"
+
+
+def _assert_bitwise(a: xr.Dataset, b: xr.Dataset) -> None:
+    xr.testing.assert_identical(a, b)
+    for name in a.data_vars:
+        assert a[name].values.tobytes() == b[name].values.tobytes(), name
+
+
+def test_recorded_impacts_sit_on_the_stable_one_impact_fixed_point():
+    values = sweep_values(0.09, 0.14, 6)
+    res = sweep(REF, "gamma", values, mode="up", n_transient=1500, n_record=20, progress=False)
+    ds = res.dataset.sel(direction="up")
+    for i, g in enumerate(values):
+        stable = [o for o in one_impact_orbits(REF.replace(gamma=g)) if o.stable and o.plausible]
+        assert [o.label for o in stable] == ["B1,d"]
+        o = stable[0]
+        assert int(ds.impacts_per_period[i]) == 1
+        assert abs(float(ds.period[i]) - o.T) < 1e-9
+        theta = ds.theta.values[i]
+        assert np.all(np.abs(np.angle(np.exp(1j * (theta - o.theta)))) < 1e-9)
+        assert np.all(np.abs(ds.rdot.values[i] - o.rdot) < 1e-9)
+        assert np.all(np.abs(ds.thetadot.values[i] - o.thetadot) < 1e-9)
+
+
+def test_up_and_down_sweeps_show_hysteresis():
+    values = sweep_values(0.14, 0.19, 11)
+    res = sweep(REF, "gamma", values, mode="both", n_transient=1500, n_record=50, progress=False)
+    up, down = res.regimes("up"), res.regimes("down")
+    # down from gamma = 0.19 (beyond the fold of B1,d) the rotor rubs all the way
+    assert set(down) == {"rub"}
+    # up from rest at 0.14 it settles on B1,d and stays on it until its fold near 0.178
+    fold_side = values < 0.175
+    assert all(r == "periodic-impacting" for r, f in zip(up, fold_side) if f)
+    assert up[-1] == "rub"
+    both = (np.array(up) == "periodic-impacting") & (np.array(down) == "rub")
+    assert both.sum() >= 5
+
+
+def test_chunk_size_does_not_change_the_results():
+    values = sweep_values(0.1, 0.2, 9)
+    kw = dict(mode="both", n_transient=200, n_record=30, progress=False)
+    a = sweep(REF, "gamma", values, chunk_size=2, **kw).dataset
+    b = sweep(REF, "gamma", values, chunk_size=100, **kw).dataset
+    a.attrs.pop("chunk_size")
+    b.attrs.pop("chunk_size")
+    _assert_bitwise(a, b)
+
+
+def test_independent_mode_is_the_batch_kernel_from_one_start():
+    values = sweep_values(0.08, 0.2, 7)
+    st = BatchSettings(n_transient=300, n_record=25)
+    ds = sweep(REF, "gamma", values, mode="independent", settings=st, progress=False, chunk_size=3).dataset
+    direct = simulate_batch([REF.replace(gamma=g) for g in values], 0j, 0j, settings=st)
+    assert ds.theta.values[0].tobytes() == direct.theta.tobytes()
+    assert ds.regime.values[0].tolist() == direct.regime.tolist()
+
+
+def test_sweep_over_another_parameter_and_named_start():
+    values = sweep_values(0.74, 0.78, 3)
+    res = sweep(REF.replace(gamma=0.1), "omega", values, mode="up", start="B1,d", n_transient=100, n_record=10,
+                progress=False)
+    ds = res.dataset
+    assert "omega" in ds.dims and ds.attrs["swept_parameter"] == "omega" and "omega" not in ds.attrs
+    assert ds.attrs["gamma"] == 0.1 and ds.attrs["start_state"] == "B1,d"
+    u0, du0 = start_state(REF.replace(gamma=0.1, omega=0.74), "B1,d")
+    assert ds.attrs["start_u0_re"][0] == u0.real and ds.attrs["start_du0_im"][0] == du0.imag
+    assert set(res.regimes("up")) == {"periodic-impacting"}
+
+
+def test_dask_local_cluster_equals_joblib_bit_for_bit(tmp_path):
+    from distributed import Client, LocalCluster
+
+    values = sweep_values(0.08, 0.2, 10)
+    kw = dict(mode="both", n_transient=300, n_record=30, chunk_size=3, progress=False)
+    ref = sweep(REF, "gamma", values, out=tmp_path / "inproc.nc", **kw)
+    jl = sweep(REF, "gamma", values, n_jobs=2, out=tmp_path / "joblib.nc", **kw)
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None)
+    client = Client(cluster)
+    try:
+        assert len(client.scheduler_info()["workers"]) == 2
+        dk = sweep(REF, "gamma", values, scheduler=client, out=tmp_path / "dask.nc", **kw)
+    finally:
+        client.close()
+        cluster.close()
+    _assert_bitwise(jl.dataset, dk.dataset)
+    _assert_bitwise(ref.dataset, dk.dataset)
+    data = (tmp_path / "joblib.nc").read_bytes()
+    assert data == (tmp_path / "dask.nc").read_bytes() == (tmp_path / "inproc.nc").read_bytes()
+    # the file holds the dataset, parameters and units included
+    back = xr.load_dataset(tmp_path / "dask.nc", engine="scipy")
+    _assert_bitwise(back, dk.dataset)
+    assert back.attrs["omega"] == REF.omega and back.attrs["phi_units"] == "rad"
+    assert back.theta.attrs["units"] == "rad" and back.gamma.attrs["units"] == "1"
+    assert not chunk_folder(tmp_path / "dask.nc").exists()
+
+
+def _sweep_command(out: Path) -> list[str]:
+    # a sweep of 60 chunks of one value each, slow enough to be stopped part-way
+    return [
+        str(EXE), "sweep", "--param", "gamma", "--from", "0.09", "--to", "0.13", "--n", "60", "--mode", "up",
+        "--transient", "20000", "--record", "20", "--chunk-size", "1", "--out", str(out), "--no-progress",
+    ]
+
+
+def test_an_interrupted_sweep_resumes_and_writes_the_same_file(tmp_path):
+    out = tmp_path / "resumed.nc"
+    folder = chunk_folder(out)
+    proc = subprocess.Popen(_sweep_command(out), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 90
+    try:
+        while time.monotonic() < deadline:
+            if folder.exists() and len(list(folder.glob("*.npz"))) >= 3:
+                break
+            if proc.poll() is not None:
+                pytest.fail(f"the sweep ended before it could be interrupted: {proc.stderr.read().decode()}")
+            time.sleep(0.005)
+        else:
+            pytest.fail("no chunk was written in time")
+        proc.send_signal(signal.SIGKILL)
+    finally:
+        proc.wait()
+    assert proc.returncode == -signal.SIGKILL
+    done = len(list(folder.glob("*.npz")))
+    assert 3 <= done < 60 and not out.exists()
+    # run again: it continues from the chunk files
+    from rotorcontact.cli.main import main
+
+    assert main(_sweep_command(out)[1:]) == 0
+    assert out.exists() and not folder.exists()
+    # the same sweep uninterrupted
+    fresh = tmp_path / "fresh.nc"
+    assert main(_sweep_command(fresh)[1:]) == 0
+    assert out.read_bytes() == fresh.read_bytes()
+
+
+def test_resume_reports_reused_chunks_and_refuses_a_different_study(tmp_path):
+    out = tmp_path / "s.nc"
+    values = sweep_values(0.1, 0.12, 4)
+    kw = dict(mode="up", n_transient=50, n_record=5, chunk_size=1, progress=False, out=out, keep_chunks=True)
+    first = sweep(REF, "gamma", values, **kw)
+    assert first.chunks_computed == 4 and first.chunks_reused == 0
+    again = sweep(REF, "gamma", values, **kw)
+    assert again.chunks_computed == 0 and again.chunks_reused == 4
+    _assert_bitwise(first.dataset, again.dataset)
+    with pytest.raises(ParameterError, match="different study"):
+        sweep(REF, "gamma", values, **{**kw, "n_record": 6})
+    fresh = sweep(REF, "gamma", values, **{**kw, "n_record": 6, "resume": False})
+    assert fresh.chunks_computed == 4
+
+
+def test_overlay_holds_the_fixed_points():
+    values = sweep_values(0.09, 0.12, 4)
+    ov = one_impact_overlay(REF, "gamma", values)
+    assert list(ov.orbit.values) == ["B1,a", "B1,b", "B1,c", "B1,d"]
+    o = [x for x in one_impact_orbits(REF.replace(gamma=0.1)) if x.label == "B1,d"][0]
+    assert ov.theta.sel(gamma=0.1, orbit="B1,d").item() == o.theta
+    assert ov.stable.sel(gamma=0.1, orbit="B1,d").item() == 1
+
+
+def test_invalid_input():
+    values = sweep_values(0.1, 0.2, 3)
+    with pytest.raises(ParameterError, match="param"):
+        sweep(REF, "speed", values)
+    with pytest.raises(ParameterError, match="increase"):
+        sweep(REF, "gamma", [0.2, 0.1])
+    with pytest.raises(ParameterError, match="mode"):
+        sweep(REF, "gamma", values, mode="sideways")
+    with pytest.raises(ParameterError, match="d = 2"):
+        sweep(REF, "d", [0.5, 2.0])
+    with pytest.raises(ParameterError, match="B1,d"):
+        sweep(REF, "gamma", [0.19, 0.2], start="B1,d")
+    with pytest.raises(ParameterError, match=".nc"):
+        sweep(REF, "gamma", values, out="x.txt")
+    with pytest.raises(ParameterError, match="n_jobs"):
+        sweep(REF, "gamma", values, n_jobs=0, n_transient=1, n_record=1)
+    with pytest.raises(ParameterError, match="scheduler"):
+        sweep(REF, "gamma", values, scheduler="nowhere", n_transient=1, n_record=1)
+    with pytest.raises(ParameterError, match="smaller"):
+        sweep_values(0.2, 0.1, 3)

@@ -1,0 +1,214 @@
+"""The Trajectory result: exact dense output between impacts (against solve_ivp and
+the mpmath closed form), the impact table, sampling, status, message and the
+JSON-ready dict."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from rotorcontact import ParameterError, Parameters, reference_machine
+
+REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
+
+
+@pytest.fixture(scope="module")
+def traj(ref):
+    return ref.run(Parameters(**REF, gamma=0.1), 0j, 0j, 60.0, impacts_only=True)
+
+
+def segments(traj):
+    """(t_start, t_next, U, U') of each free flight, from the impact table."""
+    imp = traj.impacts
+    starts = np.concatenate(([0.0], imp.t))
+    ends = np.concatenate((imp.t, [traj.t_stop]))
+    us = np.concatenate(([traj.u0], imp.point))
+    dus = np.concatenate(([traj.du0], imp.du_plus))
+    return list(zip(starts, ends, us, dus))
+
+
+def test_dense_output_matches_solve_ivp_between_impacts(ref, traj):
+    p = traj.params
+    rng = np.random.default_rng(7)
+    segs = segments(traj)
+    assert len(segs) > 15
+    worst = 0.0
+    for t0, t1, u, du in segs:
+        times = np.sort(rng.uniform(t0, t1, 6))
+        u_ref, du_ref = ref.ivp_state(p, t0, complex(u), complex(du), times)
+        u_lib, du_lib = traj.state(times)
+        worst = max(worst, np.max(np.abs(u_lib - u_ref)), np.max(np.abs(du_lib - du_ref)))
+    assert worst < 1e-9
+
+
+def test_dense_output_matches_mpmath_closed_form(ref, traj):
+    p = traj.params
+    rng = np.random.default_rng(8)
+    for t0, t1, u, du in segments(traj)[::3]:
+        fl = ref.flight(p, complex(u), complex(du))
+        for t in rng.uniform(t0, t1, 3):
+            ue, due = fl.state(t - t0)
+            u_lib, du_lib = traj.state(t)
+            assert abs(complex(u_lib) - complex(ue)) < 1e-13
+            assert abs(complex(du_lib) - complex(due)) < 1e-13
+
+
+def test_dense_output_against_an_independent_full_integration(ref, traj):
+    """solve_ivp with its own impacts and restarts: the whole trajectory agrees to 1e-7."""
+    p = traj.params
+    rows, segs = ref.ivp_simulate(p, traj.u0, traj.du0, 10_000, t_end=traj.t_stop)
+    assert len(rows) == len(traj.impacts)
+    rng = np.random.default_rng(9)
+    starts = [s[0] for s in segs] + [traj.t_stop]
+    for j, (t0, u, du) in enumerate(segs):
+        times = np.sort(rng.uniform(t0, starts[j + 1], 3))
+        # keep clear of the impacts, where a time shift of 1e-9 changes the velocity by O(1)
+        times = times[(times > t0 + 1e-6) & (times < starts[j + 1] - 1e-6)]
+        if times.size == 0:
+            continue
+        u_ref, du_ref = ref.ivp_state(p, t0, u, du, times)
+        u_lib, du_lib = traj.state(times)
+        assert np.max(np.abs(u_lib - u_ref)) < 1e-7
+        assert np.max(np.abs(du_lib - du_ref)) < 1e-7
+
+
+def test_state_at_and_around_impacts(traj):
+    imp = traj.impacts
+    p = traj.params
+    u0, du0 = traj.state(0.0)
+    assert complex(u0) == traj.u0 and complex(du0) == traj.du0
+    for j in range(len(imp)):
+        u, du = traj.state(imp.t[j])
+        assert abs(complex(u) - imp.point[j]) < 1e-15 * 4
+        assert abs(complex(du) - imp.du_plus[j]) < 1e-13  # just after the impact
+        # just before: radius below 1, radial velocity close to the table's rdot
+        r, th, rdot, thetadot = traj.polar(imp.t[j] - 1e-8)
+        assert r < 1
+        assert abs(rdot - imp.rdot[j]) < 1e-6
+        assert abs(thetadot - imp.thetadot[j]) < 1e-6
+
+
+def test_frames_and_polar_consistency(traj):
+    # (the run starts at the centre U = 0, where the polar angle is undefined)
+    t = np.linspace(1e-3, traj.t_stop, 777)
+    u, du = traj.state(t)
+    np.testing.assert_array_equal(traj.U(t), u)
+    np.testing.assert_array_equal(traj.dU(t), du)
+    np.testing.assert_allclose(traj.Z(t), u * np.exp(1j * t), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(traj.r(t), np.abs(u), rtol=0, atol=0)
+    th = traj.theta(t)
+    assert np.all(th > -math.pi) and np.all(th <= math.pi)
+    np.testing.assert_allclose(np.exp(1j * th), u / np.abs(u), rtol=0, atol=1e-14)
+    r, th2, rdot, thetadot = traj.polar(t)
+    np.testing.assert_allclose(r, np.abs(u), rtol=0, atol=1e-15)
+    np.testing.assert_allclose(th2, th, rtol=0, atol=0)
+    np.testing.assert_allclose(rdot, (np.conj(u) * du).real / np.abs(u), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(thetadot, (np.conj(u) * du).imag / np.abs(u) ** 2, rtol=0, atol=1e-13)
+    assert np.all(r <= 1 + 1e-12)
+    t2 = t.reshape(37, 21)
+    assert traj.U(t2).shape == (37, 21)
+
+
+def test_theta_wraps_to_minus_pi_pi(ref):
+    # a flight along the negative real axis: theta = pi, never -pi
+    p = Parameters(gamma=0.1, omega=0.8, rho=0.0, mu=0.1, d=0.9, phi=0.0, r_ratio=0.0)
+    tr = ref.run(p, -0.5 + 0j, -0.1 - 0.5j, 3.0)
+    th = tr.theta(np.array([0.0]))
+    assert th[0] == pytest.approx(math.pi) and th[0] > 0
+
+
+def test_impact_table(traj):
+    imp = traj.impacts
+    p = traj.params
+    n = len(imp)
+    assert n > 10
+    for name in ("t", "theta", "rdot", "thetadot", "rdot_plus", "thetadot_plus", "v_rel",
+                 "normal_impulse", "tangential_impulse", "point"):
+        assert len(getattr(imp, name)) == n
+    assert np.all(np.diff(imp.t) > 0)
+    assert imp.t[0] > 0 and imp.t[-1] <= traj.t_stop
+    assert np.all(imp.theta > -math.pi) and np.all(imp.theta <= math.pi)
+    np.testing.assert_allclose(np.abs(imp.point), 1.0, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(imp.point, np.exp(1j * imp.theta), rtol=0, atol=1e-15)
+    assert np.all(imp.rdot > 0)
+    np.testing.assert_allclose(imp.rdot_plus, -p.d * imp.rdot, rtol=1e-15)
+
+
+def test_sample_times(traj):
+    s = traj.sample(500)
+    assert s[0] == 0.0 and s[-1] == traj.t_stop
+    assert np.all(np.diff(s) > 0)
+    assert set(traj.impacts.t).issubset(set(s))
+    assert len(s) >= 500
+
+
+def test_state_rejects_times_outside_the_run(traj):
+    for bad in (-1e-3, traj.t_stop + 1.0, math.nan, math.inf):
+        with pytest.raises(ParameterError) as exc:
+            traj.state(bad)
+        assert "t must lie in" in str(exc.value)
+
+
+def test_status_message_success(ref, traj):
+    assert traj.status == "completed" and traj.success
+    assert "60" in traj.message and str(len(traj.impacts)) in traj.message
+    capped = ref.run(traj.params, 0j, 0j, 60.0, max_impacts=3)
+    assert capped.status in ref.MAX_STATUSES and not capped.success
+    assert "3" in capped.message
+    chat = ref.run(Parameters(**REF, gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
+    assert chat.status == "chatter" and not chat.success
+    assert "chatter" in chat.message and f"{chat.t_stop:.6g}"[:6] in chat.message
+
+
+def test_dense_output_stays_inside_up_to_the_chatter_stop(ref):
+    traj = ref.run(Parameters(**REF, gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
+    assert traj.status == "chatter"
+    t = np.linspace(traj.impacts.t[-1], traj.t_stop, 1001)
+    assert np.max(traj.r(t)) <= 1 + 1e-12
+
+
+def test_to_dict_is_json_ready(traj):
+    d = traj.to_dict()
+    for key in ("parameters", "status", "impacts", "summary"):
+        assert key in d
+    assert d["parameters"] == traj.params.as_dict()
+    assert d["status"] == traj.status
+    assert len(d["impacts"]) == len(traj.impacts)
+    first = d["impacts"][0]
+    for key in ("t", "theta", "rdot", "thetadot", "rdot_plus", "thetadot_plus", "v_rel",
+                "normal_impulse", "tangential_impulse"):
+        assert isinstance(first[key], float)
+    assert first["t"] == traj.impacts.t[0] and first["rdot"] == traj.impacts.rdot[0]
+    json.dumps(d, allow_nan=False)
+
+
+def test_to_dict_with_machine_has_si_values(ref):
+    m = reference_machine()
+    tr = ref.run(m.parameters(), 0j, 0j, 60.0, machine=m)
+    d = tr.to_dict()
+    assert "machine" in d and d["machine"]["speed"] == 184.2
+    if d["impacts"]:
+        row = d["impacts"][0]
+        assert row["t_s"] == pytest.approx(row["t"] / 184.2, rel=1e-15)
+        assert row["normal_impulse_Ns"] == pytest.approx(
+            row["normal_impulse"] * 50.0 * 0.7e-3 * 184.2, rel=1e-14
+        )
+    json.dumps(d, allow_nan=False)
+
+
+def test_state_between_the_last_impact_of_a_chatter_stop_and_the_accumulation_point(ref):
+    """From the last resolved impact to the accumulation point the rotor stays on the stator."""
+    traj = ref.run(Parameters(**REF, gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
+    assert traj.status == "chatter"
+    imp = traj.impacts
+    assert traj.t_stop > imp.t[-1]
+    t = np.linspace(imp.t[-1], traj.t_stop, 101)
+    r, th, rdot, thetadot = traj.polar(t)
+    np.testing.assert_allclose(r, 1.0, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(rdot, 0.0, rtol=0, atol=1e-15)
+    # it leaves from the last impact point, turning with the tangential velocity after it
+    assert abs(complex(traj.U(imp.t[-1])) - imp.point[-1]) < 1e-15
+    assert np.all(np.abs(thetadot - imp.thetadot_plus[-1]) <= abs(imp.normal_impulse[-1]) * traj.params.mu)
