@@ -152,6 +152,26 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
 }
 
 
+def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
+    """A value in the SI unit ``unit``: a number (already SI) or a string with units ("0.7 mm", "12000 rpm").
+
+    Raises
+    ------
+    ParameterError
+        For an unknown unit, units of the wrong dimension, or a malformed value.
+    """
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+        raise ParameterError(
+            f"{source}: {name} = {raw!r} is not a number; a finite real number in {unit}, "
+            f"or a string with units such as '1.5 {unit}', is required"
+        )
+    if not isinstance(raw, str):
+        return float(raw)
+    from .units import quantity_in
+
+    return quantity_in(f"{source}: {name}", raw, unit)
+
+
 @dataclass(frozen=True)
 class Machine:
     """A rotor in its touchdown bearing, in SI units (MODEL.md §1).
@@ -250,7 +270,10 @@ class Machine:
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any], source: str = "machine") -> "Machine":
-        """Build a machine from a mapping of field names to SI values.
+        """Build a machine from a mapping of field names to values.
+
+        Values are numbers in SI units, or strings with units parsed by pint
+        (for example ``"0.7 mm"``, ``"12000 rpm"``, ``"1.4 kN*s/m"``).
 
         Raises
         ------
@@ -270,15 +293,7 @@ class Machine:
             raise ParameterError(
                 f"{source}: missing key {missing[0]!r}; required keys: {', '.join(allowed)}"
             )
-        values = {}
-        for key in allowed:
-            raw = data[key]
-            if isinstance(raw, bool) or not isinstance(raw, (int, float)):
-                raise ParameterError(
-                    f"{source}: {key} = {raw!r} is not a number; a finite real number in "
-                    f"{_MACHINE_RULES[key]['unit']} is required"
-                )
-            values[key] = raw
+        values = {key: to_si(key, data[key], _MACHINE_RULES[key]["unit"], source) for key in allowed}
         return cls(**values)
 
 
@@ -289,8 +304,9 @@ def _machine_file(name: str) -> Path:
 def load_machine(path: str | Path) -> Machine:
     """Load a `Machine` from a TOML file, or a built-in machine by name (``"reference"``).
 
-    The file holds the fields of `Machine` as top-level keys in SI units, or
-    under a ``[machine]`` table.
+    The file holds the fields of `Machine` as top-level keys, or under a
+    ``[machine]`` table: numbers in SI units, or strings with units such as
+    ``"0.7 mm"`` or ``"12000 rpm"``.
 
     Raises
     ------

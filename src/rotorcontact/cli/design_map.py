@@ -1,0 +1,144 @@
+"""``rotorcontact design-map``: where a real machine levitates safely, in rpm and controller gains."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..design import DesignMap, plane_map, speed_map
+from ..errors import ParameterError
+from ..params import load_machine
+from ..units import quantity_in
+from .options import print_json
+
+_UNITS = {"speed": "rpm", "stiffness": "N/m", "damping": "N s/m"}
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "design-map",
+        help="classify a machine's speed range or controller gains: safe, bistable, contact-certain",
+        description=(
+            "Classify each setting of a machine as safe (contact-free whirl only), bistable (contact-free whirl "
+            "and a stable impacting orbit or rub coexist) or contact-certain (no contact-free whirl). "
+            "With --speed alone: a map against speed. With --speed and --stiffness (or --damping): a plane at "
+            "the machine's other settings. With --stiffness and --damping: a plane at the machine's speed. "
+            "Ranges are A:B with units after B (for example 1000:6000rpm, 2e5:2e6N/m, 0.5:2kN*s/m); "
+            "plain numbers are rpm, N/m and N s/m."
+        ),
+    )
+    p.add_argument("machine_file", nargs="?", default=None, metavar="MACHINE.toml", help="machine file (SI or units)")
+    p.add_argument("--machine", default=None, metavar="FILE|reference", help="machine file, or 'reference'")
+    p.add_argument("--speed", default=None, metavar="A:B[unit]", help="speed range (default unit rpm)")
+    p.add_argument("--stiffness", default=None, metavar="A:B[unit]", help="bearing stiffness range (N/m)")
+    p.add_argument("--damping", default=None, metavar="A:B[unit]", help="bearing damping range (N s/m)")
+    p.add_argument("--n", default="200", metavar="N", help="points along each range (default 200; 60 for planes)")
+    p.add_argument(
+        "--shock",
+        default=None,
+        metavar="V",
+        help="velocity disturbance (for example 5mm/s) for the recovery probability of bistable points",
+    )
+    p.add_argument("--out", default=None, metavar="DIR", help="write map.png and map.nc here")
+    p.add_argument("--json", action="store_true", help="print the map as JSON on stdout")
+    p.set_defaults(func=run)
+
+
+def parse_range(option: str, text: str, unit: str) -> tuple[float, float]:
+    """Parse ``A:B[unit]`` into two values in ``unit``; a unit written after B applies to A too."""
+    parts = text.split(":")
+    if len(parts) != 2 or not parts[0].strip() or not parts[1].strip():
+        raise ParameterError(f"--{option} = {text!r} is malformed; expected A:B with optional units, e.g. 1000:6000rpm")
+    a_text, b_text = parts[0].strip(), parts[1].strip()
+    b = quantity_in(f"--{option}", b_text, unit)
+    try:
+        float(a_text)
+        suffix = b_text.lstrip("0123456789.eE+- ")
+        a_text = a_text + suffix
+    except ValueError:
+        pass
+    a = quantity_in(f"--{option}", a_text, unit)
+    if not a < b:
+        raise ParameterError(f"--{option} = {text!r}: the range must increase (A < B)")
+    return a, b
+
+
+def _machine(args: argparse.Namespace):
+    if args.machine_file is not None and args.machine is not None:
+        raise ParameterError("give the machine either as MACHINE.toml or as --machine, not both")
+    source = args.machine_file or args.machine
+    if source is None:
+        raise ParameterError("no machine given; pass MACHINE.toml or --machine reference")
+    return load_machine(source)
+
+
+def _count(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise ParameterError(f"--n = {text!r} is not an integer; allowed: an integer >= 2") from None
+    if n < 2 or n > 100_000:
+        raise ParameterError(f"--n = {n} is out of range; allowed: 2 to 100000")
+    return n
+
+
+def build_map(args: argparse.Namespace) -> DesignMap:
+    machine = _machine(args)
+    n = _count(args.n)
+    shock = quantity_in("--shock", args.shock, "m/s") if args.shock is not None else None
+    if shock is not None and shock <= 0:
+        raise ParameterError(f"--shock = {args.shock!r} must be > 0")
+    ranges = {
+        name: parse_range(name, getattr(args, name), _UNITS[name])
+        for name in ("speed", "stiffness", "damping")
+        if getattr(args, name) is not None
+    }
+    grids = {name: np.linspace(a, b, n if len(ranges) == 1 else min(n, 60)) for name, (a, b) in ranges.items()}
+    if set(ranges) == {"speed"}:
+        return speed_map(machine, grids["speed"], shock=shock)
+    if set(ranges) in ({"speed", "stiffness"}, {"speed", "damping"}):
+        other = "stiffness" if "stiffness" in ranges else "damping"
+        return plane_map(machine, ("speed_rpm", other), grids["speed"], grids[other], shock=shock)
+    if set(ranges) == {"stiffness", "damping"}:
+        return plane_map(machine, ("stiffness", "damping"), grids["stiffness"], grids["damping"], shock=shock)
+    raise ParameterError(
+        "choose the map: --speed A:B; or --speed with --stiffness or --damping; or --stiffness with --damping"
+    )
+
+
+def _table(dmap: DesignMap) -> str:
+    lines = [f"{'speed rpm':>10} {'k N/m':>11} {'c N s/m':>9} {'gamma':>8} {'omega':>8} {'regime':>16}  coexisting"]
+    step = max(1, len(dmap.points) // 40)
+    for pt in dmap.points[::step]:
+        extra = "" if pt.recovery_probability is None else f"  (recovers {pt.recovery_probability:.0%})"
+        lines.append(
+            f"{pt.speed_rpm:10.1f} {pt.stiffness:11.4g} {pt.damping:9.4g} {pt.gamma:8.4f} {pt.omega:8.4f} "
+            f"{pt.regime:>16}  {', '.join(pt.coexisting) or '-'}{extra}"
+        )
+    if len(dmap.axes) == 1:
+        for speed, before, after in dmap.boundaries():
+            lines.append(f"boundary near {speed:.1f} rpm: {before} -> {after}")
+    counts = {r: sum(pt.regime == r for pt in dmap.points) for r in ("safe", "bistable", "contact-certain")}
+    lines.append("points: " + ", ".join(f"{r} {c}" for r, c in counts.items()))
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace) -> int:
+    dmap = build_map(args)
+    if args.out is not None:
+        from ..plotting.design import save_design_map
+
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        save_design_map(dmap, out / "map.png")
+        dmap.to_xarray().to_netcdf(out / "map.nc", engine="scipy")
+    if args.json:
+        print_json(dmap.to_dict())
+    else:
+        print(_table(dmap))
+        if args.out is not None:
+            print(f"wrote {Path(args.out) / 'map.png'} and {Path(args.out) / 'map.nc'}", file=sys.stderr)
+    return 0

@@ -1,0 +1,109 @@
+"""Figures of design maps: regimes against speed (rpm) or over a plane of settings."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import ListedColormap
+from matplotlib.patches import Patch
+
+from ..design import REGIMES, DesignMap, rpm_to_rad_s
+from ..equilibria import boundary_gamma
+from .style import new_axes, save_figure
+
+REGIME_COLORS = {"safe": "#4daf4a", "bistable": "#ffbf00", "contact-certain": "#e41a1c"}
+_LABELS = {"speed_rpm": "speed (rpm)", "stiffness": "bearing stiffness k (N/m)", "damping": "bearing damping c (N s/m)"}
+
+
+def _legend(ax) -> None:
+    ax.legend(
+        handles=[Patch(color=REGIME_COLORS[r], alpha=0.5, label=r) for r in REGIMES],
+        loc="upper right",
+        fontsize=8,
+    )
+
+
+def plot_speed_regimes(dmap: DesignMap, ax=None):
+    """Regimes against speed, shaded, with the contact-free whirl amplitude and the clearance (micrometres)."""
+    fig, ax = new_axes(ax, figsize=(8, 4))
+    speeds = dmap.values[0]
+    edges = np.concatenate(([speeds[0]], 0.5 * (speeds[1:] + speeds[:-1]), [speeds[-1]]))
+    for pt, a, b in zip(dmap.points, edges[:-1], edges[1:]):
+        ax.axvspan(a, b, color=REGIME_COLORS[pt.regime], alpha=0.35, lw=0)
+    amp = [next((m.amplitude_um for m in pt.motions if m.name == "x_R"), np.nan) for pt in dmap.points]
+    k_abs = [abs(dmap.machine.with_speed(rpm_to_rad_s(s)).parameters().k) for s in speeds]
+    ax.plot(speeds, np.array(k_abs) * dmap.machine.clearance * 1e6, "k--", lw=1, label="forced whirl |k| c_r")
+    ax.plot(speeds, amp, "k-", lw=2, label="contact-free whirl (admissible)")
+    ax.axhline(dmap.machine.clearance * 1e6, color="0.4", lw=1.5, label="clearance")
+    ax.set_xlim(speeds[0], speeds[-1])
+    ax.set_ylim(0, 2.0 * dmap.machine.clearance * 1e6)
+    ax.set_xlabel("speed (rpm)")
+    ax.set_ylabel("whirl amplitude (µm)")
+    handles, labels = ax.get_legend_handles_labels()
+    handles += [Patch(color=REGIME_COLORS[r], alpha=0.5) for r in REGIMES]
+    labels += list(REGIMES)
+    ax.legend(handles, labels, fontsize=8, loc="upper left")
+    ax.set_title("regimes against speed")
+    return fig, ax
+
+
+def plot_operating_line(dmap: DesignMap, ax=None):
+    """The speed run-up as a curve in the (gamma, omega) plane, over the boundary-equilibrium curve."""
+    fig, ax = new_axes(ax, figsize=(5, 4))
+    p0 = dmap.machine.parameters()
+    omegas = np.linspace(1e-3, 1.5, 600)
+    g_star = [boundary_gamma(p0.replace(omega=w)) for w in omegas]
+    g_star = np.array([np.nan if g is None else g for g in g_star])
+    ax.plot(g_star, omegas, "k-", lw=1.5, label="γ* (x_R on the stator)")
+    gam = np.array([pt.gamma for pt in dmap.points])
+    om = np.array([pt.omega for pt in dmap.points])
+    ax.plot(gam, om, "-", color="0.5", lw=1, zorder=1)
+    for regime in REGIMES:
+        sel = np.array([pt.regime == regime for pt in dmap.points])
+        if sel.any():
+            ax.plot(gam[sel], om[sel], "o", ms=3, color=REGIME_COLORS[regime], label=regime, zorder=2)
+    ref = dmap.machine.parameters()
+    ax.plot([ref.gamma], [ref.omega], "k*", ms=10, label=f"operating point ({dmap.machine.speed * 60 / (2 * np.pi):.0f} rpm)")
+    ax.set_xlabel("γ = c / (m Ω)")
+    ax.set_ylabel("ω = √(k / m) / Ω")
+    ax.set_xlim(0, max(0.5, 1.1 * np.nanmax(gam)))
+    ax.set_ylim(0, max(1.5, 1.1 * np.nanmax(om)))
+    ax.legend(fontsize=7)
+    ax.set_title("operating line")
+    return fig, ax
+
+
+def plot_plane(dmap: DesignMap, ax=None):
+    """Regimes over a plane of two settings, with the machine's own setting marked."""
+    fig, ax = new_axes(ax, figsize=(6, 4.5))
+    a, b = dmap.values
+    codes = dmap.regime_codes().T
+    cmap = ListedColormap([REGIME_COLORS[r] for r in REGIMES])
+    ax.pcolormesh(a, b, codes, cmap=cmap, vmin=-0.5, vmax=len(REGIMES) - 0.5, shading="nearest", alpha=0.75)
+    m = dmap.machine
+    own = {"speed_rpm": m.speed * 60 / (2 * np.pi), "stiffness": m.stiffness, "damping": m.damping}
+    ax.plot([own[dmap.axes[0]]], [own[dmap.axes[1]]], "k*", ms=12, label="machine setting")
+    ax.set_xlabel(_LABELS[dmap.axes[0]])
+    ax.set_ylabel(_LABELS[dmap.axes[1]])
+    _legend(ax)
+    ax.set_title("regimes")
+    return fig, ax
+
+
+def plot_design_map(dmap: DesignMap):
+    """The figure written by ``design-map``: regimes and operating line for speed maps, the plane otherwise."""
+    if len(dmap.axes) == 1:
+        fig, axes = plt.subplots(1, 2, figsize=(13, 4.5), gridspec_kw={"width_ratios": [1.7, 1]})
+        plot_speed_regimes(dmap, axes[0])
+        plot_operating_line(dmap, axes[1])
+    else:
+        fig, axes = plt.subplots(1, 1, figsize=(7, 5))
+        plot_plane(dmap, axes)
+    fig.tight_layout()
+    return fig, axes
+
+
+def save_design_map(dmap: DesignMap, path):
+    """Draw `plot_design_map` and save it."""
+    fig, _ = plot_design_map(dmap)
+    return save_figure(fig, path)

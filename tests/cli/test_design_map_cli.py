@@ -1,0 +1,70 @@
+"""The design-map command: files, JSON contract and clear errors."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from rotorcontact.cli.main import main
+
+
+def test_speed_map_writes_png_nc_and_table(tmp_path, capsys):
+    assert main(["design-map", "--machine", "reference", "--speed", "1000:3000rpm", "--n", "30",
+                 "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "regime" in out and "boundary near" in out
+    png = (tmp_path / "map.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    import xarray as xr
+
+    ds = xr.load_dataset(tmp_path / "map.nc")
+    assert ds.sizes["speed_rpm"] == 30 and ds["speed_rpm"].attrs["units"] == "rpm"
+
+
+def test_json_contract(capsys):
+    assert main(["design-map", "--machine", "reference", "--speed", "1500:2500", "--n", "5", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert len(data["points"]) == 5
+    for pt in data["points"]:
+        for key in ("speed_rpm", "gamma", "omega", "regime", "coexisting"):
+            assert key in pt
+        assert pt["regime"] in ("safe", "bistable", "contact-certain")
+        assert isinstance(pt["coexisting"], list)
+    assert data["points"][0]["speed_rpm"] == pytest.approx(1500.0)
+
+
+def test_machine_file_with_units_and_plane(tmp_path, capsys):
+    path = tmp_path / "rig.toml"
+    path.write_text(
+        'mass = "50 kg"\ndamping = 1400\nstiffness = "980 kN/m"\neccentricity = "0.3 mm"\n'
+        'clearance = "0.7 mm"\nrotor_radius = "4 cm"\nunbalance_phase = 0.21\nspeed = "1759 rpm"\n'
+        "friction = 0.15\nrestitution = 0.95\n",
+        encoding="utf-8",
+    )
+    assert main(["design-map", str(path), "--stiffness", "0.5:1.5MN/m", "--damping", "0.5:3kN*s/m",
+                 "--n", "4", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["axes"] == ["stiffness", "damping"] and len(data["points"]) == 16
+    assert data["points"][0]["stiffness"] == pytest.approx(5e5) and data["points"][0]["damping"] == pytest.approx(500)
+
+
+@pytest.mark.parametrize(
+    "args, fragment",
+    [
+        (["--machine", "reference", "--speed", "1000-6000"], "malformed"),
+        (["--machine", "reference", "--speed", "6000:1000rpm"], "must increase"),
+        (["--machine", "reference", "--speed", "1000:6000wombats"], "unknown unit"),
+        (["--machine", "reference", "--speed", "1000:6000kg"], "units of"),
+        (["--machine", "reference"], "choose the map"),
+        (["--speed", "1000:2000"], "no machine"),
+        (["--machine", "nosuchfile.toml", "--speed", "1000:2000"], "no such file"),
+    ],
+)
+def test_bad_input_exits_2_without_traceback(args, fragment):
+    proc = subprocess.run([sys.executable, "-m", "rotorcontact.cli.main", "design-map", *args],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert fragment in proc.stderr and "Traceback" not in proc.stderr
