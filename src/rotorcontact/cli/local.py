@@ -1,0 +1,72 @@
+"""``rotorcontact local``: first-order analysis of the small orbits born at the boundary equilibrium."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..equilibria import boundary_gamma
+from ..errors import ParameterError
+from ..local import LinearImpactingSystem, LocalAnalysis, local_analysis
+from ..params import check_range
+from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "local",
+        help="first-order expansion of the small impacting orbits at the boundary equilibrium (NSFH)",
+        description=(
+            "Local analysis at the boundary equilibrium gamma* (MODEL.md §6, docs/local.md): for each zero "
+            "T0 of F1 on (0, T_max] at gamma*, the slopes d(rdot-)/d eps, d(thetadot-)/d eps and "
+            "d(theta)/d eps of the small orbit at eps = gamma - gamma* = 0. --gamma is not used "
+            "(it is replaced by gamma*)."
+        ),
+    )
+    add_parameter_options(p)
+    p.add_argument("--t-max", dest="t_max", default="12", metavar="T", help="largest period searched (default 12)")
+    p.add_argument("--json", action="store_true", help="print the slopes as JSON on stdout")
+    p.set_defaults(func=run)
+
+
+def _num(x, fmt: str = ".8g") -> str:
+    return "-" if x is None else format(x, fmt)
+
+
+def _side(side: int) -> str:
+    return {1: "gamma > gamma*", -1: "gamma < gamma*"}.get(side, "-")
+
+
+def _table(gamma_star: float, analysis: LocalAnalysis) -> list[str]:
+    lines = [
+        f"gamma* = {gamma_star:.10g}, impact angle at gamma*: Psi = {analysis.psi:.10g}",
+        f"equilibrium shift z1 = {analysis.z1:.6g} (radial {analysis.radial_shift:.6g}, "
+        f"tangential {analysis.tangential_shift:.6g}); x_R admissible for {_side(analysis.equilibrium_side)}",
+    ]
+    if not analysis.orbits:
+        return lines + ["no zero of F1 with T in (0, T_max]: no small one-impact orbit"]
+    head = (f"{'orbit':<6} {'T0':>14} {'rdot slope':>14} {'thetadot slope':>15} {'theta slope':>14} "
+            f"{'admissible for'}")
+    lines += [head, "-" * (len(head) + 8)]
+    for o in analysis.orbits:
+        lines.append(
+            f"{o.label:<6} {_num(o.T):>14} {_num(o.rdot_slope):>14} {_num(o.thetadot_slope):>15} "
+            f"{_num(o.theta_slope):>14} {_side(o.side)}"
+        )
+    return lines
+
+
+def run(args: argparse.Namespace) -> int:
+    params, _machine = parameters_from_args(args)
+    t_max = check_range("--t-max", parse_float("t-max", args.t_max), low=0.0, low_open=True)
+    system = LinearImpactingSystem.from_parameters(params)
+    gamma_star = boundary_gamma(params)
+    try:
+        analysis = local_analysis(system, t_max)
+    except ParameterError as exc:
+        raise ParameterError(str(exc).replace("t_max", "--t-max")) from None
+    if args.json:
+        print_json({"gamma_star": gamma_star, "orbits": [o.to_dict() for o in analysis.orbits]})
+    else:
+        for line in _table(gamma_star, analysis):
+            print(line)
+    return 0
