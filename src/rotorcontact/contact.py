@@ -196,22 +196,29 @@ def stick_or_slip(theta, thetadot, gamma, omega, rho, mu, phi):
 
 @njit(cache=True)
 def _first_zero(a, b, c, psi0):
-    """Smallest x >= 0 with a + b cos(psi0 + x) + c sin(psi0 + x) <= 0 (inf if never)."""
+    """Smallest x >= 0 where g(x) = a + b cos(psi0 + x) + c sin(psi0 + x) turns negative (inf if never).
+
+    g is already negative at x = 0 when g(0) < -tol; at g(0) within tol of 0
+    (the start lies on the limit, to rounding) it turns negative at once only
+    if it is decreasing there; otherwise the next down-crossing is returned.
+    """
     amp = math.hypot(b, c)
     if a > amp:
         return math.inf
-    if a + b * math.cos(psi0) + c * math.sin(psi0) <= 0.0:
+    tol = 64.0 * 2.220446049250313e-16 * (abs(a) + amp)
+    g0 = a + b * math.cos(psi0) + c * math.sin(psi0)
+    slope0 = -b * math.sin(psi0) + c * math.cos(psi0)
+    if g0 < -tol or (g0 <= tol and slope0 < 0.0):
         return 0.0
     delta = math.atan2(c, b)
     half = math.acos(max(-1.0, min(1.0, -a / amp)))
-    # zeros at psi = delta +- half (mod 2 pi); the first after psi0 where g turns negative
+    # g = a + amp cos(psi - delta) crosses zero downwards at psi = delta + half (mod 2 pi)
     two_pi = 2.0 * math.pi
-    best = math.inf
-    for root in (delta + half, delta - half):
-        x = (root - psi0) % two_pi
-        if x < best:
-            best = x
-    return best
+    x = (delta + half - psi0) % two_pi
+    if x <= 1e-12 and g0 <= tol:
+        # the start is that crossing itself, on its rising side: take the next turn
+        x += two_pi
+    return x
 
 
 @njit(cache=True)
@@ -231,7 +238,7 @@ def roll(theta, t0, t_end, gamma, omega, rho, mu, phi, r_ratio):
     t_switch = t0 + x / rate
     if t_switch >= t_end:
         return END, t_end, theta - rate * (t_end - t0)
-    th = theta - x / rate
+    th = theta - x
     if x == x_lift:
         return LIFTOFF, t_switch, th
     if x == x_fwd:

@@ -32,11 +32,11 @@ class MotionSummary:
         up to `MAX_PERIOD_IMPACTS` impacts), ``"chatter"`` (impacts accumulate
         and the run stopped there), ``"contact"`` (continuous contact, no
         impacts) or ``"undetermined"`` (too few impacts to tell).
-    regime : str or None
+    regime : str
         The contact regime, one of `REGIMES`: ``"forward-rub"`` is sliding
         forward only (settling onto a pseudo-equilibrium), ``"backward-whirl"``
         ends rolling round the stator, ``"mixed"`` has impacts and contact.
-        None when the run stopped at chatter.
+        For a run stopped at chatter it describes the run up to that point.
     n_impacts : int
         Number of impacts in the run.
     impacts_per_period, period : int or None, float or None
@@ -46,7 +46,7 @@ class MotionSummary:
     """
 
     motion: str
-    regime: str | None
+    regime: str
     n_impacts: int
     impacts_per_period: int | None = None
     period: float | None = None
@@ -90,12 +90,15 @@ def classify(traj: "Trajectory") -> MotionSummary:
     imp = traj.impacts
     n = len(imp)
     t_win = traj.t_stop * (1.0 - WINDOW)
-    if traj.status == "chatter":
-        return MotionSummary("chatter", None, n)
+    stopped_at_chatter = traj.status == "chatter"
     late_impacts = int(np.count_nonzero(imp.t >= t_win))
     late = [c for c in traj.contact_intervals if c.t_end > t_win]
     contact_time = sum(min(c.t_end, traj.t_stop) - max(c.t_start, t_win) for c in late)
     fraction = contact_time / max(traj.t_stop - t_win, 1e-300)
+    if stopped_at_chatter:
+        # contact would follow; the regime describes the run up to the accumulation point
+        regime = "mixed" if late else ("irregular-impacting" if late_impacts else "no-contact")
+        return MotionSummary("chatter", regime, n, contact_fraction=fraction)
     if late_impacts == 0 and not late:
         return MotionSummary("no-contact", "no-contact", n)
     if late_impacts == 0:

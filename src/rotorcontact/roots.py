@@ -316,20 +316,21 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
         z, dz, w, dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
         scale = (k_abs + abs(w)) ** 2 + 1.0
         ftol = 16.0 * EPS * scale
-        if on_boundary and s == 0.0 and liftoff:
-            h = _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window)
-            if h <= 0.0:
-                return STUCK, 0.0
-            if h >= horizon:
-                return NO_CROSSING, horizon
-            s = h
-            continue
         if on_boundary and s == 0.0:
             f = 0.0
             if fp > -ftol * (1.0 + abs(dz)):
-                # no inward velocity: the sign of f'' decides
+                # no inward velocity: the sign of f2 decides, and at a lift-off (f2 = 0 to
+                # the event tolerance) the sign of the third derivative
                 if fpp >= -ftol:
-                    return STUCK, 0.0
+                    if not liftoff:
+                        return STUCK, 0.0
+                    h = _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window)
+                    if h <= 0.0:
+                        return STUCK, 0.0
+                    if h >= horizon:
+                        return NO_CROSSING, horizon
+                    s = h
+                    continue
                 fp = min(fp, 0.0)
         elif gamma > 0.0 and k_abs + _all_time_bound(w, dw, gamma, h2) < 1.0 - ftol:
             # |Z| <= |k| + |W| stays below 1 for ever: no impact in any horizon

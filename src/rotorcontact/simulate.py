@@ -26,6 +26,7 @@ from .contact import (
     TO_SLIDE_BACKWARD,
     TO_SLIDE_FORWARD,
     END,
+    free_tangential,
     normal_force,
     roll,
     slide,
@@ -46,6 +47,7 @@ NCOL = len(COLUMNS)
 BOUNDARY_TOL = 1e-12
 RDOT_MIN = 1e-13  # normal velocities below this (relative) are touches, not impacts
 MAX_STALLS = 50
+NO_MODE = -1
 K_MAX = 1e3  # largest |k| (in clearances) for which the closed form keeps its accuracy
 
 NO_FAILURE = 0
@@ -102,7 +104,7 @@ def _push_linear_phase(contacts, n_ct, path, n_path, kind, t0, t1, theta0, theta
 
 @njit(cache=True)
 def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_rdot,
-                    chatter_height, stop_on_chatter):
+                    chatter_height, chatter_dt, stop_on_chatter):
     """Run the rotor from (u0, du0) at t = 0 to t_end through flights, impacts and contact.
 
     Returns
@@ -142,6 +144,8 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
     thetadot_c = 0.0
     events = 0
     stalls = 0
+    short_before = False
+    next_mode = NO_MODE
     while True:
         events += 1
         if events > max_events:
@@ -202,24 +206,31 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             du = du_plus
             on_boundary = True
             flights, n_fl = _push_state(flights, n_fl, t, u, du)
-            if n_force > 0.0 and (rd < chatter_rdot or rdp * rdp < 2.0 * chatter_height * n_force):
+            bounce = 2.0 * d * rd / n_force if n_force > 0.0 else math.inf
+            short = bounce < chatter_dt and short_before
+            short_before = bounce < chatter_dt
+            if n_force > 0.0 and (rd < chatter_rdot or rdp * rdp < 2.0 * chatter_height * n_force or short):
                 # Impacts accumulate (MODEL.md §3): bounces of a rotor pressed outwards with
                 # force N last 2 d^j rdot / N, so they end after the geometric series
-                # 2 d rdot / (N (1 - d)); their friction impulses add mu (1 + d) rdot d / (1 - d).
+                # tau = 2 d rdot / (N (1 - d)); over it the tangential motion takes the smooth
+                # force F tau and the friction impulses mu (1 + d) rdot d / (1 - d).
                 if d < 1.0:
                     t_tail = 2.0 * d * rd / (n_force * (1.0 - d))
                     p_tail = mu * (1.0 + d) * rd * d / (1.0 - d)
                 else:
                     t_tail = 0.0
                     p_tail = 0.0
-                vrel_p = r_ratio + 1.0 + tdp
-                td_acc = tdp - math.copysign(min(p_tail, abs(vrel_p)), vrel_p)
                 t_acc = min(t + t_tail, t_end)
-                if t_acc > t:
+                tau_acc = t_acc - t
+                vrel_p = r_ratio + 1.0 + tdp
+                f_t = free_tangential(theta, tdp, gamma, rho, phi)
+                td_acc = tdp + f_t * tau_acc - math.copysign(min(p_tail, abs(vrel_p)), vrel_p)
+                td_mean = 0.5 * (tdp + td_acc)
+                if tau_acc > 0.0:
                     contacts, n_ct, path, n_path = _push_linear_phase(
-                        contacts, n_ct, path, n_path, ACCUMULATION, t, t_acc, theta, 0.5 * (tdp + td_acc)
+                        contacts, n_ct, path, n_path, ACCUMULATION, t, t_acc, theta, td_mean
                     )
-                theta_c = theta + 0.5 * (tdp + td_acc) * (t_acc - t)
+                theta_c = theta + td_mean * tau_acc
                 thetadot_c = td_acc
                 t = t_acc
                 if stop_on_chatter:
@@ -228,17 +239,22 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 if t >= t_end:
                     break
                 in_contact = True
+                next_mode = NO_MODE
             continue
         # continuous contact from (theta_c, thetadot_c) at t
-        n_force = normal_force(theta_c, thetadot_c, omega, rho, phi)
-        vrel = r_ratio + 1.0 + thetadot_c
-        if n_force <= 0.0:
-            mode = LIFTOFF
-        elif abs(vrel) <= 1e-12 * (1.0 + r_ratio):
-            thetadot_c = roll_dot
-            mode = stick_or_slip(theta_c, thetadot_c, gamma, omega, rho, mu, phi)
+        if next_mode != NO_MODE:
+            # the previous phase ended by a located switch that decides the next phase
+            mode = next_mode
         else:
-            mode = TO_SLIDE_FORWARD if vrel > 0.0 else TO_SLIDE_BACKWARD
+            n_force = normal_force(theta_c, thetadot_c, omega, rho, phi)
+            vrel = r_ratio + 1.0 + thetadot_c
+            if n_force <= 0.0:
+                mode = LIFTOFF
+            elif abs(vrel) <= 1e-12 * (1.0 + r_ratio):
+                thetadot_c = roll_dot
+                mode = stick_or_slip(theta_c, thetadot_c, gamma, omega, rho, mu, phi)
+            else:
+                mode = TO_SLIDE_FORWARD if vrel > 0.0 else TO_SLIDE_BACKWARD
         t_start = t
         if mode == TO_ROLLING:
             code, t, theta_end = roll(theta_c, t, t_end, gamma, omega, rho, mu, phi, r_ratio)
@@ -268,6 +284,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             status = FAILED
             reason = CONTACT_STEP_LIMIT
             break
+        next_mode = code if code in (TO_ROLLING, TO_SLIDE_FORWARD, TO_SLIDE_BACKWARD) else NO_MODE
         if code == LIFTOFF:
             e = complex(math.cos(theta_c), math.sin(theta_c))
             u = e
@@ -275,9 +292,8 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             in_contact = False
             on_boundary = True
             liftoff = True
+            short_before = False
             flights, n_fl = _push_state(flights, n_fl, t, u, du)
-        elif code == TO_ROLLING:
-            thetadot_c = roll_dot
     t_stop = t_end if status == COMPLETED else min(t, t_end)
     return (impacts[:n_imp].copy(), flights[:n_fl].copy(), contacts[:n_ct].copy(), path[:n_path].copy(),
             status, reason, t_stop)
@@ -305,6 +321,7 @@ def simulate(
     max_events: int = 10_000_000,
     chatter_rdot: float = 1e-5,
     chatter_height: float = 1e-9,
+    chatter_dt: float = 1e-3,
     machine: Machine | None = None,
 ) -> Trajectory:
     """Simulate the rotor from (U, U') = (u0, du0) at t = 0 up to t_end.
@@ -328,10 +345,14 @@ def simulate(
     max_events : int
         Stop with status ``"max-events"`` after this many flights and contact
         phases; it bounds the run time whatever the dynamics.
-    chatter_rdot, chatter_height : float
+    chatter_rdot, chatter_height, chatter_dt : float
         With the rotor pressed outwards (N > 0), impacts are taken to
-        accumulate when the impact velocity falls below ``chatter_rdot`` or the
-        next bounce, of height (d rdot)^2 / (2 N), is lower than ``chatter_height``.
+        accumulate when the impact velocity falls below ``chatter_rdot``, when
+        the next bounce, of height (d rdot)^2 / (2 N), is lower than
+        ``chatter_height``, or when two bounces in a row last less than
+        ``chatter_dt`` (2 d rdot / N): sustained micro-bouncing, which with
+        d = 1 never accumulates by itself; the switch then neglects the bounce
+        energy (d rdot)^2 / 2. ``chatter_dt = 0`` resolves every bounce.
         The switch to contact is made at the accumulation point, the sum of
         the geometric series of the intervals. The rotor then stays within
         about rdot^2 / (2 N) of the stator, which bounds the error of the switch.
@@ -359,6 +380,7 @@ def simulate(
         raise ParameterError(f"max_events = {max_events!r} is invalid; allowed: an integer >= 1")
     chatter_rdot = check_range("chatter_rdot", chatter_rdot, low=0.0, low_open=True)
     chatter_height = check_range("chatter_height", chatter_height, low=0.0)
+    chatter_dt = check_range("chatter_dt", chatter_dt, low=0.0)
     k_abs = abs(params.k) if (params.omega**2 - 1.0, params.gamma) != (0.0, 0.0) else math.inf
     if k_abs > K_MAX:
         raise ParameterError(
@@ -370,7 +392,7 @@ def simulate(
     p = params
     impacts, flights, contacts, path, status, reason, t_stop = simulate_kernel(
         p.gamma, p.omega, p.rho, p.mu, p.d, p.phi, p.r_ratio, u0, du0, t_end, int(max_events), chatter_rdot,
-        chatter_height, on_chatter == "stop",
+        chatter_height, chatter_dt, on_chatter == "stop",
     )
     return Trajectory(
         params=params,

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 from scipy.interpolate import BPoly
 
-from .contact import ACCUMULATION, KIND_NAMES, ROLLING
+from .contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_BACKWARD, SLIDE_FORWARD
 
 from .errors import ParameterError
 from .flow import equilibrium_point, propagate, to_inertial
@@ -287,7 +287,11 @@ class Trajectory:
             n[sel] = nn
             if kind == ROLLING:
                 ft[sel] = -free_tangential(theta[sel], thetadot[sel], p.gamma, p.rho, p.phi)
-            else:
+            elif kind == SLIDE_FORWARD:
+                ft[sel] = -p.mu * nn
+            elif kind == SLIDE_BACKWARD:
+                ft[sel] = p.mu * nn
+            else:  # accumulation of impacts: friction opposes the slip
                 ft[sel] = -p.mu * nn * np.sign(p.r_ratio + 1.0 + thetadot[sel])
         return n, ft
 

@@ -1,4 +1,12 @@
-"""``rotorcontact orbits``: the periodic orbits with one impact per period, as JSON or a table."""
+"""``rotorcontact orbits``: periodic impacting orbits, as JSON or a table.
+
+Without ``--impacts`` (or with ``--impacts 1``) it lists the orbits with one
+impact per period (MODEL.md §5). With ``--impacts p`` (p >= 2) it lists the
+orbits with p impacts per period of `rotorcontact.multiimpact.multi_impact_orbits`:
+each as {"label", "impacts", "period", "points", "multipliers", "stable",
+"plausible"}, the points as {"theta", "rdot", "thetadot", "dt"} with dt the
+time to the next impact.
+"""
 
 from __future__ import annotations
 
@@ -6,6 +14,7 @@ import argparse
 
 from ..errors import ParameterError
 from ..impactmap import ImpactOrbit, one_impact_orbits
+from ..multiimpact import MultiImpactOrbit, multi_impact_orbits
 from ..params import check_range
 from .options import add_parameter_options, parameters_from_args, parse_float, print_json
 
@@ -13,15 +22,23 @@ from .options import add_parameter_options, parameters_from_args, parse_float, p
 def register(sub) -> None:
     p = sub.add_parser(
         "orbits",
-        help="periodic orbits with one impact per period (fixed points of the impact map)",
+        help="periodic orbits with one (or, with --impacts, p) impacts per period",
         description=(
             "Every fixed point of the impact map with one impact per period and period T in (0, T_max] "
             "(MODEL.md §5): the orbits B_n,a..B_n,d from the zeros of F1, with admissibility, physical "
-            "plausibility, the interior extrema of r, the multipliers and stability."
+            "plausibility, the interior extrema of r, the multipliers and stability. With --impacts p >= 2: "
+            "orbits with p impacts per period (fixed points of P_I^p), found from long simulations and, for "
+            "p = 2, on the period-doubled branches of the one-impact orbits (labels B_n,m/PD, others M<p>-<j>)."
         ),
     )
     add_parameter_options(p)
     p.add_argument("--t-max", dest="t_max", default="12", metavar="T", help="largest period searched (default 12)")
+    p.add_argument(
+        "--impacts",
+        default="1",
+        metavar="P",
+        help="impacts per period (default 1: the one-impact orbits B_n,m)",
+    )
     p.add_argument("--json", action="store_true", help="print the orbits as JSON on stdout")
     p.set_defaults(func=run)
 
@@ -49,9 +66,54 @@ def _table(orbits: tuple[ImpactOrbit, ...]) -> list[str]:
     return lines
 
 
+def _impacts(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise ParameterError(f"--impacts = {text!r} is not an integer; allowed: an integer >= 1") from None
+    if value < 1:
+        raise ParameterError(f"--impacts = {value} is out of range; allowed: an integer >= 1")
+    return value
+
+
+def _multi_table(orbits: tuple[MultiImpactOrbit, ...], p: int) -> list[str]:
+    if not orbits:
+        return [f"no periodic orbit with {p} impacts per period found"]
+    lines = []
+    for o in orbits:
+        mult = format(max(abs(m) for m in o.multipliers), ".6g")
+        lines.append(
+            f"{o.label}: {o.impacts} impacts, period {o.period:.10g}, max|mult| {mult}, "
+            f"{'stable' if o.stable else 'unstable'}, {'plausible' if o.plausible else 'not plausible'}"
+        )
+        head = f"  {'theta':>14} {'rdot-':>14} {'thetadot-':>14} {'dt':>14}"
+        lines.append(head)
+        for q in o.points:
+            lines.append(f"  {q.theta:>14.8g} {q.rdot:>14.8g} {q.thetadot:>14.8g} {q.dt:>14.8g}")
+    return lines
+
+
+def _run_multi(args: argparse.Namespace, params, t_max: float, p: int) -> int:
+    orbits = multi_impact_orbits(params, p, t_max=t_max)
+    if args.json:
+        print_json({"orbits": [o.to_dict() for o in orbits]})
+    else:
+        print(f"periodic orbits with {p} impacts per period at gamma = {params.gamma:g}, "
+              f"omega = {params.omega:g}, rho = {params.rho:g}, mu = {params.mu:g}, d = {params.d:g}")
+        for line in _multi_table(orbits, p):
+            print(line)
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
     params, _machine = parameters_from_args(args)
     t_max = check_range("--t-max", parse_float("t-max", args.t_max), low=0.0, low_open=True)
+    p = _impacts(args.impacts)
+    if p >= 2:
+        try:
+            return _run_multi(args, params, t_max, p)
+        except ParameterError as exc:
+            raise ParameterError(str(exc).replace("t_max", "--t-max")) from None
     try:
         orbits = one_impact_orbits(params, t_max)
     except ParameterError as exc:

@@ -1,0 +1,89 @@
+"""``rotorcontact lyapunov``: JSON contract, -inf as null, text output, and bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rotorcontact import Parameters
+from rotorcontact.cli.main import main
+from rotorcontact.lyapunov import lyapunov_spectrum
+
+EXE = Path(sys.executable).parent / "rotorcontact"
+
+
+def _no_nan(text):
+    def bad(value):
+        raise AssertionError(f"non-finite JSON constant {value}")
+
+    return json.loads(text, parse_constant=bad)
+
+
+def run_json(capsys, *args):
+    assert main(["lyapunov", "--json", *args]) == 0
+    return _no_nan(capsys.readouterr().out)
+
+
+def test_json_contract_on_the_stable_one_impact_orbit(capsys):
+    data = run_json(capsys, "--gamma", "0.1", "--u0", "0,0", "--du0", "0,0", "--t-end", "800")
+    assert set(data) == {"exponents"}
+    ex = data["exponents"]
+    assert len(ex) == 4 and all(isinstance(x, float) for x in ex)
+    assert ex == sorted(ex, reverse=True)
+    lib = lyapunov_spectrum(Parameters.reference().replace(gamma=0.1), 0j, 0j, 800.0)
+    assert ex == list(lib.exponents)
+    assert ex[0] == pytest.approx(0.0, abs=1e-6) and ex[1] < 0.0
+
+
+def test_annihilated_directions_are_null(capsys):
+    args = ("--gamma", "0.065", "--t-end", "300", "--t-transient", "150")
+    ex = run_json(capsys, *args)["exponents"]
+    assert ex[0] == pytest.approx(0.0, abs=1e-12) and ex[1:] == [None, None, None]
+    details = run_json(capsys, *args, "--details")
+    assert details["exponents"] == ex
+    assert details["collapsed"] == 3 and details["coordinates"] == ["Re U", "Im U", "Re U'", "Im U'"]
+    assert details["t_start"] == 150.0 and details["t_stop"] == 300.0 and details["status"] == "completed"
+
+
+def test_options_reach_the_library(capsys):
+    p = Parameters.reference().replace(gamma=0.15, omega=0.7)
+    ex = run_json(capsys, "--gamma", "0.15", "--omega", "0.7", "--u0", "0.2,-0.1", "--du0", "0.3,0.4",
+                  "--t-end", "300", "--t-transient", "100", "--qr-interval", "0.5")["exponents"]
+    lib = lyapunov_spectrum(p, 0.2 - 0.1j, 0.3 + 0.4j, 300.0, t_transient=100.0, qr_interval=0.5)
+    assert ex == [x if math.isfinite(x) else None for x in lib.exponents]
+
+
+def test_text_output(capsys):
+    assert main(["lyapunov", "--gamma", "0.065", "--t-end", "200"]) == 0
+    out = capsys.readouterr().out
+    assert "largest first" in out and out.count("-inf") == 3
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--u0", "0.1"],
+        ["--u0", "2,0"],
+        ["--t-end", "-5"],
+        ["--t-end", "100", "--t-transient", "100"],
+        ["--qr-interval", "0"],
+        ["--gamma", "nan"],
+        ["--mu", "-1"],
+    ],
+)
+def test_bad_input_exits_2_without_traceback(capsys, args):
+    assert main(["lyapunov", "--json", *args]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert "error" in captured.err and "Traceback" not in captured.err
+
+
+def test_bad_input_from_the_shell():
+    proc = subprocess.run([str(EXE), "lyapunov", "--du0", "x,1"], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "--du0" in proc.stderr and "Traceback" not in proc.stderr

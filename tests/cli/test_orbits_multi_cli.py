@@ -1,0 +1,88 @@
+"""``rotorcontact orbits --impacts p``: the multi-impact JSON contract; p = 1 keeps the one-impact contract."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rotorcontact import Parameters
+from rotorcontact.cli.main import main
+from rotorcontact.impactmap import impact_map
+from rotorcontact.multiimpact import multi_impact_orbits
+
+EXE = Path(sys.executable).parent / "rotorcontact"
+KEYS = {"label", "impacts", "period", "points", "multipliers", "stable", "plausible"}
+POINT_KEYS = {"theta", "rdot", "thetadot", "dt"}
+
+
+def _no_nan(text):
+    def bad(value):
+        raise AssertionError(f"non-finite JSON constant {value}")
+
+    return json.loads(text, parse_constant=bad)
+
+
+def run_json(capsys, *args):
+    assert main(["orbits", "--json", *args]) == 0
+    return _no_nan(capsys.readouterr().out)
+
+
+def test_period_two_orbit_json_contract(capsys):
+    data = run_json(capsys, "--impacts", "2", "--gamma", "0.083")
+    assert set(data) == {"orbits"}
+    (orbit,) = data["orbits"]
+    assert set(orbit) == KEYS
+    assert orbit["label"] == "B1,d/PD" and orbit["impacts"] == 2
+    assert len(orbit["points"]) == 2 and all(set(q) == POINT_KEYS for q in orbit["points"])
+    assert orbit["period"] == pytest.approx(sum(q["dt"] for q in orbit["points"]), abs=1e-12)
+    assert len(orbit["multipliers"]) == 3 and all(len(m) == 2 for m in orbit["multipliers"])
+    assert orbit["stable"] is True and orbit["plausible"] is True
+    # dt is the time to the next impact, and the points follow each other under P_I
+    p = Parameters.reference().replace(gamma=0.083)
+    for i, q in enumerate(orbit["points"]):
+        nxt = orbit["points"][(i + 1) % 2]
+        step = impact_map(p, (q["theta"], q["rdot"], q["thetadot"]))
+        assert step.time == pytest.approx(q["dt"], abs=1e-10)
+        assert math.remainder(step.state[0] - nxt["theta"], 2 * math.pi) == pytest.approx(0.0, abs=1e-10)
+        assert step.state[1] == pytest.approx(nxt["rdot"], abs=1e-10)
+        assert -math.pi < q["theta"] <= math.pi
+    lib = multi_impact_orbits(p, 2)
+    assert [o.to_dict() for o in lib] == data["orbits"]
+
+
+def test_one_impact_contract_is_unchanged(capsys):
+    plain = run_json(capsys, "--gamma", "0.1")
+    assert run_json(capsys, "--gamma", "0.1", "--impacts", "1") == plain
+    assert [o["label"] for o in plain["orbits"]] == ["B1,a", "B1,b", "B1,c", "B1,d"]
+    assert "impacts" not in plain["orbits"][0] and "n" in plain["orbits"][0]
+
+
+def test_no_orbit_is_an_empty_list(capsys):
+    # beyond the grazing that ends the period-2 branch, B1,d's period-doubled orbit is gone
+    assert run_json(capsys, "--impacts", "2", "--gamma", "0.1")["orbits"] == []
+
+
+def test_text_table(capsys):
+    assert main(["orbits", "--impacts", "2", "--gamma", "0.083"]) == 0
+    out = capsys.readouterr().out
+    assert "B1,d/PD" in out and "2 impacts" in out and "stable" in out
+
+
+@pytest.mark.parametrize("value", ["0", "-2", "x", "2.5"])
+def test_bad_impacts_exit_2_without_traceback(capsys, value):
+    assert main(["orbits", "--impacts", value, "--json"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert "--impacts" in captured.err and "Traceback" not in captured.err
+
+
+def test_bad_impacts_from_the_shell():
+    proc = subprocess.run([str(EXE), "orbits", "--impacts", "0", "--json"], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    assert "--impacts" in proc.stderr and "Traceback" not in proc.stderr

@@ -1,0 +1,202 @@
+"""``rotorcontact simulate --json`` with continuous contact: contact intervals, the regime,
+and the SI forces, impulses and friction power when a machine is given (MODEL.md §1, §4).
+
+The SI values are checked against the dimensionless quantities recomputed here from
+MODEL.md and the scales m c_r Omega^2 (force), m c_r Omega (impulse) and c_r Omega (speed).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rotorcontact import Parameters, load_machine, simulate
+from rotorcontact.cli.main import main
+
+EXE = Path(sys.executable).with_name("rotorcontact")
+KINDS = {"sliding-forward", "rolling", "sliding-backward"}
+REGIMES = {"no-contact", "periodic-impacting", "irregular-impacting", "forward-rub", "backward-whirl", "mixed"}
+
+# the reference rig with the bearing damping lowered to c = 460.5 N s/m (gamma = c / (m Omega) = 0.05)
+TOML_LOW_DAMPING = """\
+mass = 50.0
+damping = 460.5
+stiffness = 9.8e5
+eccentricity = 0.3e-3
+clearance = 0.7e-3
+rotor_radius = 0.04
+unbalance_phase = 0.21
+speed = 184.2
+friction = 0.15
+restitution = 0.95
+"""
+
+
+def no_nan_loads(text):
+    def bad(name):
+        raise ValueError(f"non-finite number {name} in JSON")
+
+    return json.loads(text, parse_constant=bad)
+
+
+def run_json(capsys, *argv):
+    code = main(["simulate", *argv, "--json"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    return no_nan_loads(out)
+
+
+def normal(p, theta, thetadot):
+    return (1.0 + thetadot) ** 2 - p.omega**2 + p.rho * np.cos(p.phi - theta)
+
+
+def tangential(p, theta, thetadot):
+    return -(1.0 + thetadot) * p.gamma + p.rho * np.sin(p.phi - theta)
+
+
+def check_intervals(data):
+    ci = data["contact_intervals"]
+    assert isinstance(ci, list)
+    for row in ci:
+        assert {"t_start", "t_end", "kind"} <= set(row)
+        assert row["kind"] in KINDS
+        assert isinstance(row["t_start"], float) and isinstance(row["t_end"], float)
+        assert 0.0 <= row["t_start"] <= row["t_end"] <= data["t_stop"]
+    for a, b in zip(ci, ci[1:]):
+        assert a["t_end"] <= b["t_start"]
+    return ci
+
+
+@pytest.mark.parametrize("d,regime,kinds", [
+    ("0", "forward-rub", ["sliding-forward"]),
+    ("0.5", "forward-rub", ["sliding-forward"]),
+    ("0.95", "backward-whirl", ["sliding-forward", "rolling"]),
+])
+def test_json_contact_intervals_and_regime(capsys, d, regime, kinds):
+    data = run_json(capsys, "--gamma=0.05", f"--d={d}", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=120")
+    assert data["status"] == "completed"
+    ci = check_intervals(data)
+    assert [row["kind"] for row in ci] == kinds
+    assert set(ci[0]) == {"t_start", "t_end", "kind"}  # no SI fields without a machine
+    assert data["summary"]["regime"] == regime
+    assert data["summary"]["regime"] in REGIMES
+    assert ci[-1]["t_end"] == 120.0
+    traj = simulate(Parameters.reference().replace(gamma=0.05, d=float(d)), 0.5, 0.8 + 0.3j, 120.0)
+    assert ci == [c.to_dict() for c in traj.contact_intervals]
+    # every impact comes before the contact
+    assert all(row["t"] <= ci[0]["t_start"] for row in data["impacts"])
+
+
+@pytest.mark.parametrize("argv,regime", [
+    (["--gamma=0.1", "--t-end=300"], "periodic-impacting"),
+    (["--gamma=0.5", "--t-end=100"], "no-contact"),
+])
+def test_json_regime_without_contact(capsys, argv, regime):
+    data = run_json(capsys, *argv)
+    assert data["contact_intervals"] == []
+    assert data["summary"]["regime"] == regime
+
+
+def test_json_chatter_stop_has_the_regime_key(capsys):
+    data = run_json(capsys, "--gamma=0.05", "--d=0.5", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=120",
+                    "--on-chatter=stop")
+    assert data["status"] == "chatter"
+    assert "regime" in data["summary"]
+    assert data["contact_intervals"] == []
+    traj = simulate(Parameters.reference().replace(gamma=0.05, d=0.5), 0.5, 0.8 + 0.3j, 120.0)
+    assert data["t_stop"] == pytest.approx(traj.contact_intervals[0].t_start, abs=1e-12)
+
+
+def _check_si(data, machine):
+    p = machine.parameters()
+    fs = machine.mass * machine.clearance * machine.speed**2
+    js = machine.mass * machine.clearance * machine.speed
+    vs = machine.clearance * machine.speed
+    traj = simulate(p, complex(*data["initial_state"]["u0"]), complex(*data["initial_state"]["du0"]),
+                    data["t_end"], machine=machine)
+    for row in data["impacts"]:
+        for key in ("normal_impulse_Ns", "tangential_impulse_Ns", "t_s"):
+            assert isinstance(row[key], float) and math.isfinite(row[key])
+        # normal impulse (1 + d) rdot- per unit mass (MODEL.md §2)
+        assert row["normal_impulse_Ns"] == pytest.approx((1.0 + p.d) * row["rdot"] * js, rel=1e-12)
+        assert abs(row["tangential_impulse_Ns"]) <= p.mu * row["normal_impulse_Ns"] * (1 + 1e-12)
+        assert row["t_s"] == pytest.approx(row["t"] / machine.speed, rel=1e-12)
+    ci = check_intervals(data)
+    assert ci
+    for row in ci:
+        for key in ("max_normal_force_N", "max_friction_force_N", "mean_friction_power_W", "t_start_s", "t_end_s"):
+            assert isinstance(row[key], float) and math.isfinite(row[key]), (key, row)
+        # recompute on the same 64 samples: N, the friction force and |F_t v_rel| from MODEL.md §4
+        t = np.linspace(row["t_start"], min(row["t_end"], data["t_stop"]), 64)
+        u, du = traj.state(t)
+        r = np.abs(u)
+        w = np.conj(u / r) * du
+        th, thd = np.angle(u), w.imag / r
+        n = normal(p, th, thd)
+        if row["kind"] == "rolling":
+            ft = -tangential(p, th, thd)
+        else:
+            ft = -p.mu * n * np.sign(p.r_ratio + 1.0 + thd)
+        power = np.abs(ft * (p.r_ratio + 1.0 + thd))
+        assert row["max_normal_force_N"] == pytest.approx(n.max() * fs, rel=1e-8)
+        assert row["max_friction_force_N"] == pytest.approx(np.abs(ft).max() * fs, rel=1e-8)
+        assert row["mean_friction_power_W"] == pytest.approx(power.mean() * fs * vs, rel=1e-8, abs=1e-9 * fs * vs)
+        assert row["max_normal_force_N"] > 0
+        assert row["max_friction_force_N"] <= p.mu * row["max_normal_force_N"] * (1 + 1e-9)
+        assert row["t_start_s"] == pytest.approx(row["t_start"] / machine.speed, rel=1e-12)
+    return ci
+
+
+def test_json_with_a_machine_file_has_finite_si_values(tmp_path, capsys):
+    path = tmp_path / "low_damping.toml"
+    path.write_text(TOML_LOW_DAMPING)
+    data = run_json(capsys, f"--machine={path}", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=60")
+    machine = load_machine(path)
+    assert data["machine"] == machine.as_dict()
+    assert machine.parameters().gamma == pytest.approx(0.05, rel=1e-12)
+    ci = _check_si(data, machine)
+    assert [row["kind"] for row in ci] == ["sliding-forward", "rolling"]
+    assert len(data["impacts"]) > 10
+    # rolling: no slip, no friction power; the rotor is held by a force of order m c_r Omega^2 r_ratio^2
+    roll = ci[-1]
+    assert roll["mean_friction_power_W"] == pytest.approx(0.0, abs=1e-6)
+    assert roll["max_normal_force_N"] > 1e6
+    # sliding forward dissipates power
+    assert ci[0]["mean_friction_power_W"] > 0
+
+
+def test_json_with_the_reference_machine(capsys):
+    """--machine reference: a rub started on the stator near x_P2, and an impacting run."""
+    from rotorcontact.equilibria import pseudo_equilibria
+
+    machine = load_machine("reference")
+    th = pseudo_equilibria(machine.parameters())[1].theta + 0.1
+    data = run_json(capsys, "--machine=reference", f"--u0={math.cos(th)!r},{math.sin(th)!r}", "--du0=0,0",
+                    "--t-end=50")
+    ci = _check_si(data, machine)
+    assert [row["kind"] for row in ci] == ["sliding-forward"]
+    assert data["summary"]["regime"] == "forward-rub"
+    data = run_json(capsys, "--machine=reference", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=60")
+    assert len(data["impacts"]) > 10 and data["contact_intervals"] == []
+    for row in data["impacts"]:
+        assert math.isfinite(row["normal_impulse_Ns"]) and row["normal_impulse_Ns"] > 0
+
+
+def test_json_contact_through_the_installed_command(tmp_path):
+    assert EXE.exists(), EXE
+    proc = subprocess.run(
+        [str(EXE), "simulate", "--gamma", "0.05", "--u0", "0.5,0", "--du0", "0.8,0.3", "--t-end", "60",
+         "--on-chatter", "contact", "--json"],
+        capture_output=True, text=True, timeout=120, cwd=tmp_path,
+    )
+    assert proc.returncode == 0, proc.stderr
+    data = no_nan_loads(proc.stdout)
+    ci = check_intervals(data)
+    assert [row["kind"] for row in ci] == ["sliding-forward", "rolling"]
+    assert data["summary"]["regime"] == "backward-whirl"

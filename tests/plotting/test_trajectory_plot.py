@@ -1,0 +1,110 @@
+"""Trajectory figures with continuous contact: a valid PNG, and the contact phases shaded on r(t)."""
+
+from __future__ import annotations
+
+import struct
+import zlib
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from matplotlib.colors import to_rgba  # noqa: E402
+
+from rotorcontact import Parameters, simulate  # noqa: E402
+from rotorcontact.cli.main import main  # noqa: E402
+from rotorcontact.plotting.trajectory import plot_radius, plot_trajectory  # noqa: E402
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def check_png(path):
+    """A well-formed PNG: signature, IHDR first with a positive size, CRCs right, IDAT data, IEND last."""
+    data = path.read_bytes()
+    assert data[:8] == PNG_SIGNATURE
+    pos, chunks = 8, []
+    while pos < len(data):
+        (length,) = struct.unpack(">I", data[pos : pos + 4])
+        kind = data[pos + 4 : pos + 8]
+        body = data[pos + 8 : pos + 8 + length]
+        (crc,) = struct.unpack(">I", data[pos + 8 + length : pos + 12 + length])
+        assert zlib.crc32(kind + body) & 0xFFFFFFFF == crc, kind
+        chunks.append((kind, body))
+        pos += 12 + length
+    assert chunks[0][0] == b"IHDR" and chunks[-1][0] == b"IEND"
+    width, height = struct.unpack(">II", chunks[0][1][:8])
+    assert width > 100 and height > 100
+    raw = zlib.decompress(b"".join(body for kind, body in chunks if kind == b"IDAT"))
+    assert len(raw) > width  # image data present
+    image = plt.imread(path)
+    assert image.shape[:2] == (height, width)
+    # not a blank canvas
+    assert np.ptp(image[..., :3]) > 0.5
+    return width, height
+
+
+@pytest.mark.parametrize("d", ["0.5", "0.95"])
+def test_cli_plot_with_contact_phases_writes_a_valid_png(tmp_path, capsys, d):
+    path = tmp_path / f"contact_{d}.png"
+    code = main(["simulate", "--gamma=0.05", f"--d={d}", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=60",
+                 f"--plot={path}"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    assert str(path) in out
+    check_png(path)
+
+
+def _spans(ax):
+    """(x0, x1, facecolor) of the vertical spans on a time axis."""
+    spans = []
+    for patch in ax.patches:
+        verts = patch.get_path().transformed(patch.get_patch_transform()).vertices
+        if hasattr(patch, "get_xy") and not hasattr(patch, "get_width"):  # Polygon
+            verts = np.asarray(patch.get_xy())
+        xs = verts[:, 0]
+        spans.append((float(xs.min()), float(xs.max()), patch.get_facecolor()))
+    return spans
+
+
+def test_radius_panel_shades_each_contact_phase_by_kind():
+    traj = simulate(Parameters.reference().replace(gamma=0.05), 0.5, 0.8 + 0.3j, 60.0)
+    phases = traj.contact_intervals
+    assert [c.kind for c in phases] == ["sliding-forward", "rolling"]
+    fig, ax = plot_radius(traj)
+    spans = _spans(ax)
+    assert len(spans) == len(phases)
+    colours = set()
+    for c, (x0, x1, face) in zip(phases, sorted(spans)):
+        assert x0 == pytest.approx(c.t_start, abs=1e-9)
+        assert x1 == pytest.approx(c.t_end, abs=1e-9)
+        colours.add(tuple(np.round(to_rgba(face)[:3], 6)))
+    assert len(colours) == 2  # one colour per kind
+    labels = {t.get_text() for t in ax.get_legend().get_texts()}
+    assert {"sliding-forward", "rolling"} <= labels
+    # the curve sits on r = 1 during the contact phases
+    line = ax.get_lines()[0]
+    t, r = line.get_data()
+    inside = (t > phases[0].t_start) & (t < phases[-1].t_end)
+    assert inside.any()
+    np.testing.assert_allclose(np.asarray(r)[inside], 1.0, atol=1e-12)
+    plt.close(fig)
+
+
+def test_no_shading_without_contact():
+    traj = simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, 60.0)
+    assert not traj.contact_intervals
+    fig, ax = plot_radius(traj)
+    assert _spans(ax) == []
+    plt.close(fig)
+
+
+def test_three_panels_with_a_rub_and_the_regime_in_the_title():
+    traj = simulate(Parameters.reference().replace(gamma=0.05, d=0.5), 0.5, 0.8 + 0.3j, 40.0)
+    fig, axes = plot_trajectory(traj)
+    assert len(axes) == 3
+    assert "forward-rub" in fig._suptitle.get_text()
+    assert len(_spans(axes[2])) == len(traj.contact_intervals) == 1
+    plt.close(fig)
