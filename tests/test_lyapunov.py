@@ -157,17 +157,18 @@ def test_tangent_through_chatter_contact_and_liftoff_matches_perturbed_simulatio
     """Flight, impact into an accumulation, sliding contact, lift-off and flight: the chain of saltations is exact."""
     p = REF.replace(gamma=0.15)
     kw = dict(chatter_height=1e-3)
-    base = simulate(p, 0.012934761682330381 + 0.0025574678922678086j, -2.173746622471763 - 0.37545278420359046j,
+    base = simulate(p, 0.01537771389735243 - 0.21057118597757246j, 2.324838719898679 - 0.49181888055741263j,
                     25.0, **kw)
-    u, du = base.state(12.7)
+    u, du = base.state(11.68)
     x0 = _x(complex(u), complex(du))
-    _, tr = _simulated_map(p, x0, 6.3, **kw)
+    horizon = 3.06
+    _, tr = _simulated_map(p, x0, horizon, **kw)
     kinds = [c.kind for c in tr.contact_intervals]
     assert kinds == ["sliding-forward"]
-    assert tr.in_contact(6.3) == -1 and len(tr.impacts) == 1  # ends in flight, after the lift-off
+    assert tr.in_contact(horizon) == -1 and len(tr.impacts) == 1  # ends in flight, after the lift-off
     analytic = trajectory_tangent(tr)
     assert analytic.shape == (4, 4)
-    fd = _fd_jacobian(p, x0, 6.3, 1e-7, **kw)
+    fd = _fd_jacobian(p, x0, horizon, 1e-7, **kw)
     np.testing.assert_allclose(analytic, fd, atol=1e-6 * np.abs(analytic).max())
 
 
@@ -175,11 +176,11 @@ def test_tangent_into_rolling_annihilates_the_slip_direction():
     """Accumulation, sliding, then rolling: the 2x4 tangent map matches finite differences and dthetadot = 0."""
     p = REF.replace(gamma=0.15)
     kw = dict(chatter_height=1e-3)
-    base = simulate(p, 0.1887241122865844 - 0.12249850497482709j, 1.3492489895471942 - 1.7379446806508623j, 12.0,
+    base = simulate(p, 0.00709297482015403 + 0.2702782177955612j, -1.7792019364018312 + 2.243247235686219j, 12.0,
                     **kw)
-    u, du = base.state(10.0)
+    u, du = base.state(6.163544673474731)
     x0 = np.array([u.real, u.imag, du.real, du.imag])
-    t = 10.0
+    t = 8.199986662565646 - 6.163544673474731
 
     def contact_state(x):
         tr = simulate(p, complex(x[0], x[1]), complex(x[2], x[3]), t, **kw)

@@ -316,12 +316,17 @@ def _accumulation_map(params: Parameters, theta: float, rdot: float, thetadot: f
         dp_tail = mu * (1.0 + d) * d / (1.0 - d) * e_rd
     else:
         t_tail, dt_tail, p_tail, dp_tail = 0.0, np.zeros(3), 0.0, np.zeros(3)
+    # over the tail the smooth tangential force F acts for t_tail (as in the simulator)
+    f_t = -(1.0 + tdp) * p.gamma + p.rho * math.sin(p.phi - theta)
+    df_t = -p.gamma * dtdp + np.array([-p.rho * math.cos(p.phi - theta), 0.0, 0.0])
     vrel_p = rr + 1.0 + tdp
     s_p = math.copysign(1.0, vrel_p)
     if p_tail < abs(vrel_p):
-        td_acc, dtd_acc = tdp - s_p * p_tail, dtdp - s_p * dp_tail
+        td_acc = tdp + f_t * t_tail - s_p * p_tail
+        dtd_acc = dtdp + df_t * t_tail + f_t * dt_tail - s_p * dp_tail
     else:
-        td_acc, dtd_acc = -(rr + 1.0), np.zeros(3)
+        td_acc = f_t * t_tail - (rr + 1.0)
+        dtd_acc = df_t * t_tail + f_t * dt_tail
     theta_c = theta + 0.5 * (tdp + td_acc) * t_tail
     dtheta_c = np.array([1.0, 0.0, 0.0]) + 0.5 * (dtdp + dtd_acc) * t_tail + 0.5 * (tdp + td_acc) * dt_tail
     return (theta_c, td_acc, t_tail), np.vstack([dtheta_c, dtd_acc]), dt_tail
