@@ -11,8 +11,13 @@ Problem: a gamma sweep at the reference parameters, 1000 values of gamma in
 
 Run: python benchmarks/sweep.py [--n 1000] [--transient 4000] [--record 1000]
      [--modes independent,up,both] [--n-jobs N] [--threads N]
-Prints the wall time, the impacts computed and impacts per second of each.
-The target is under 30 s on 2 cores for each layout. The first run of a fresh
+Prints the wall time, the CPU time of this process (all its threads; with
+--n-jobs the workers' time is not included), the impacts computed, impacts
+per second of wall time and per CPU second, and the load average of the
+machine (other processes sharing the cores slow the wall time down; with
+``both`` and ``independent`` the work is spread evenly, so CPU time / 2 is the
+wall time on 2 free cores). The target is under 30 s on 2 cores for each
+layout. The first run of a fresh
 installation also compiles the kernels (cached afterwards); a short warm-up
 run is made first so that the timings exclude it.
 """
@@ -52,18 +57,21 @@ def main() -> None:
     sweep(p, "gamma", values[:4], mode="independent", n_transient=10, n_record=10, progress=False,
           n_jobs=args.n_jobs)
     for mode in args.modes.split(","):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
+        load0 = os.getloadavg()[0]
         res = sweep(p, "gamma", values, mode=mode, n_transient=args.transient, n_record=args.record,
                     n_jobs=args.n_jobs, progress=False)
-        dt = time.perf_counter() - t0
+        dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+        load = max(load0, os.getloadavg()[0])
         ds = res.dataset
         regimes = {}
         for d in ds.direction.values:
             names, counts = np.unique(res.regimes(str(d)), return_counts=True)
             regimes[str(d)] = dict(zip(names.tolist(), counts.tolist()))
         print(
-            f"{mode:12s} {dt:8.2f} s  {res.impacts_simulated:>10d} impacts  "
-            f"{res.impacts_simulated / dt:12.0f} impacts/s  regimes: {regimes}"
+            f"{mode:12s} wall {dt:7.2f} s  cpu {cpu:7.2f} s  {res.impacts_simulated:>10d} impacts  "
+            f"{res.impacts_simulated / dt:10.0f} impacts/s (wall)  {res.impacts_simulated / cpu:10.0f} per cpu-s  "
+            f"load {load:.1f}  regimes: {regimes}"
         )
 
 

@@ -181,6 +181,23 @@ def test_final_state_in_contact_restarts_in_contact_without_a_spurious_impact():
     assert [c.kind for c in again.contact_intervals] == ["sliding-forward"]
 
 
+def test_final_state_at_the_end_of_an_accumulation_is_where_contact_begins():
+    """A run stopped right after a chatter sequence continues where the full run slides on."""
+    from rotorcontact.contact import ACCUMULATION
+
+    p = REF.replace(gamma=0.15)
+    full = simulate(p, 0j, 0j, 500.0)
+    i = [j for j, c in enumerate(full.contacts) if int(c[2]) == ACCUMULATION][0]
+    flights_before = int(np.sum(full.flights[:, 0] <= full.contacts[i, 0]))
+    short = simulate(p, 0j, 0j, 500.0, max_events=flights_before - 1)
+    assert int(short.contacts[-1, 2]) == ACCUMULATION
+    u, du, kind = final_state(short)
+    slide = full.path[int(full.contacts[i + 1, 3])]  # first row of the sliding phase that follows
+    assert kind == "accumulation"
+    assert abs(np.angle(u) - slide[1]) < 1e-14
+    assert abs((np.conj(u) * du).imag - slide[2]) < 1e-14
+
+
 def test_settle_reaches_the_same_attractor():
     """Ending the transient once the impacts repeat leaves the recorded orbit unchanged."""
     full = BatchSettings(n_transient=2000, n_record=60)

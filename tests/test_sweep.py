@@ -13,7 +13,6 @@ Claims checked here:
 
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import sys
@@ -68,6 +67,21 @@ def test_up_and_down_sweeps_show_hysteresis():
     assert up[-1] == "rub"
     both = (np.array(up) == "periodic-impacting") & (np.array(down) == "rub")
     assert both.sum() >= 5
+
+
+def test_period_doubling_on_the_continued_branch_separates_one_and_two_impacts():
+    """Coming down on B1,d, the brute-force orbit has two impacts per period exactly below the
+    period doubling that the continuation of B1,d locates."""
+    pytest.importorskip("rotorcontact.branches")
+    from rotorcontact.sweep import continued_branches
+
+    values = np.array([0.0829, 0.0832, 0.0836, 0.0842])
+    branches = continued_branches(REF, "gamma", values)
+    pd = [e.value for e in branches.events if e.type == "period-doubling" and "B1,d" in e.orbits]
+    assert len(pd) == 1 and values[1] < pd[0] < values[2]
+    res = sweep(REF, "gamma", values, mode="down", start="B1,d", n_transient=4000, n_record=100, progress=False)
+    p = res.dataset.impacts_per_period.sel(direction="down").values
+    assert p.tolist() == [2, 2, 1, 1]
 
 
 def test_chunk_size_does_not_change_the_results():

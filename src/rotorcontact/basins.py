@@ -54,7 +54,7 @@ from .batch import (
     parameter_array,
 )
 from .errors import ParameterError
-from .params import Parameters, check_finite
+from .params import Machine, Parameters, check_finite
 from .scaleout import (
     ChunkStore,
     ChunkTask,
@@ -243,7 +243,8 @@ def parse_grid(text: str) -> BasinGrid:
         name, spec = part.split("=", 1)
         if name not in ("x", "y", "amplitude", "direction"):
             raise ParameterError(
-                f"--grid = {text!r}: unknown axis {name!r}; allowed: x, y (displacement) or amplitude, direction (shock)"
+                f"--grid = {text!r}: unknown axis {name!r}; allowed: x, y (displacement) or amplitude, "
+                "direction (shock)"
             )
         if name in axes:
             raise ParameterError(f"--grid = {text!r}: axis {name!r} given twice")
@@ -365,10 +366,10 @@ def basins(
     *,
     settings: BatchSettings | None = None,
     n_transient: int = 300,
-    n_record: int = 64,
+    n_record: int = 50,
     t_transient: float | None = None,
     t_record: float | None = None,
-    settle: int = 50,
+    settle: int = 25,
     match_tol: float = 1e-3,
     chunk_size: int = DEFAULT_CHUNK,
     n_jobs: int | None = None,
@@ -378,6 +379,7 @@ def basins(
     resume: bool = True,
     keep_chunks: bool = False,
     progress: bool = True,
+    machine: Machine | None = None,
 ) -> BasinResult:
     """Basins of attraction of the attractors reached from a grid of initial states.
 
@@ -389,8 +391,8 @@ def basins(
         The grid (`displacement_grid`, `shock_grid`, or a `parse_grid` string).
     settings : BatchSettings, optional
         Transient and window; otherwise from ``n_transient`` (300 events),
-        ``n_record`` (64 events), the time limits (default 5 per event) and
-        ``settle``.
+        ``n_record`` (50 events: enough to see periods of up to 16 impacts),
+        the time limits (default 5 per event) and ``settle``.
     settle : int
         The transient runs in segments of this many events and ends once the
         motion repeats or can no longer touch the stator
@@ -400,7 +402,7 @@ def basins(
         of a one-impact periodic window and the fixed point it is named after.
     chunk_size : int
         Grid points per chunk.
-    n_jobs, scheduler, processes, out, resume, keep_chunks, progress
+    n_jobs, scheduler, processes, out, resume, keep_chunks, progress, machine
         As for `rotorcontact.sweep.sweep`.
 
     Returns
@@ -490,7 +492,7 @@ def basins(
     counts = np.bincount(codes[inside].ravel(), minlength=len(names)).astype(np.int32)
     fractions = counts / max(n_valid, 1)
     ds = _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol,
-                  chunk_size)
+                  chunk_size, machine)
     if out is not None:
         write_netcdf(ds, out)
         if not keep_chunks:
@@ -506,7 +508,8 @@ def basins(
     )
 
 
-def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol, chunk_size):
+def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol, chunk_size,
+             machine=None):
     import xarray as xr
 
     from .sweep import parameter_attrs, settings_attrs, summary_variables
@@ -556,7 +559,7 @@ def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fracti
         "chunk_size": np.int32(chunk_size),
         "orbits_source": "one-impact fixed points of the impact map at these parameters",
     }
-    attrs.update(parameter_attrs(params))
+    attrs.update(parameter_attrs(params, machine=machine))
     attrs.update(settings_attrs(result.settings))
     if grid.kind == "shock":
         attrs["x_R_re"] = float(params.k.real)

@@ -7,7 +7,9 @@ that kernel:
 
 1. the *transient*: from the initial state for ``n_transient`` events (flights
    and contact phases; each flight ends in one impact, so in impacting motion
-   these are impacts) or up to the time ``t_transient``, whichever comes first;
+   these are impacts) or up to the time ``t_transient``, whichever comes first
+   (optionally in segments, ended early once the motion has settled: see
+   `BatchSettings.settle`);
 2. the *window*: from the state where the transient stopped, for ``n_record``
    events or up to the time ``t_record``.
 
@@ -53,6 +55,7 @@ __all__ = [
     "FINAL_KIND_NAMES",
     "BatchSettings",
     "BatchResult",
+    "CHATTER_DEFAULTS",
     "simulate_batch",
     "final_state",
     "parameter_array",
@@ -87,12 +90,22 @@ REGIME_NAMES = (
 #: Names of the final-kind codes: -1 free flight, then the contact kinds of `rotorcontact.contact`.
 FINAL_KIND_NAMES = {-1: "flight", **{i: name for i, name in enumerate(KIND_NAMES)}}
 
-#: The simulator's own defaults for the chatter criteria.
-_SIMULATE_DEFAULTS = {
-    name: p.default
-    for name, p in inspect.signature(simulate).parameters.items()
-    if name in ("chatter_rdot", "chatter_height")
-}
+
+
+def _chatter_criteria() -> dict[str, float]:
+    """The simulator's criteria for an accumulation of impacts, in the kernel's order, with their defaults.
+
+    They are the kernel's arguments between ``max_events`` and
+    ``stop_on_chatter``; their defaults are those of `rotorcontact.simulate`.
+    """
+    names = list(inspect.signature(simulate_kernel.py_func).parameters)
+    front = inspect.signature(simulate).parameters
+    chosen = names[names.index("max_events") + 1 : names.index("stop_on_chatter")]
+    return {name: float(front[name].default) for name in chosen}
+
+
+#: The chatter criteria of the simulator and their default values.
+CHATTER_DEFAULTS = _chatter_criteria()
 
 # columns of the per-item summary array
 _S_STATUS = 0
@@ -123,12 +136,14 @@ CERTIFICATE_MARGIN = 1e-9
 
 
 @njit(cache=True)
-def _final_state(flights, contacts, path, t_stop, gamma, omega, rho, phi):
+def _final_state(impacts, flights, contacts, path, t_stop, gamma, omega, rho, phi):
     """State (U, U') where a run of `simulate_kernel` stopped, and what it was doing (-1 flight, else contact kind).
 
     The simulator records the state at the start of every flight (the start of
     the run, after each impact, touch and lift-off) and every contact phase
-    with its path on r = 1.
+    with its path on r = 1. The accumulation phase of a chatter sequence
+    records the mean angular velocity over the phase, from which the velocity
+    at its end follows with the velocity after the last impact.
     """
     n_fl = flights.shape[0]
     n_ct = contacts.shape[0]
@@ -141,6 +156,10 @@ def _final_state(flights, contacts, path, t_stop, gamma, omega, rho, phi):
             row = int(contacts[n_ct - 1, 4])
             theta = path[row, 1]
             thetadot = path[row, 2]
+            kind = int(contacts[n_ct - 1, 2])
+            n_imp = impacts.shape[0]
+            if kind == ACCUMULATION and n_imp > 0 and impacts[n_imp - 1, 0] == cs:
+                thetadot = 2.0 * thetadot - impacts[n_imp - 1, 5]
             e = complex(math.cos(theta), math.sin(theta))
             du = complex(0.0, thetadot) * e
             # the simulator restarts from u / |u|; remove any outward radial velocity
@@ -152,7 +171,7 @@ def _final_state(flights, contacts, path, t_stop, gamma, omega, rho, phi):
                 if rd <= 0.0:
                     break
                 du = du - 2.0 * rd * en
-            return e, du, int(contacts[n_ct - 1, 2])
+            return e, du, kind
     u_f = complex(flights[n_fl - 1, 1], flights[n_fl - 1, 2])
     du_f = complex(flights[n_fl - 1, 3], flights[n_fl - 1, 4])
     dt = t_stop - t_fl
@@ -267,16 +286,16 @@ def _never_touches(u, du, gamma, omega, rho, phi):
 
 
 @njit(cache=True)
-def _transient(p, u, du, n_transient, t_transient, settle, chatter_rdot, chatter_height):
+def _transient(p, u, du, n_transient, t_transient, settle, chatter):
     """Run the transient; returns (u, du, status, duration, impacts)."""
     gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
     if n_transient <= 0:
         return u, du, COMPLETED, 0.0, 0
     if settle <= 0:
         imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
-            gamma, omega, rho, mu, d, phi, rr, u, du, t_transient, n_transient, chatter_rdot, chatter_height, False
+            gamma, omega, rho, mu, d, phi, rr, u, du, t_transient, n_transient, *chatter, False
         )
-        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
+        u, du, kind = _final_state(imp, fl, ct, path, t_stop, gamma, omega, rho, phi)
         return u, du, status, t_stop, imp.shape[0]
     # in segments of ``settle`` events, ending early once the motion repeats
     # (periodic impacts) or provably never touches the stator again
@@ -289,10 +308,10 @@ def _transient(p, u, du, n_transient, t_transient, settle, chatter_rdot, chatter
         if _never_touches(u, du, gamma, omega, rho, phi):
             break
         imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
-            gamma, omega, rho, mu, d, phi, rr, u, du, time_left, min(settle, events_left), chatter_rdot,
-            chatter_height, False
+            gamma, omega, rho, mu, d, phi, rr, u, du, time_left, min(settle, events_left), *chatter,
+            False
         )
-        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
+        u, du, kind = _final_state(imp, fl, ct, path, t_stop, gamma, omega, rho, phi)
         events_left -= max(1, fl.shape[0] + ct.shape[0])
         time_left -= t_stop
         t_total += t_stop
@@ -306,12 +325,10 @@ def _transient(p, u, du, n_transient, t_transient, settle, chatter_rdot, chatter
 
 
 @njit(cache=True, nogil=True)
-def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, chatter_rdot, chatter_height, sec,
-              summ):
+def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, chatter, sec, summ):
     """Transient and window of one item; fills ``sec`` (n_keep, 4) and ``summ`` (NSUM,). Returns the final state."""
     gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
-    u, du, tr_status, t_tr, tr_impacts = _transient(p, u0, du0, n_transient, t_transient, settle, chatter_rdot,
-                                                    chatter_height)
+    u, du, tr_status, t_tr, tr_impacts = _transient(p, u0, du0, n_transient, t_transient, settle, chatter)
     sec[:, :] = math.nan
     summ[_S_TRANSIENT_STATUS] = tr_status
     summ[_S_T_TRANSIENT] = t_tr
@@ -347,9 +364,9 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
         kind = -1
     else:
         imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
-            gamma, omega, rho, mu, d, phi, rr, u, du, t_record, n_record, chatter_rdot, chatter_height, False
+            gamma, omega, rho, mu, d, phi, rr, u, du, t_record, n_record, *chatter, False
         )
-        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
+        u, du, kind = _final_state(imp, fl, ct, path, t_stop, gamma, omega, rho, phi)
         regime, per_p, period = _classify_window(imp, ct, t_stop, status, WINDOW, MAX_PERIOD_IMPACTS, REPEAT_TOL,
                                                  MIN_IRREGULAR)
         n_imp = imp.shape[0]
@@ -381,8 +398,8 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
 
 
 @njit(cache=True, nogil=True)
-def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter_rdot,
-              chatter_height, sections, summary):
+def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+              sections, summary):
     u = u0[lane, 0]
     du = du0[lane, 0]
     for s in range(params.shape[1]):
@@ -390,25 +407,25 @@ def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, 
             u = u0[lane, s]
             du = du0[lane, s]
         u, du = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record, settle,
-                          chatter_rdot, chatter_height, sections[lane, s], summary[lane, s])
+                          chatter, sections[lane, s], summary[lane, s])
 
 
 @njit(cache=True, parallel=True)
-def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter_rdot,
-                    chatter_height, sections, summary):
+def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                    sections, summary):
     """The batch kernel: lanes in parallel over cores (``prange``), steps in order within a lane."""
     for lane in prange(params.shape[0]):
-        _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter_rdot,
-                  chatter_height, sections, summary)
+        _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                  sections, summary)
 
 
 @njit(cache=True, nogil=True)
-def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter_rdot,
-                  chatter_height, sections, summary):
+def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                  sections, summary):
     """The batch kernel on one core, releasing the GIL (for worker threads and processes)."""
     for lane in range(params.shape[0]):
-        _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter_rdot,
-                  chatter_height, sections, summary)
+        _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                  sections, summary)
 
 
 # ---------------------------------------------------------------------------
@@ -448,8 +465,10 @@ class BatchSettings:
         < 1 for U = k + c+ e^{l+ t} + c- e^{l- t}). Each segment restarts the
         simulator exactly where the previous one stopped. A window that starts
         with that certificate is contact-free and is evaluated in closed form.
-    chatter_rdot, chatter_height : float
-        Criteria for an accumulation of impacts, as in `rotorcontact.simulate`.
+    chatter : mapping or None
+        Criteria for an accumulation of impacts by name (``chatter_rdot`` ...),
+        as in `rotorcontact.simulate`; those not given keep the simulator's
+        defaults (`CHATTER_DEFAULTS`). Stored as (name, value) pairs.
     """
 
     n_transient: int = 4000
@@ -458,8 +477,7 @@ class BatchSettings:
     t_record: float | None = None
     n_keep: int | None = None
     settle: int = 0
-    chatter_rdot: float = _SIMULATE_DEFAULTS["chatter_rdot"]
-    chatter_height: float = _SIMULATE_DEFAULTS["chatter_height"]
+    chatter: Any = None
 
     def __post_init__(self) -> None:
         _check_count("n_transient", self.n_transient, 0)
@@ -471,8 +489,21 @@ class BatchSettings:
             value = getattr(self, name)
             if value is not None:
                 object.__setattr__(self, name, check_range(name, value, low=0.0, low_open=True))
-        check_range("chatter_rdot", self.chatter_rdot, low=0.0, low_open=True)
-        check_range("chatter_height", self.chatter_height, low=0.0)
+        given = dict(self.chatter or {})
+        unknown = sorted(set(given) - set(CHATTER_DEFAULTS))
+        if unknown:
+            raise ParameterError(
+                f"chatter criterion {unknown[0]!r} is unknown; allowed: {', '.join(CHATTER_DEFAULTS)}"
+            )
+        pairs = tuple(
+            (name, check_range(name, given.get(name, default), low=0.0)) for name, default in CHATTER_DEFAULTS.items()
+        )
+        object.__setattr__(self, "chatter", pairs)
+
+    @property
+    def chatter_values(self) -> tuple[float, ...]:
+        """The chatter criteria in the simulator kernel's order."""
+        return tuple(float(v) for _, v in self.chatter)
 
     @property
     def transient_time(self) -> float:
@@ -495,7 +526,8 @@ class BatchSettings:
 
     def as_dict(self) -> dict[str, Any]:
         """Plain data, with the time limits resolved."""
-        out = {f.name: getattr(self, f.name) for f in fields(self)}
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "chatter"}
+        out.update(dict(self.chatter))
         out["t_transient"] = self.transient_time
         out["t_record"] = self.record_time
         out["n_keep"] = self.keep
@@ -634,7 +666,8 @@ def parameter_array(params: Parameters | Sequence[Parameters] | np.ndarray) -> n
         raise ParameterError(f"params = {params!r} is not Parameters or an array of parameter rows") from None
     if arr.ndim == 0 or arr.shape[-1] != len(PARAMETER_ORDER):
         raise ParameterError(
-            f"params has shape {arr.shape}; expected rows of {len(PARAMETER_ORDER)} values ({', '.join(PARAMETER_ORDER)})"
+            f"params has shape {arr.shape}; expected rows of {len(PARAMETER_ORDER)} values "
+            f"({', '.join(PARAMETER_ORDER)})"
         )
     _validate_rows(arr.reshape(-1, len(PARAMETER_ORDER)))
     return arr
@@ -717,8 +750,7 @@ def run_lanes(
         settings.transient_time,
         settings.record_time,
         settings.settle,
-        float(settings.chatter_rdot),
-        float(settings.chatter_height),
+        settings.chatter_values,
         sections,
         summary,
     )
@@ -848,6 +880,7 @@ def final_state(traj) -> tuple[complex, complex, str]:
     p = traj.params
     fl = traj.flights if traj.flights.size else np.empty((0, 5))
     u, du, kind = _final_state(
+        np.ascontiguousarray(traj.records, dtype=float),
         np.ascontiguousarray(fl, dtype=float).reshape(-1, 5),
         np.ascontiguousarray(traj.contacts, dtype=float).reshape(-1, 5),
         np.ascontiguousarray(traj.path, dtype=float).reshape(-1, 4),

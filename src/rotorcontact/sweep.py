@@ -6,8 +6,8 @@ window (angle theta, rdot- and thetadot- just before each impact) make the
 diagram. Sweeping *up* runs the values in increasing order and *down* in
 decreasing order, each value starting from the state where the previous one
 ended, so that coexisting attractors show as hysteresis between the two
-directions. Mode ``"independent"`` starts every value from the same state
-instead.
+directions. Mode ``"independent"`` starts every value afresh from the start
+state (taken at that value) instead.
 
 The work is cut into chunks of consecutive values (`rotorcontact.scaleout`),
 run in this process, by joblib or on a Dask cluster, with identical results.
@@ -46,7 +46,7 @@ from .batch import (
     parameter_array,
 )
 from .errors import ParameterError
-from .params import Parameters, check_finite
+from .params import Machine, Parameters, check_finite
 from .scaleout import (
     ChunkStore,
     ChunkTask,
@@ -67,6 +67,8 @@ __all__ = [
     "sweep_values",
     "start_state",
     "one_impact_overlay",
+    "continued_branches",
+    "overlay_for",
     "PARAMETER_UNITS",
 ]
 
@@ -94,7 +96,7 @@ PARAMETER_LONG_NAMES = {
     "r_ratio": "rotor radius over clearance R / c_r",
 }
 DEFAULT_CHUNK_CARRY = 20
-DEFAULT_CHUNK_INDEPENDENT = 16
+DEFAULT_CHUNK_INDEPENDENT = 64
 
 SECTION_ATTRS = {
     "t": dict(long_name="time of the impact since the start of the recorded window", units="1",
@@ -185,7 +187,8 @@ def start_state(params: Parameters, start: str) -> tuple[complex, complex]:
         k = params.k
         if abs(k) >= 1.0:
             raise ParameterError(
-                f"start = 'equilibrium': the regular equilibrium is virtual at these parameters (|k| = {abs(k):.6g} >= 1)"
+                "start = 'equilibrium': the regular equilibrium is virtual at these parameters "
+                f"(|k| = {abs(k):.6g} >= 1)"
             )
         return complex(k), 0j
     from .impactmap import one_impact_orbits
@@ -260,6 +263,7 @@ def sweep(
     resume: bool = True,
     keep_chunks: bool = False,
     progress: bool = True,
+    machine: Machine | None = None,
 ) -> SweepResult:
     """Brute-force orbit diagram of the impact section against one parameter.
 
@@ -284,7 +288,7 @@ def sweep(
         ``n_record``, ``t_transient`` and ``t_record`` (defaults: 4000 and
         1000 events, time limits 5 per event).
     chunk_size : int, optional
-        Values per chunk (default 20 with the state carried, 16 otherwise).
+        Values per chunk (default 20 with the state carried, 64 otherwise).
         It sets where files are written, not the results.
     n_jobs : int, optional
         Worker processes for joblib; None runs in this process over all
@@ -303,6 +307,9 @@ def sweep(
         Keep the chunk folder after the merge.
     progress : bool
         Show a progress bar on stderr.
+    machine : Machine, optional
+        The machine the parameters come from; its SI values and units are
+        stored as attributes too.
 
     Returns
     -------
@@ -440,7 +447,7 @@ def sweep(
                 sections[li, steps] = res["sections"][:, 0]
                 summary[li, steps] = res["summary"][:, 0]
     result = BatchResult.from_arrays(sections, summary, settings)
-    ds = _dataset(result, params, param, vals, directions, mode, start_name, starts, chunk_size)
+    ds = _dataset(result, params, param, vals, directions, mode, start_name, starts, chunk_size, machine)
     if out is not None:
         write_netcdf(ds, out)
         if not keep_chunks:
@@ -455,14 +462,19 @@ def sweep(
     )
 
 
-def parameter_attrs(params: Parameters, skip: str | None = None) -> dict[str, Any]:
-    """Attributes holding the model parameters and their units."""
+def parameter_attrs(params: Parameters, skip: str | None = None, machine: Machine | None = None) -> dict[str, Any]:
+    """Attributes holding the model parameters and their units, and the machine in SI units if given."""
     attrs: dict[str, Any] = {}
     for name in PARAMETER_ORDER:
         if name == skip:
             continue
         attrs[name] = float(getattr(params, name))
         attrs[f"{name}_units"] = PARAMETER_UNITS[name]
+    if machine is not None:
+        units = machine.units()
+        for name, value in machine.as_dict().items():
+            attrs[f"machine_{name}"] = float(value)
+            attrs[f"machine_{name}_units"] = units[name]
     return attrs
 
 
@@ -475,10 +487,9 @@ def settings_attrs(settings: BatchSettings) -> dict[str, Any]:
         "t_transient": float(s["t_transient"]),
         "t_record": float(s["t_record"]),
         "n_keep": np.int32(s["n_keep"]),
-        "chatter_rdot": float(s["chatter_rdot"]),
-        "chatter_height": float(s["chatter_height"]),
         "settle": np.int32(s["settle"]),
         "transient_definition": "events (flights and contact phases) or time, whichever ends first",
+        **{name: float(value) for name, value in settings.chatter},
     }
 
 
@@ -498,7 +509,7 @@ def summary_variables(result: BatchResult, dims: tuple[str, ...]) -> dict[str, A
 
 
 def _dataset(result: BatchResult, params: Parameters, param: str, vals: np.ndarray, directions, mode: str,
-             start_name: str, starts, chunk_size: int):
+             start_name: str, starts, chunk_size: int, machine: Machine | None = None):
     import xarray as xr
 
     dims = ("direction", param)
@@ -523,7 +534,7 @@ def _dataset(result: BatchResult, params: Parameters, param: str, vals: np.ndarr
         "start_du0_im": np.array([s[1].imag for s in starts]),
         "chunk_size": np.int32(chunk_size),
     }
-    attrs.update(parameter_attrs(params, skip=param))
+    attrs.update(parameter_attrs(params, skip=param, machine=machine))
     attrs.update(settings_attrs(result.settings))
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
@@ -570,3 +581,47 @@ def one_impact_overlay(params: Parameters, param: str, values: Any, *, max_value
     data = {k: ((param, "orbit"), v) for k, v in {**arrays, **flags}.items()}
     return xr.Dataset(data, coords={param: vals, "orbit": np.array(labels, dtype=str)},
                       attrs={"source": "one-impact fixed points of the impact map at each value"})
+
+
+#: Parameters along which one-impact branches can be continued.
+BRANCH_PARAMETERS = ("gamma", "omega", "rho", "mu", "d")
+
+
+def continued_branches(params: Parameters, param: str, values: Any, *, t_max: float = 12.0):
+    """The continued branches of one-impact orbits over the range of ``values``, for overlaying.
+
+    Uses `rotorcontact.branches.orbit_branches` (pseudo-arclength continuation
+    with located bifurcations) from the first to the last value.
+
+    Returns
+    -------
+    rotorcontact.branches.OrbitBranches
+
+    Raises
+    ------
+    ParameterError
+        If ``param`` cannot be continued (phi, r_ratio) or the range is a single value.
+    """
+    if param not in BRANCH_PARAMETERS:
+        raise ParameterError(f"param = {param!r} cannot be continued; allowed: {', '.join(BRANCH_PARAMETERS)}")
+    vals = _check_values(param, values)
+    if vals.size < 2:
+        raise ParameterError("continued branches need a range of at least two values")
+    from .branches import orbit_branches
+
+    return orbit_branches(params, param, float(vals[0]), float(vals[-1]), t_max=t_max)
+
+
+def overlay_for(params: Parameters, param: str, values: Any):
+    """The best overlay available: continued branches where possible, else the fixed points at the values.
+
+    Returns
+    -------
+    overlay : OrbitBranches or xarray.Dataset
+    kind : str
+        ``"branches"`` or ``"fixed-points"``.
+    """
+    try:
+        return continued_branches(params, param, values), "branches"
+    except (ImportError, ParameterError):
+        return one_impact_overlay(params, param, values), "fixed-points"

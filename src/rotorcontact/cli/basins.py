@@ -41,14 +41,14 @@ def register(sub) -> None:
                    help="grid of initial states: x=X0:X1:NX,y=Y0:Y1:NY | amplitude=A0:A1:NA,direction=B0:B1:NB "
                         "| plane:N | shock:N (see above)")
     g.add_argument("--transient", default="300", metavar="N", help="largest transient, in events (default 300)")
-    g.add_argument("--record", default="64", metavar="N", help="events of the recorded window (default 64)")
+    g.add_argument("--record", default="50", metavar="N", help="events of the recorded window (default 50)")
     g.add_argument("--t-transient", dest="t_transient", default=None, metavar="T",
                    help="time limit of the transient (default 5 per event)")
     g.add_argument("--t-record", dest="t_record", default=None, metavar="T",
                    help="time limit of the recorded window (default 5 per event)")
-    g.add_argument("--settle", default="50", metavar="K",
+    g.add_argument("--settle", default="25", metavar="K",
                    help="transient in segments of K events, ended once the motion repeats or can no longer touch "
-                        "the stator (default 50; 0: the whole transient)")
+                        "the stator (default 25; 0: the whole transient)")
     g.add_argument("--match-tol", dest="match_tol", default="1e-3", metavar="TOL",
                    help="largest difference between a periodic impact and the fixed point it is named after")
     add_scale_options(p, default_chunk="2048 grid points")
@@ -77,7 +77,8 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         check_plot_path(args.plot)
     t0 = time.perf_counter()
-    res = basins(params, grid, settings=settings, match_tol=match_tol, out=args.out, **scale_kwargs(args))
+    res = basins(params, grid, settings=settings, match_tol=match_tol, out=args.out, machine=machine,
+                 **scale_kwargs(args))
     elapsed = time.perf_counter() - t0
     if args.plot:
         from ..plotting.basins import save_basins_figure

@@ -57,14 +57,15 @@ def register(sub) -> None:
                    help="time limit of the recorded window (default 5 per event)")
     g.add_argument("--settle", default="0", metavar="K",
                    help="end the transient early in segments of K events once the motion repeats (default 0: off)")
-    add_scale_options(p, default_chunk="20 values (carried), 16 (independent)")
+    add_scale_options(p, default_chunk="20 values (carried), 64 (independent)")
     o = p.add_argument_group("output")
     o.add_argument("--out", required=True, metavar="FILE.nc", help="NetCDF file to write")
     o.add_argument("--plot", default=None, metavar="FILE.png", help="also draw the diagram")
     o.add_argument("--section", default="theta", choices=("theta", "rdot", "thetadot"),
                    help="section variable of the figure (default theta)")
     o.add_argument("--no-overlay", dest="overlay", action="store_false",
-                   help="do not overlay the one-impact fixed points on the figure")
+                   help="do not overlay the one-impact orbits (continued branches, or the fixed points at each "
+                        "value where the parameter cannot be continued) on the figure")
     o.add_argument("--json", action="store_true", help="print a summary as JSON")
     p.set_defaults(func=run)
 
@@ -91,18 +92,19 @@ def run(args: argparse.Namespace) -> int:
         check_plot_path(args.plot)
     t0 = time.perf_counter()
     res = sweep(params, args.param, values, mode=args.mode, start=args.start, u0=u0, du0=du0, settings=settings,
-                out=args.out, **scale_kwargs(args))
+                out=args.out, machine=machine, **scale_kwargs(args))
     elapsed = time.perf_counter() - t0
     ds = res.dataset
     regimes = {}
     for d in ds.direction.values:
         names = res.regimes(str(d))
         regimes[str(d)] = {name: names.count(name) for name in sorted(set(names))}
+    overlay_kind = None
     if args.plot:
         from ..plotting.sweep import save_sweep_figure
-        from ..sweep import one_impact_overlay
+        from ..sweep import overlay_for
 
-        overlay = one_impact_overlay(params, args.param, values) if args.overlay else None
+        overlay, overlay_kind = overlay_for(params, args.param, values) if args.overlay else (None, None)
         save_sweep_figure(ds, args.plot, args.section, overlay=overlay)
     summary = {
         "out": str(res.path),
@@ -115,16 +117,20 @@ def run(args: argparse.Namespace) -> int:
         "chunks_reused": res.chunks_reused,
         "seconds": elapsed,
         "plot": args.plot,
+        "overlay": overlay_kind,
     }
     if args.json:
         print_json(summary)
     else:
-        print(f"wrote {res.path}: {args.param} sweep, {values.size} values, directions {', '.join(summary['directions'])}")
+        dirs = ", ".join(summary["directions"])
+        print(f"wrote {res.path}: {args.param} sweep, {values.size} values, directions {dirs}")
         for d, counts in regimes.items():
             print(f"  {d}: " + ", ".join(f"{k} {v}" for k, v in counts.items()))
         rate = res.impacts_simulated / elapsed if elapsed > 0 else float("nan")
         print(f"  {res.impacts_simulated} impacts in {elapsed:.1f} s ({rate:.0f} impacts/s); "
               f"chunks computed {res.chunks_computed}, reused {res.chunks_reused}")
         if args.plot:
-            print(f"figure written to {args.plot}")
+            what = {"branches": "continued branches", "fixed-points": "fixed points at each value"}
+            extra = f" (overlay: {what[overlay_kind]})" if overlay_kind else ""
+            print(f"figure written to {args.plot}{extra}")
     return 0

@@ -2,10 +2,12 @@
 
 Each recorded impact is a dot at (parameter value, section variable), one
 colour per direction (up, down), so hysteresis shows where the colours part.
-The one-impact fixed points of the impact map can be overlaid: solid where
-stable, dashed where unstable, admissible orbits only. A strip under the
-diagram shows the regime of each direction at each value (rub and rolling
-have no impacts to plot).
+The one-impact orbits can be overlaid, either as continued branches
+(`rotorcontact.branches.OrbitBranches`, with their bifurcations marked) or
+as the fixed points computed at each value (`rotorcontact.sweep.one_impact_overlay`):
+solid where stable, dashed where unstable, admissible orbits only. A strip
+under the diagram shows the regime of each direction at each value (rub and
+rolling have no impacts to plot).
 """
 
 from __future__ import annotations
@@ -30,7 +32,8 @@ PARAM_LABELS = {
     "phi": r"$\phi$", "r_ratio": r"$R/c_r$",
 }
 DIRECTION_COLORS = {"up": "C0", "down": "C3", "independent": "k"}
-DIRECTION_OFFSETS = {"up": -0.25, "down": 0.25, "independent": 0.0}
+#: Colours of the overlaid orbits (distinct from the directions' colours).
+ORBIT_COLORS = ("C2", "C4", "C5", "C6", "C8", "C9", "C1", "C7")
 #: Colour of each regime in the strip.
 REGIME_COLORS = {
     "no-contact": "#d9d9d9",
@@ -58,8 +61,9 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
     variable : {"theta", "rdot", "thetadot"}
         Section variable.
     ax : matplotlib Axes, optional
-    overlay : xarray.Dataset, optional
-        Fixed points from `rotorcontact.sweep.one_impact_overlay`.
+    overlay : OrbitBranches or xarray.Dataset, optional
+        Continued branches (`rotorcontact.sweep.continued_branches`) or fixed
+        points (`rotorcontact.sweep.one_impact_overlay`).
     markersize : float
 
     Returns
@@ -79,7 +83,10 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
         ax.plot(x[ok], y[ok], ls="none", marker=".", ms=markersize, color=DIRECTION_COLORS.get(d, "k"),
                 alpha=0.7, label=f"sweep {d}", gid=f"section:{d}", rasterized=True, zorder=3)
     if overlay is not None:
-        _draw_overlay(ax, overlay, param, variable)
+        if hasattr(overlay, "branch"):
+            _draw_branches(ax, overlay, variable)
+        else:
+            _draw_overlay(ax, overlay, param, variable)
     ax.set_xlabel(PARAM_LABELS.get(param, param))
     ax.set_ylabel(SECTION_LABELS[variable])
     ax.set_xlim(values.min(), values.max()) if values.size > 1 else None
@@ -103,10 +110,40 @@ def _draw_overlay(ax, overlay, param: str, variable: str) -> None:
             if not sel.any():
                 continue
             yy = np.where(sel, y, np.nan)
-            ax.plot(x, yy, ls=ls, lw=0.9, color=f"C{(j + 2) % 10}", zorder=2,
+            ax.plot(x, yy, ls=ls, lw=0.9, color=ORBIT_COLORS[j % len(ORBIT_COLORS)], zorder=2,
                     gid=f"orbit:{label}:{'stable' if want else 'unstable'}",
                     label=f"{label} (fixed points)" if first else None)
             first = False
+
+
+#: Bifurcations marked on a diagram with continued branches.
+MARKED_EVENTS = {"fold": "fold", "period-doubling": "PD", "neimark-sacker": "NS", "grazing": "graze",
+                 "branch-point": "BP", "nsfh": "NSFH"}
+
+
+def _draw_branches(ax, branches, variable: str) -> None:
+    lo, hi = branches.start, branches.stop
+    for j, label in enumerate(branches.labels):
+        b = branches.branch(label)
+        y = getattr(b, variable)
+        color = ORBIT_COLORS[j % len(ORBIT_COLORS)]
+        first = True
+        stable = np.array([s is True for s in b.stable])
+        unstable = np.array([s is False for s in b.stable])
+        for want, sel, ls in (("stable", stable, "-"), ("unstable", unstable, "--")):
+            mask = sel & b.admissible
+            if not mask.any():
+                continue
+            yy = np.where(mask, y, np.nan)
+            ax.plot(b.values, yy, ls=ls, lw=0.9, color=color, zorder=2, gid=f"branch:{label}:{want}",
+                    label=f"{label} (continued)" if first else None)
+            first = False
+    for e in branches.events:
+        if e.type in MARKED_EVENTS and e.rdot > 0 and lo <= e.value <= hi:
+            ax.axvline(e.value, color="0.5", lw=0.6, ls=":", zorder=1, gid=f"event:{e.type}")
+            ax.annotate(f"{MARKED_EVENTS[e.type]} {','.join(e.orbits)}", (e.value, 1.0),
+                        xycoords=("data", "axes fraction"), rotation=90, va="top", ha="right",
+                        fontsize="x-small", color="0.35")
 
 
 def plot_regimes(ds, ax=None):
