@@ -49,6 +49,7 @@ from typing import Any, Callable, Iterable, Literal, Sequence
 import numpy as np
 from scipy.optimize import brentq
 
+from .angles import wrap_angle
 from .errors import ParameterError
 from .params import Parameters, check_finite
 
@@ -103,12 +104,6 @@ _DEGENERACY_RTOL = 1e-10
 # ---------------------------------------------------------------------------
 # Small helpers
 # ---------------------------------------------------------------------------
-
-
-def wrap_angle(angle: float) -> float:
-    """Return ``angle`` wrapped into (-pi, pi]."""
-    y = math.remainder(float(angle), 2.0 * math.pi)
-    return math.pi if y <= -math.pi else y
 
 
 def friction_sign(thetadot: float, params: Parameters) -> float:

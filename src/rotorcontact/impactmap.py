@@ -115,11 +115,12 @@ from typing import Any
 import numpy as np
 from numba import njit
 
+from .angles import wrap_angle
 from .errors import ParameterError
-from .flow import propagate
+from .flow import propagate, scaled_cs
 from .params import Parameters, check_finite, check_range
 from .reset import apply_reset, polar_velocity
-from .roots import CROSSING, STUCK, next_crossing
+from .roots import CROSSING, STUCK, next_crossing, window_bounds
 
 __all__ = [
     "IDEAL",
@@ -179,14 +180,8 @@ def _check_law(law: str) -> int:
 
 @njit(cache=True)
 def _cs(t: float, h2: float) -> tuple[float, float]:
-    """C = cosh(h t) and S = sinh(h t)/h for h^2 = h2 (real)."""
-    if h2 < 0.0:
-        nu = math.sqrt(-h2)
-        return math.cos(nu * t), math.sin(nu * t) / nu
-    if h2 > 0.0:
-        kap = math.sqrt(h2)
-        return math.cosh(kap * t), math.sinh(kap * t) / kap
-    return 1.0, t
+    """C = cosh(h t) and S = sinh(h t)/h for h^2 = h2 (real): `flow.scaled_cs` without damping."""
+    return scaled_cs(t, 0.0, h2)
 
 
 @njit(cache=True)
@@ -370,20 +365,6 @@ def _f1_many(t: np.ndarray, gamma: float, omega: float, q: complex):
 
 
 @njit(cache=True)
-def _window(gamma: float, h2: float, w: float) -> tuple[float, float]:
-    """Bounds on e^{-gamma s/2}|C(s)| and e^{-gamma s/2}|S(s)| for s in [0, w]."""
-    g2 = 0.5 * gamma
-    if h2 > 0.0:
-        kap = math.sqrt(h2)
-        cmax = 0.5 * (max(1.0, math.exp((kap - g2) * w)) + max(1.0, math.exp((-kap - g2) * w)))
-        return cmax, cmax * min(w, 1.0 / kap)
-    cmax = max(1.0, math.exp(-g2 * w))
-    if h2 < 0.0:
-        return cmax, cmax * min(w, 1.0 / math.sqrt(-h2))
-    return cmax, cmax * w
-
-
-@njit(cache=True)
 def _f_eval(t: float, gamma: float, omega: float, k: complex, v0: complex, dv0: complex):
     """f = Re(conj(U) U') (= r rdot), f', f'' at time t of the flight, and its rounding tolerance."""
     a = complex(0.5 * gamma, 1.0)
@@ -409,7 +390,7 @@ def _f_bound(t: float, w: float, gamma: float, omega: float, k: complex, v0: com
     p2 = b * v - 2.0 * a * dv
     p3 = b * dv - 2.0 * a * p2
     p4 = b * p2 - 2.0 * a * p3
-    cmax, smax = _window(gamma, h2, w)
+    cmax, smax = window_bounds(gamma, h2, w)
     b0 = cmax * abs(v) + smax * abs(a * v + dv)
     b1 = cmax * abs(dv) + smax * abs(a * dv + p2)
     b2 = cmax * abs(p2) + smax * abs(a * p2 + p3)
@@ -1191,17 +1172,12 @@ class ImpactOrbit:
         }
 
 
-def _wrap(theta: float) -> float:
-    theta = math.remainder(theta, 2.0 * math.pi)
-    return math.pi if theta <= -math.pi else theta
-
-
 def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> ImpactOrbit:
     g, w, k, d, mu, rr = _params_tuple(params)
     q = _q(params)
     T = zero.T
     a11, a12, a21, a22, da12, da22 = _coefficients(T, g, w)
-    theta = _wrap(cmath.phase(k / (1.0 + q * a12 * rdot)))
+    theta = wrap_angle(cmath.phase(k / (1.0 + q * a12 * rdot)))
     thetadot = -(q * a22).imag * rdot
     admissible = rdot > 0.0
     slipping = (rr + 1.0 + thetadot) > mu * (1.0 + d) * rdot

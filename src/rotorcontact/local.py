@@ -59,6 +59,7 @@ import scipy.linalg
 from scipy.optimize import brentq, minimize_scalar
 
 from .equilibria import boundary_gamma
+from .angles import wrap_angle
 from .errors import ParameterError
 from .impactmap import F1Zero, one_impact_orbits
 from .params import Parameters, check_finite, check_range
@@ -100,11 +101,6 @@ def _as_complex(name: str, value: Any) -> complex:
     if not (math.isfinite(z.real) and math.isfinite(z.imag)):
         raise ParameterError(f"{name} = {value!r} is not finite; a finite complex number is required")
     return z
-
-
-def _wrap(angle: float) -> float:
-    y = math.remainder(float(angle), 2.0 * math.pi)
-    return math.pi if y <= -math.pi else y
 
 
 def _check_eps(eps: Any) -> float:
@@ -305,7 +301,7 @@ class LinearImpactingSystem:
     @property
     def psi(self) -> float:
         """Psi = Arg z0 in (-pi, pi]."""
-        return _wrap(cmath.phase(self.z0))
+        return wrap_angle(cmath.phase(self.z0))
 
     @property
     def z1(self) -> complex:
@@ -488,7 +484,7 @@ class LinearImpactingSystem:
             qq = -(bb + math.copysign(sq, bb))
             roots = sorted([qq / aa, cc / qq if qq != 0.0 else qq / aa])
             for rdot, branch in zip(roots, (_SMALL[zero.kind], _LARGE[zero.kind])):
-                theta = _wrap(cmath.phase(zeq / (self.sigma + c12 * rdot)))
+                theta = wrap_angle(cmath.phase(zeq / (self.sigma + c12 * rdot)))
                 out.append(
                     LinearFixedPoint(
                         label=f"B{zero.n},{branch}",
@@ -616,7 +612,7 @@ class LocalOrbit:
         t = self.T + (eps * self.T_slope if self.T_slope is not None else 0.0)
         if self.rdot_slope is None:
             return t, None, None, None
-        return t, _wrap(self.theta0 + eps * self.theta_slope), eps * self.rdot_slope, eps * self.thetadot_slope
+        return t, wrap_angle(self.theta0 + eps * self.theta_slope), eps * self.rdot_slope, eps * self.thetadot_slope
 
     def to_dict(self) -> dict[str, Any]:
         """The ``local --json`` contract for one orbit."""
@@ -844,7 +840,7 @@ class ComparisonRow:
         if loc is None or glo is None:
             return None
         if quantity == "theta":
-            return abs(_wrap(loc - glo))
+            return abs(wrap_angle(loc - glo))
         return abs(loc - glo)
 
     def to_dict(self) -> dict[str, Any]:

@@ -76,6 +76,7 @@ from .continuation import (
     EventFunction,
     continue_curve,
 )
+from .angles import wrap_angle
 from .errors import ParameterError
 from .impactmap import (
     SLIP_BOUNDED,
@@ -125,11 +126,6 @@ class NewtonFailure(RuntimeError):
 
 class _MapFailure(ValueError):
     """The impact map has no impact from a state (no crossing, stuck on the stator, or failure)."""
-
-
-def _wrap(theta: float) -> float:
-    theta = math.remainder(theta, TWO_PI)
-    return math.pi if theta <= -math.pi else theta
 
 
 # ---------------------------------------------------------------------------
@@ -324,7 +320,7 @@ def _least_period(states: np.ndarray, tol: float = SAME_TOL) -> int:
 
 def _build_orbit(params: Parameters, states: np.ndarray, label: str) -> MultiImpactOrbit:
     x = np.array(states, dtype=float)
-    x[:, 0] = [_wrap(t) for t in x[:, 0]]
+    x[:, 0] = [wrap_angle(t) for t in x[:, 0]]
     res, _jac = periodic_residual(params, x)
     images, times, jacs, sticking = _chain(params, x)
     m = np.eye(3)

@@ -54,7 +54,7 @@ def inertial_flow(w0: complex, dw0: complex, s: float, gamma: float, omega: floa
 
 
 @njit(cache=True)
-def _window(gamma: float, h2: float, width: float) -> tuple[float, float]:
+def window_bounds(gamma: float, h2: float, width: float) -> tuple[float, float]:
     """Cmax >= e^{-gamma s/2}|C(s)| and Smax >= e^{-gamma s/2}|S(s)| for s in [0, width]."""
     g2 = 0.5 * gamma
     if h2 > 0.0:
@@ -155,15 +155,22 @@ def _step_from_bounds(f, fp, fpp, f3, f4, z0, z1, z2, z3, z4, z5):
 
 
 @njit(cache=True)
-def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, window):
-    """Largest step from the current point guaranteed free of crossings."""
+def _derivatives(w: complex, dw: complex, gamma: float, omega: float):
+    """W'' to W^(6) from W and W' by the flow's own law W'' = -gamma W' - omega^2 W."""
     om2 = omega * omega
-    g2 = 0.5 * gamma
     w2 = -gamma * dw - om2 * w
     w3 = -gamma * w2 - om2 * dw
     w4 = -gamma * w3 - om2 * w2
     w5 = -gamma * w4 - om2 * w3
     w6 = -gamma * w5 - om2 * w4
+    return w2, w3, w4, w5, w6
+
+
+@njit(cache=True)
+def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, window):
+    """Largest step from the current point guaranteed free of crossings."""
+    g2 = 0.5 * gamma
+    w2, w3, w4, w5, w6 = _derivatives(w, dw, gamma, omega)
     q0 = g2 * w + dw
     q1 = g2 * dw + w2
     q2 = g2 * w2 + w3
@@ -191,7 +198,7 @@ def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, windo
     width = min(window, horizon)
     # the finite window helps only where the all-time bound is poor (growth, or nu small)
     if best < width and (gamma < 0.0 or nu < 0.5 * omega):
-        cmax, smax = _window(gamma, h2, width)
+        cmax, smax = window_bounds(gamma, h2, width)
         h = min(
             _step_from_bounds(
                 f, fp, fpp, f3, f4,
@@ -215,12 +222,8 @@ def _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window):
     With f3 = f''' < 0 and M4 >= |f''''| ahead, f(h) <= f3 h^3/6 + M4 h^4/24 < 0
     on (0, -4 f3/M4); half of that is returned (0 when f3 >= 0).
     """
-    om2 = omega * omega
     g2 = 0.5 * gamma
-    w2 = -gamma * dw - om2 * w
-    w3 = -gamma * w2 - om2 * dw
-    w4 = -gamma * w3 - om2 * w2
-    w5 = -gamma * w4 - om2 * w3
+    w2, w3, w4, w5, _w6 = _derivatives(w, dw, gamma, omega)
     kr = z - w  # k e^{is}
     ddz = -kr + w2
     dddz = -1j * kr + w3
@@ -231,7 +234,7 @@ def _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window):
     if gamma >= 0.0 and h2 < 0.0:
         cmax, smax, sq, nu = 1.0, 1.0, True, math.sqrt(-h2)
     else:
-        cmax, smax = _window(gamma, h2, width)
+        cmax, smax = window_bounds(gamma, h2, width)
         sq, nu = False, 1.0
     z0 = k_abs + _bound(w, g2 * w + dw, cmax, smax, sq, nu)
     z1 = k_abs + _bound(dw, g2 * dw + w2, cmax, smax, sq, nu)

@@ -15,6 +15,7 @@ from .errors import ParameterError
 from .flow import equilibrium_point, propagate
 from .params import Machine, Parameters, check_finite, check_range
 from .reset import apply_reset, polar_velocity
+from .angles import wrap_angle
 from .contact import (
     ACCUMULATION,
     LIFTOFF,
@@ -59,15 +60,6 @@ FAILURE_MESSAGES = {
     CONTACT_STALL: "contact phases switched repeatedly without progress in time",
     CONTACT_STEP_LIMIT: "a contact phase exceeded the integrator's step limit",
 }
-
-
-@njit(cache=True)
-def _wrap(theta: float) -> float:
-    """Angle in (-pi, pi]."""
-    theta = math.atan2(math.sin(theta), math.cos(theta))
-    if theta <= -math.pi:
-        return theta + 2.0 * math.pi
-    return theta
 
 
 @njit(cache=True)
@@ -185,7 +177,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 flights, n_fl = _push_state(flights, n_fl, t, u, du)
                 continue
             du_plus, rd, td, rdp, tdp, vrel, pn, pt = apply_reset(ui, dv, d, mu, r_ratio)
-            theta = _wrap(math.atan2(ui.imag, ui.real))
+            theta = wrap_angle(math.atan2(ui.imag, ui.real))
             n_force = normal_force(theta, tdp, omega, rho, phi)
             row[0] = t
             row[1] = theta
