@@ -1,0 +1,394 @@
+"""Branches of one-impact orbits against a parameter (the paper's Figs. 5, 6b and 7).
+
+* `plot_branch_quantity`: any quantity of the orbits along their branches;
+  `plot_rdot` (Fig. 5a, 5b) and `plot_thetadot` (Fig. 5c, 5d) draw rdot- and
+  thetadot- of B1,a..d, with a hook to overlay a local estimate.
+* `plot_max_multiplier`: max |multiplier| of B1,a..d (Fig. 6b).
+* `plot_extrema`: the local extrema of r between impacts, with x_R (Fig. 7),
+  marking the NSFH, the grazing point and where the number of extrema changes.
+
+Line styles, everywhere: solid where the orbit is admissible and physically
+plausible (thick where also stable, thin where unstable), dotted where it is
+admissible but not plausible (r exceeds 1 between impacts, or the impact
+does not slip), dashed where it is virtual (rdot- < 0). One colour per
+branch letter. Every line carries a ``gid`` ``"<label>:<style>"`` with style
+``plausible-stable``, ``plausible-unstable``, ``implausible`` or ``virtual``.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, Mapping, Sequence
+
+import numpy as np
+
+from ..branches import LabelBranch, OrbitBranches, orbit_branches
+from ..equilibria import boundary_gamma
+from ..errors import ParameterError
+from ..params import Parameters
+from .equilibria import PARAM_LABELS
+from .style import CLEARANCE_COLOR, new_axes
+
+__all__ = [
+    "BRANCH_COLORS",
+    "LW_STABLE",
+    "LW_UNSTABLE",
+    "B1",
+    "plot_branch_quantity",
+    "plot_rdot",
+    "plot_thetadot",
+    "plot_max_multiplier",
+    "plot_extrema",
+    "compute_branches",
+]
+
+#: Colour of each branch letter.
+BRANCH_COLORS = {"a": "C0", "b": "C1", "c": "C2", "d": "C3"}
+LW_STABLE = 2.4
+LW_UNSTABLE = 1.1
+#: The four orbits of the first pair.
+B1 = ("B1,a", "B1,b", "B1,c", "B1,d")
+
+_QUANTITIES = {
+    "rdot": (r"$\dot r^-$", lambda b: b.rdot),
+    "thetadot": (r"$\dot\theta^-$", lambda b: b.thetadot),
+    "T": (r"$T$", lambda b: b.T),
+    "theta": (r"$\theta$", lambda b: b.theta),
+    "max_multiplier": (r"$\max|\lambda_i|$", lambda b: b.max_multiplier),
+    "r_max_interior": (r"$r_{\max}$", lambda b: b.r_max_interior),
+}
+
+LocalEstimate = Callable[[str, np.ndarray], "np.ndarray | None"] | Mapping[str, tuple[np.ndarray, np.ndarray]]
+
+
+def compute_branches(params: Parameters, param: str = "gamma", start: float = -0.6, stop: float = 0.25,
+                     **kwargs) -> OrbitBranches:
+    """`rotorcontact.branches.orbit_branches` (a shorthand for the figures)."""
+    return orbit_branches(params, param, start, stop, **kwargs)
+
+
+def _style(admissible: bool, plausible: bool, stable) -> str:
+    if not admissible:
+        return "virtual"
+    if not plausible:
+        return "implausible"
+    return "plausible-stable" if stable else "plausible-unstable"
+
+
+_LINE = {
+    "virtual": dict(ls="--", lw=LW_UNSTABLE),
+    "implausible": dict(ls=":", lw=1.4),
+    "plausible-stable": dict(ls="-", lw=LW_STABLE),
+    "plausible-unstable": dict(ls="-", lw=LW_UNSTABLE),
+}
+
+
+def _draw_styled(ax, label: str, x: np.ndarray, y: np.ndarray, b: LabelBranch, color: str, sl: slice) -> None:
+    """Draw one piece split into runs of constant style; consecutive runs share their end point."""
+    idx = np.arange(sl.start, sl.stop)
+    if idx.size == 0:
+        return
+    styles = [_style(bool(b.admissible[i]), bool(b.plausible[i]), b.stable[i]) for i in idx]
+    i0 = 0
+    for i in range(1, len(idx) + 1):
+        if i == len(idx) or styles[i] != styles[i0]:
+            run = idx[i0 : min(i + 1, len(idx))]
+            ax.plot(x[run], y[run], color=color, gid=f"{label}:{styles[i0]}", **_LINE[styles[i0]])
+            i0 = i
+
+
+def _check_labels(branches: OrbitBranches, labels: Sequence[str]) -> list[str]:
+    out = [lab for lab in labels if lab in branches.labels]
+    return out
+
+
+def plot_branch_quantity(
+    branches: OrbitBranches,
+    quantity: str = "rdot",
+    labels: Sequence[str] = B1,
+    *,
+    ax=None,
+    xlim: tuple[float, float] | None = None,
+    ylim: tuple[float, float] | None = None,
+    local: LocalEstimate | None = None,
+    events: bool = True,
+    legend: bool = True,
+):
+    """Draw one orbit quantity of the branches ``labels`` against the parameter.
+
+    Parameters
+    ----------
+    branches : OrbitBranches
+        From `rotorcontact.branches.orbit_branches`.
+    quantity : str
+        ``"rdot"``, ``"thetadot"``, ``"T"``, ``"theta"``, ``"max_multiplier"`` or
+        ``"r_max_interior"``.
+    labels : sequence of str
+        Orbits to draw (those absent are skipped).
+    ax : matplotlib.axes.Axes, optional
+    xlim, ylim : (float, float), optional
+    local : callable or mapping, optional
+        A local estimate to overlay (black, dash-dotted): either a mapping
+        ``label -> (x, y)`` of arrays, or a callable ``local(label, x)``
+        returning y at the parameter values x of the branch (or None).
+    events : bool
+        Mark the folds (o) and NSFH points (s) of the drawn orbits.
+    legend : bool
+
+    Returns
+    -------
+    (fig, ax)
+    """
+    if not isinstance(branches, OrbitBranches):
+        raise ParameterError(f"branches = {branches!r} is not an OrbitBranches object")
+    if quantity not in _QUANTITIES:
+        raise ParameterError(f"quantity = {quantity!r} is invalid; allowed: {', '.join(_QUANTITIES)}")
+    ylabel, getter = _QUANTITIES[quantity]
+    fig, ax = new_axes(ax)
+    drawn = _check_labels(branches, labels)
+    for label in drawn:
+        b = branches.branch(label)
+        color = BRANCH_COLORS.get(label.split(",")[1], "k")
+        y = getter(b)
+        for sl in b.pieces():
+            _draw_styled(ax, label, b.values, y, b, color, sl)
+        if local is not None:
+            _draw_local(ax, label, b, local, quantity)
+    if events:
+        _mark_events(ax, branches, drawn, quantity)
+    level = {"rdot": 0.0, "thetadot": 0.0, "max_multiplier": 1.0, "r_max_interior": 1.0}.get(quantity)
+    if level is not None:
+        ax.axhline(level, color=CLEARANCE_COLOR, lw=0.8, zorder=0)
+    ax.set_xlim(*(xlim or (branches.start, branches.stop)))
+    if ylim is not None:
+        ax.set_ylim(*ylim)
+    ax.set_xlabel(PARAM_LABELS.get(branches.param, branches.param))
+    ax.set_ylabel(ylabel)
+    if legend:
+        _legend(ax, drawn, local is not None)
+    return fig, ax
+
+
+def _draw_local(ax, label: str, b: LabelBranch, local, quantity: str) -> None:
+    if isinstance(local, Mapping):
+        if label not in local:
+            return
+        x, y = (np.asarray(v, dtype=float) for v in local[label])
+    elif callable(local):
+        x = np.sort(b.values[np.isfinite(b.values)])
+        y = local(label, x)
+        if y is None:
+            return
+        y = np.asarray(y, dtype=float)
+    else:
+        raise ParameterError("local must be a mapping label -> (x, y) or a callable local(label, x)")
+    ax.plot(x, y, color="k", ls="-.", lw=1.0, gid=f"{label}:local")
+
+
+def _mark_events(ax, branches: OrbitBranches, labels: Sequence[str], quantity: str) -> None:
+    markers = {"fold": "o", "nsfh": "s", "period-doubling": "^", "neimark-sacker": "D", "grazing": "v",
+               "branch-point": "x", "ac-coalescence": "P"}
+    for e in branches.events:
+        if e.type not in markers or not any(lab in labels for lab in e.orbits):
+            continue
+        if quantity == "rdot":
+            y = e.rdot
+        elif quantity == "T":
+            y = e.T
+        else:
+            continue
+        ax.plot([e.value], [y], markers[e.type], mfc="none", color="k", ms=6, zorder=5, gid=f"event:{e.type}")
+
+
+def _legend(ax, labels: Sequence[str], local: bool) -> None:
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=BRANCH_COLORS.get(lab.split(",")[1], "k"), lw=1.6,
+                      label=rf"$B_{{{lab[1:].split(',')[0]},{lab.split(',')[1]}}}$") for lab in labels]
+    handles += [
+        Line2D([], [], color="0.3", lw=LW_STABLE, label="stable"),
+        Line2D([], [], color="0.3", lw=LW_UNSTABLE, label="unstable"),
+        Line2D([], [], color="0.3", ls=":", lw=1.4, label="not plausible"),
+        Line2D([], [], color="0.3", ls="--", lw=LW_UNSTABLE, label="virtual"),
+    ]
+    if local:
+        handles.append(Line2D([], [], color="k", ls="-.", lw=1.0, label="local estimate"))
+    ax.legend(handles=handles, fontsize=7, loc="best")
+
+
+def plot_rdot(
+    params: Parameters,
+    start: float = -0.6,
+    stop: float = 0.25,
+    *,
+    param: str = "gamma",
+    labels: Sequence[str] = B1,
+    ax=None,
+    branches: OrbitBranches | None = None,
+    xlim: tuple[float, float] | None = None,
+    ylim: tuple[float, float] | None = None,
+    local: LocalEstimate | None = None,
+):
+    """rdot- of the orbits against the parameter (paper Fig. 5a; with a zoom and ``local``, Fig. 5b).
+
+    Parameters
+    ----------
+    params : Parameters
+    start, stop : float
+        The parameter range computed (when ``branches`` is not given).
+    param : str
+    labels : sequence of str
+    ax : matplotlib.axes.Axes, optional
+    branches : OrbitBranches, optional
+        Precomputed branches.
+    xlim, ylim : optional
+        The view (for the zoom of Fig. 5b, for example around gamma* .. gamma_F,1 on B1,a and B1,b).
+    local : optional
+        A local estimate to overlay (see `plot_branch_quantity`).
+
+    Returns
+    -------
+    (fig, ax)
+    """
+    branches = branches or orbit_branches(params, param, start, stop)
+    return plot_branch_quantity(branches, "rdot", labels, ax=ax, xlim=xlim, ylim=ylim, local=local)
+
+
+def plot_thetadot(
+    params: Parameters,
+    start: float = -0.6,
+    stop: float = 0.25,
+    *,
+    param: str = "gamma",
+    labels: Sequence[str] = B1,
+    ax=None,
+    branches: OrbitBranches | None = None,
+    xlim: tuple[float, float] | None = None,
+    ylim: tuple[float, float] | None = None,
+    local: LocalEstimate | None = None,
+):
+    """thetadot- of the orbits against the parameter (paper Fig. 5c, 5d). Arguments as `plot_rdot`."""
+    branches = branches or orbit_branches(params, param, start, stop)
+    return plot_branch_quantity(branches, "thetadot", labels, ax=ax, xlim=xlim, ylim=ylim, local=local)
+
+
+def plot_max_multiplier(
+    params: Parameters,
+    start: float = -0.6,
+    stop: float = 0.25,
+    *,
+    param: str = "gamma",
+    labels: Sequence[str] = B1,
+    ax=None,
+    branches: OrbitBranches | None = None,
+    xlim: tuple[float, float] | None = None,
+    ylim: tuple[float, float] | None = (0.3, 10.0),
+    log: bool = True,
+):
+    """max |multiplier| of the admissible orbits against the parameter (paper Fig. 6b).
+
+    Virtual orbits have no multipliers and are not drawn. The unit circle is
+    the grey line at 1.
+
+    Returns
+    -------
+    (fig, ax)
+    """
+    branches = branches or orbit_branches(params, param, start, stop)
+    fig, ax = plot_branch_quantity(branches, "max_multiplier", labels, ax=ax, xlim=xlim, ylim=None, events=False)
+    if log:
+        ax.set_yscale("log")
+    if ylim is not None:
+        ax.set_ylim(*ylim)
+    return fig, ax
+
+
+def plot_extrema(
+    params: Parameters,
+    start: float = -0.6,
+    stop: float = 0.25,
+    *,
+    param: str = "gamma",
+    labels: Sequence[str] = ("B1,a", "B1,b"),
+    regular: bool = True,
+    ax=None,
+    branches: OrbitBranches | None = None,
+    xlim: tuple[float, float] | None = None,
+    ylim: tuple[float, float] | None = None,
+    legend: bool = True,
+):
+    """Local extrema of r between impacts against the parameter (paper Fig. 7).
+
+    For each orbit, each interior local maximum (and minimum) of r is drawn
+    as a line while the number of extrema stays the same; x_R (r = |k|) is
+    drawn when ``regular``. Vertical lines mark the NSFH (gamma*), triangles
+    the grazing points (r_max = 1) and crosses the points where the number of
+    interior extrema changes. Fig. 7a: ``labels=("B1,a", "B1,b")``,
+    ``regular=True``; Fig. 7b: ``labels=("B1,c", "B1,d")``, ``regular=False``.
+
+    Returns
+    -------
+    (fig, ax)
+    """
+    branches = branches or orbit_branches(params, param, start, stop)
+    fig, ax = new_axes(ax)
+    drawn = _check_labels(branches, labels)
+    for label in drawn:
+        b = branches.branch(label)
+        color = BRANCH_COLORS.get(label.split(",")[1], "k")
+        for sl in b.pieces():
+            idx = np.arange(sl.start, sl.stop)
+            counts = [len(b.extrema[i][0]) for i in idx]
+            styles = [_style(bool(b.admissible[i]), bool(b.plausible[i]), b.stable[i]) for i in idx]
+            i0 = 0
+            for i in range(1, len(idx) + 1):
+                if i == len(idx) or counts[i] != counts[i0] or styles[i] != styles[i0]:
+                    run = idx[i0:i]
+                    for j in range(counts[i0]):
+                        x = b.values[run]
+                        y = np.array([b.extrema[m][0][j] for m in run])
+                        is_max = bool(b.extrema[run[0]][1][j])
+                        kw = dict(ls=_LINE[styles[i0]]["ls"], lw=1.8 if is_max else 0.9)
+                        ax.plot(x, y, color=color, gid=f"{label}:{styles[i0]}:{'max' if is_max else 'min'}",
+                                **kw)
+                    i0 = i
+    if regular:
+        v = np.linspace(*(xlim or (branches.start, branches.stop)), 801)
+        rk = np.array([abs(branches.params_at(x).k) for x in v])
+        adm = rk < 1.0
+        for mask, ls, tag in ((adm, "-", "admissible"), (~adm, "--", "virtual")):
+            y = np.where(mask, rk, np.nan)
+            ax.plot(v, y, color="k", ls=ls, lw=1.2, gid=f"x_R:{tag}")
+    ax.axhline(1.0, color=CLEARANCE_COLOR, lw=1.0, zorder=0)
+    if branches.param == "gamma":
+        gs = boundary_gamma(branches.base)
+        if gs is not None and branches.start <= gs <= branches.stop:
+            ax.axvline(gs, color="k", lw=0.8, ls="-.", zorder=0, gid="nsfh")
+            ax.annotate("NSFH", (gs, 1.0), textcoords="offset points", xytext=(3, 6), fontsize=8)
+    for e in branches.events:
+        if not any(lab in drawn for lab in e.orbits):
+            continue
+        if e.type == "grazing":
+            ax.plot([e.value], [1.0], "v", color="k", ms=6, zorder=5, gid="event:grazing")
+            ax.annotate("grazing", (e.value, 1.0), textcoords="offset points", xytext=(3, -12), fontsize=8)
+        elif e.type == "extrema-change":
+            ax.axvline(e.value, color="0.4", lw=0.7, ls=":", zorder=0, gid="event:extrema-change")
+    ax.set_xlim(*(xlim or (branches.start, branches.stop)))
+    if ylim is not None:
+        ax.set_ylim(*ylim)
+    ax.set_xlabel(PARAM_LABELS.get(branches.param, branches.param))
+    ax.set_ylabel(r"local extrema of $r$")
+    if legend:
+        from matplotlib.lines import Line2D
+
+        handles = [Line2D([], [], color=BRANCH_COLORS.get(lab.split(",")[1], "k"), lw=1.6,
+                          label=rf"$B_{{{lab[1:].split(',')[0]},{lab.split(',')[1]}}}$") for lab in drawn]
+        if regular:
+            handles.append(Line2D([], [], color="k", lw=1.2, label=r"$x_R$"))
+        handles += [
+            Line2D([], [], color="0.3", lw=1.8, label="maximum"),
+            Line2D([], [], color="0.3", lw=0.9, label="minimum"),
+            Line2D([], [], color="0.3", ls="--", lw=LW_UNSTABLE, label="virtual"),
+            Line2D([], [], color="0.3", ls=":", lw=1.4, label="not plausible"),
+        ]
+        ax.legend(handles=handles, fontsize=7, loc="best")
+    return fig, ax

@@ -1,0 +1,151 @@
+"""The two-parameter diagram (the paper's Fig. 6a).
+
+The plane (by default (gamma, omega)) is shaded by region R1-R4 (MODEL.md §5,
+from `rotorcontact.codim2.classify_plane`), with the fold curve gamma_F,1, the
+DIB curve gamma_DIB and, optionally, grazing curves drawn over it, and the
+intersection points marked. Along the DIB curve, the part where the one-impact
+orbits of the first pair exist is labelled NSFH (they are born there); where
+they do not, the boundary equilibrium bifurcation of the equilibria is
+labelled NSF (non-smooth fold) or Pers (persistence), as classified by
+`rotorcontact.equilibria.classify_beb_analytic`.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from ..codim2 import REGIONS, Codim2Diagram, classify_plane, codim2_diagram
+from ..equilibria import classify_beb_analytic
+from ..errors import ParameterError
+from ..impactmap import f1_zeros
+from ..params import Parameters
+from .equilibria import PARAM_LABELS
+from .style import new_axes
+
+__all__ = ["plot_codim2", "REGION_COLORS", "CURVE_STYLES"]
+
+#: Shading of the regions.
+REGION_COLORS = {"R1": "#dbe9f6", "R2": "#fde2c8", "R3": "#e5f5e0", "R4": "#f2dcef"}
+#: Style of each kind of curve.
+CURVE_STYLES = {"fold": dict(color="C0", lw=2.0), "dib": dict(color="k", lw=2.0),
+                "grazing": dict(color="C3", lw=1.5, ls="--")}
+
+
+def _curve_label(name: str, kind: str, gamma_axis: bool) -> str:
+    if kind == "fold":
+        n = name.split("_")[-1]
+        return rf"$\gamma_{{F,{n}}}$" if gamma_axis else f"fold {n}"
+    if kind == "dib":
+        return r"$\gamma_{DIB}$" if gamma_axis else "DIB"
+    orbit = name.split("_", 1)[1] if "_" in name else name
+    return f"grazing {orbit}"
+
+
+def _dib_labels(diagram: Codim2Diagram, t_max: float) -> list[tuple[str, float, float]]:
+    """(text, p1, p2) at the middle of each run of equal kind along the DIB curve."""
+    out = []
+    curve = diagram.curves.get("dib")
+    if curve is None:
+        return out
+    for piece in curve.pieces:
+        kinds = []
+        for v1, v2 in piece[:, -2:]:
+            p = diagram.base.replace(**{diagram.params[0]: v1, diagram.params[1]: v2})
+            if any(z.n == 1 for z in f1_zeros(p, t_max)):
+                kinds.append("NSFH")
+            else:
+                beb = classify_beb_analytic(p)
+                kinds.append({"nonsmooth-fold": "NSF", "persistence": "Pers"}.get(beb, ""))
+        i0 = 0
+        for i in range(1, len(kinds) + 1):
+            if i == len(kinds) or kinds[i] != kinds[i0]:
+                if kinds[i0] and i - i0 >= 2:
+                    mid = (i0 + i - 1) // 2
+                    out.append((kinds[i0], float(piece[mid, -2]), float(piece[mid, -1])))
+                i0 = i
+    return out
+
+
+def plot_codim2(
+    params: Parameters,
+    params2: Sequence[str] = ("gamma", "omega"),
+    ranges=None,
+    *,
+    ax=None,
+    diagram: Codim2Diagram | None = None,
+    regions: bool = True,
+    shape: tuple[int, int] = (61, 61),
+    grazing: Sequence[str] = (),
+    t_max: float = 12.0,
+    legend: bool = True,
+):
+    """The (p1, p2) plane with the fold and DIB curves, regions R1-R4 and NSFH / NSF / Pers labels.
+
+    Parameters
+    ----------
+    params : Parameters
+        The other parameters.
+    params2 : (str, str)
+        The plane; p1 on the horizontal axis.
+    ranges : ((float, float), (float, float)), optional
+        The box (`rotorcontact.codim2.DEFAULT_RANGES` when omitted).
+    ax : matplotlib.axes.Axes, optional
+    diagram : Codim2Diagram, optional
+        Precomputed curves (else `codim2_diagram` with fold_1 and the given grazing curves).
+    regions : bool
+        Shade and label the regions (a grid of ``shape`` points is classified).
+    shape : (int, int)
+        Grid of the region classification.
+    grazing : sequence of str
+        Orbits whose grazing curves are computed when ``diagram`` is None.
+    t_max : float
+    legend : bool
+
+    Returns
+    -------
+    (fig, ax)
+    """
+    if diagram is None:
+        diagram = codim2_diagram(params, params2, ranges, grazing=tuple(grazing), t_max=t_max)
+    elif not isinstance(diagram, Codim2Diagram):
+        raise ParameterError(f"diagram = {diagram!r} is not a Codim2Diagram")
+    fig, ax = new_axes(ax)
+    (a1, b1), (a2, b2) = diagram.ranges
+    if regions:
+        from matplotlib.colors import ListedColormap
+
+        v1, v2, labels = classify_plane(diagram.base, diagram.params, diagram.ranges, shape, t_max)
+        code = np.full(labels.shape, np.nan)
+        for i, name in enumerate(REGIONS):
+            code[labels == name] = i
+        cmap = ListedColormap([REGION_COLORS[r] for r in REGIONS])
+        ax.pcolormesh(v1, v2, np.ma.masked_invalid(code), cmap=cmap, vmin=-0.5, vmax=len(REGIONS) - 0.5,
+                      shading="nearest", zorder=0, gid="regions")
+        for i, name in enumerate(REGIONS):
+            jj, ii = np.nonzero(code == i)
+            if jj.size:
+                # label at the cell closest to the region's centroid
+                cj, ci = jj.mean(), ii.mean()
+                m = int(np.argmin((jj - cj) ** 2 + (ii - ci) ** 2))
+                ax.text(v1[ii[m]], v2[jj[m]], name, ha="center", va="center", fontsize=11, weight="bold",
+                        color="0.25", gid=f"label:{name}")
+    for name, curve in diagram.curves.items():
+        style = CURVE_STYLES.get(curve.kind, {})
+        xy = curve.xy()
+        if xy.size:
+            label = _curve_label(name, curve.kind, diagram.params[0] == "gamma")
+            ax.plot(xy[:, 0], xy[:, 1], label=label, gid=f"curve:{name}", **style)
+    for pt in diagram.points:
+        ax.plot([pt.values[0]], [pt.values[1]], "o", color="k", ms=5, zorder=6, gid=f"point:{pt.type}")
+    for text, x, y in _dib_labels(diagram, t_max):
+        ax.annotate(text, (x, y), textcoords="offset points", xytext=(6, 0), fontsize=9, style="italic",
+                    gid=f"dib:{text}")
+    ax.set_xlim(a1, b1)
+    ax.set_ylim(a2, b2)
+    ax.set_xlabel(PARAM_LABELS.get(diagram.params[0], diagram.params[0]))
+    ax.set_ylabel(PARAM_LABELS.get(diagram.params[1], diagram.params[1]))
+    if legend:
+        ax.legend(fontsize=8, loc="lower right")
+    return fig, ax
