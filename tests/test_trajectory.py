@@ -77,7 +77,6 @@ def test_dense_output_against_an_independent_full_integration(ref, traj):
 
 def test_state_at_and_around_impacts(traj):
     imp = traj.impacts
-    p = traj.params
     u0, du0 = traj.state(0.0)
     assert complex(u0) == traj.u0 and complex(du0) == traj.du0
     for j in range(len(imp)):

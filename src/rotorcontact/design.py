@@ -224,36 +224,37 @@ def recovery_probability(
     shock: float,
     *,
     directions: int = 24,
-    t_end: float = 400.0,
 ) -> float:
     """Fraction of velocity shocks of size ``shock`` (m/s) from contact-free whirl that recover.
 
-    The rotor starts at the regular equilibrium with its velocity kicked by
-    ``shock`` in each of ``directions`` equally spaced directions, and is
-    simulated (impacts, chatter and contact included) to ``t_end``; it has
-    recovered when its regime is ``"no-contact"``.
+    This is a one-amplitude slice of the basin computation
+    (`rotorcontact.basins.basins` on a `shock_grid`): the rotor starts at the
+    regular equilibrium with its velocity kicked by ``shock`` in each of
+    ``directions`` equally spaced directions, runs through the batch kernel
+    (impacts, chatter and contact included), and has recovered when its
+    attractor is ``"no-contact"``.
 
     Raises
     ------
     ParameterError
         If contact-free whirl is not admissible, or on invalid arguments.
     """
+    from .basins import basins, shock_grid
+
     shock = check_range("shock", shock, low=0.0)
     if isinstance(directions, bool) or not isinstance(directions, int) or directions < 1:
         raise ParameterError(f"directions = {directions!r} is invalid; allowed: an integer >= 1")
     p = machine.parameters()
-    k = p.k
-    if abs(k) >= 1.0:
+    if abs(p.k) >= 1.0:
         raise ParameterError(
-            f"recovery needs admissible contact-free whirl; at speed = {machine.speed:g} rad/s, |k| = {abs(k):.4g} >= 1"
+            f"recovery needs admissible contact-free whirl; at speed = {machine.speed:g} rad/s, "
+            f"|k| = {abs(p.k):.4g} >= 1"
         )
     kick = shock / (machine.clearance * machine.speed)
-    recovered = 0
-    for j in range(directions):
-        du0 = kick * complex(math.cos(2 * math.pi * j / directions), math.sin(2 * math.pi * j / directions))
-        traj = simulate(p, k, du0, t_end)
-        recovered += traj.summary.regime == "no-contact"
-    return recovered / directions
+    step = 2.0 * math.pi / directions
+    grid = shock_grid((kick, kick, 1), (-math.pi, math.pi - step, directions))
+    result = basins(p, grid, progress=False, n_jobs=1)
+    return float(result.fractions.get("no-contact", 0.0))
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .angles import wrap_angle
+from .flow import scaled_cs
 from .errors import ParameterError
 from .impactmap import (
     IDEAL,
@@ -98,14 +100,7 @@ class ClosedForm:
 def closed_form(T: float, gamma: float, omega: float) -> ClosedForm:
     """D(T), P(T), S(T), C(T) and derivatives for the given damping and stiffness."""
     h2 = 0.25 * gamma * gamma - omega * omega
-    if h2 < 0.0:
-        nu = math.sqrt(-h2)
-        c, s = math.cos(nu * T), math.sin(nu * T) / nu
-    elif h2 > 0.0:
-        kap = math.sqrt(h2)
-        c, s = math.cosh(kap * T), math.sinh(kap * T) / kap
-    else:
-        c, s = 1.0, T
+    c, s = scaled_cs(T, 0.0, h2)  # cosh(hT), sinh(hT)/h (MODEL.md §3)
     m = complex(-0.5 * gamma, -1.0)
     ch, sh, em = cmath.cosh(m * T), cmath.sinh(m * T), cmath.exp(m * T)
     d0 = 2.0 * (ch - c)
@@ -185,17 +180,12 @@ def regularised_residual(params: Parameters, T: float, rdot: float) -> tuple[np.
     return res, jac
 
 
-def _wrap(theta: float) -> float:
-    theta = math.remainder(theta, 2.0 * math.pi)
-    return math.pi if theta <= -math.pi else theta
-
-
 def orbit_angles(params: Parameters, T: float, rdot: float) -> tuple[float, float]:
     """(theta, thetadot) of the orbit with period T and impact velocity rdot (MODEL.md §5)."""
     cf = closed_form(T, params.gamma, params.omega)
     q = _q(params)
     Z = cf.D + q * cf.S * rdot
-    theta = _wrap(cmath.phase(params.k * cf.D / Z))
+    theta = wrap_angle(cmath.phase(params.k * cf.D / Z))
     thetadot = -(q * cf.P / cf.D).imag * rdot
     return theta, thetadot
 
