@@ -28,6 +28,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .tables import grow_rows
+
 CONTACT_TOL = 1e-11
 EVENT_TOL = 1e-12
 MAX_CONTACT_STEPS = 2_000_000
@@ -113,17 +115,8 @@ def _events(x, v, r_ratio, omega, rho, phi, sgn):
 
 
 @njit(cache=True)
-def _grow(path, n):
-    if n < path.shape[0]:
-        return path
-    bigger = np.empty((2 * path.shape[0], path.shape[1]))
-    bigger[:n] = path[:n]
-    return bigger
-
-
-@njit(cache=True)
 def _append(path, n, t, x, v, sgn, gamma, omega, rho, mu, phi):
-    path = _grow(path, n)
+    path = grow_rows(path, n)
     path[n, 0] = t
     path[n, 1] = x
     path[n, 2] = v

@@ -30,7 +30,6 @@ from .equilibria import equilibria
 from .errors import ParameterError
 from .impactmap import one_impact_orbits
 from .params import Machine, check_range
-from .simulate import simulate
 
 __all__ = [
     "REGIMES",

@@ -16,6 +16,7 @@ from .flow import equilibrium_point, propagate
 from .params import Machine, Parameters, check_finite, check_range
 from .reset import apply_reset, polar_velocity
 from .angles import wrap_angle
+from .tables import grow_rows, push_row
 from .contact import (
     ACCUMULATION,
     LIFTOFF,
@@ -63,34 +64,24 @@ FAILURE_MESSAGES = {
 
 
 @njit(cache=True)
-def _push(table, n, row):
-    """Append ``row`` to ``table`` (grown by doubling); return the table and the new count."""
-    if n == table.shape[0]:
-        bigger = np.empty((2 * table.shape[0], table.shape[1]))
-        bigger[:n] = table[:n]
-        table = bigger
-    table[n, :] = row
-    return table, n + 1
-
-
-@njit(cache=True)
 def _push_state(table, n, t, u, du):
-    row = np.empty(5)
-    row[0] = t
-    row[1] = u.real
-    row[2] = u.imag
-    row[3] = du.real
-    row[4] = du.imag
-    return _push(table, n, row)
+    """Append the row (t, Re u, Im u, Re du, Im du) without a temporary array."""
+    table = grow_rows(table, n)
+    table[n, 0] = t
+    table[n, 1] = u.real
+    table[n, 2] = u.imag
+    table[n, 3] = du.real
+    table[n, 4] = du.imag
+    return table, n + 1
 
 
 @njit(cache=True)
 def _push_linear_phase(contacts, n_ct, path, n_path, kind, t0, t1, theta0, thetadot):
     """Record a phase on r = 1 where theta moves linearly (rolling, or an accumulation of impacts)."""
     p_start = n_path
-    path, n_path = _push(path, n_path, np.array([t0, theta0, thetadot, 0.0]))
-    path, n_path = _push(path, n_path, np.array([t1, theta0 + thetadot * (t1 - t0), thetadot, 0.0]))
-    contacts, n_ct = _push(contacts, n_ct, np.array([t0, t1, float(kind), float(p_start), float(n_path - 1)]))
+    path, n_path = push_row(path, n_path, np.array([t0, theta0, thetadot, 0.0]))
+    path, n_path = push_row(path, n_path, np.array([t1, theta0 + thetadot * (t1 - t0), thetadot, 0.0]))
+    contacts, n_ct = push_row(contacts, n_ct, np.array([t0, t1, float(kind), float(p_start), float(n_path - 1)]))
     return contacts, n_ct, path, n_path
 
 
@@ -193,7 +184,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             row[11] = du_plus.real
             row[12] = du_plus.imag
             row[13] = n_force
-            impacts, n_imp = _push(impacts, n_imp, row)
+            impacts, n_imp = push_row(impacts, n_imp, row)
             u = ui
             du = du_plus
             on_boundary = True
@@ -264,7 +255,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 theta_c, thetadot_c, t, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio, path, n_path
             )
             kind = SLIDE_FORWARD if sgn > 0.0 else SLIDE_BACKWARD
-            contacts, n_ct = _push(contacts, n_ct, np.array([t_start, t, float(kind), float(p_start), float(n_path - 1)]))
+            contacts, n_ct = push_row(contacts, n_ct, np.array([t_start, t, float(kind), float(p_start), float(n_path - 1)]))
         stalls = stalls + 1 if t == t_start else 0
         if stalls > MAX_STALLS:
             status = FAILED

@@ -1,0 +1,26 @@
+"""Growable row tables for compiled kernels (numba arrays doubled when full)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["grow_rows", "push_row"]
+
+
+@njit(cache=True)
+def grow_rows(table, n):
+    """``table`` with room for row ``n`` (its rows doubled when full)."""
+    if n < table.shape[0]:
+        return table
+    bigger = np.empty((2 * table.shape[0], table.shape[1]))
+    bigger[:n] = table[:n]
+    return bigger
+
+
+@njit(cache=True)
+def push_row(table, n, row):
+    """Append ``row`` as row ``n``; return the (possibly new) table and n + 1."""
+    table = grow_rows(table, n)
+    table[n, :] = row
+    return table, n + 1
