@@ -878,3 +878,16 @@ def test_any_valid_input_returns_in_bounded_time(case):
         np.testing.assert_allclose(np.abs(traj.state(ts)[0]), 1.0, atol=1e-12)
     if traj.status == "completed":
         assert traj.summary.regime in REGIMES
+
+
+def test_a_steady_rub_runs_to_any_horizon():
+    """On a pseudo-equilibrium reached to rounding the state holds: a very long run completes at once."""
+    p = Parameters.reference()
+    t0 = time.perf_counter()
+    traj = simulate(p, 0j, 0j, 1e7)
+    assert traj.status == "completed" and traj.summary.regime == "forward-rub"
+    assert time.perf_counter() - t0 < 10.0
+    theta_p2 = next(ps.theta for ps in pseudo_equilibria(p) if ps.name == "P2")
+    _r, th, _rd, thd = traj.polar(np.array([1e7]))
+    # held where the integrator reached rest to its tolerance (contact.STEADY_TOL = 1e-10)
+    assert abs(th[0] - theta_p2) < 1e-8 and abs(thd[0]) < 1e-10

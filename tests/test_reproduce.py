@@ -134,3 +134,12 @@ def test_report_renders_in_headless_chromium(reproduction):
         print(f"screenshot of the report: {shot}")
     finally:
         browser.quit()
+
+
+def test_reproduce_finishes_where_some_panels_do_not_exist(tmp_path):
+    """At omega = 1 x_R is virtual at gamma = 0.3 and at rho = 0.05 there is no boundary equilibrium:
+    the run still writes every figure and a report, with those panels marked as not defined."""
+    for change in (dict(omega=1.0), dict(rho=0.05)):
+        out = tmp_path / "_".join(f"{k}{v}" for k, v in change.items())
+        rep = reproduce(out, paper_parameters().replace(**change), progress=False)
+        assert len(rep.figures) == 6 and (out / "report.json").is_file() and (out / "report.html").is_file()

@@ -97,3 +97,18 @@ def test_bad_machine_files_are_rejected(tmp_path, old, new, fragment):
     with pytest.raises(ParameterError) as err:
         load_machine(_write(tmp_path, GOOD.replace(old, new)))
     assert fragment in str(err.value)
+
+
+@pytest.mark.parametrize(
+    "text, unit, expected",
+    [
+        ("50 Hz", "rad/s", 100 * math.pi),          # a frequency of rotation counts revolutions
+        ("50 Hz", "rpm", 3000.0),
+        ("3000 rev/min", "rad/s", 100 * math.pi),
+        ("50 rev/s", "rpm", 3000.0),
+        ("3000 / minute", "rad/s", 100 * math.pi),
+        ("360 deg/s", "rad/s", 2 * math.pi),        # an angular speed stays one
+    ],
+)
+def test_rotation_frequencies_count_revolutions(text, unit, expected):
+    assert quantity_in("speed", text, unit) == pytest.approx(expected, rel=1e-14)

@@ -105,6 +105,9 @@ Each axis is START:STOP:COUNT (COUNT >= 1, both ends included). Numbers may be
 written with pi: pi, -pi, pi/2, 2pi, 0.5pi."""
 
 
+MAX_GRID_POINTS = 16_000_000  # 4000 x 4000; beyond this the arrays alone need gigabytes
+
+
 @dataclass(frozen=True)
 class BasinGrid:
     """A grid of initial states.
@@ -132,6 +135,12 @@ class BasinGrid:
             object.__setattr__(self, name, arr)
         if self.kind == "shock" and np.any(self.axis0 < 0):
             raise ParameterError("grid amplitude values must be >= 0")
+        points = self.axis0.size * self.axis1.size
+        if points > MAX_GRID_POINTS:
+            raise ParameterError(
+                f"grid of {self.axis0.size} x {self.axis1.size} = {points} points is too large; "
+                f"allowed: at most {MAX_GRID_POINTS} points"
+            )
 
     @property
     def names(self) -> tuple[str, str]:
@@ -427,6 +436,8 @@ def basins(
     elif settings.keep < 1:  # pragma: no cover - BatchSettings forbids it
         raise ParameterError("settings must keep at least one impact")
     u0, du0, inside = grid.initial_states(params)
+    if not inside.any():
+        raise ParameterError("grid: no initial state lies inside the clearance (|U(0)| <= 1); nothing to simulate")
     row = parameter_array(params)
     flat = np.flatnonzero(inside.ravel())
     n_valid = flat.size

@@ -81,6 +81,9 @@ __all__ = [
 ]
 
 
+MAX_SEEDS = 2000  # seed values along the parameter; bounds the run time
+
+
 def default_settings() -> ContinuationSettings:
     """Continuation settings for branches (steps in the scaled norm of `orbit_branches`)."""
     return ContinuationSettings(step=0.01, min_step=1e-9, max_step=0.05, max_points=20000, location_tol=1e-10)
@@ -229,8 +232,8 @@ def orbit_branches(
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     t_min = check_range("t_min", t_min, low=0.0, low_open=True, high=t_max, high_open=True)
     rdot_max = check_range("rdot_max", rdot_max, low=0.0, low_open=True)
-    if isinstance(n_seeds, bool) or not isinstance(n_seeds, (int, np.integer)) or n_seeds < 2:
-        raise ParameterError(f"n_seeds = {n_seeds!r} is invalid; allowed: an integer >= 2")
+    if isinstance(n_seeds, bool) or not isinstance(n_seeds, (int, np.integer)) or not 2 <= n_seeds <= MAX_SEEDS:
+        raise ParameterError(f"n_seeds = {n_seeds!r} is invalid; allowed: an integer in [2, {MAX_SEEDS}]")
     span = stop - start
     settings = settings or default_settings()
     weights = np.array([1.0, 1.0, 1.0 / span])

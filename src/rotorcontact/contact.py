@@ -33,6 +33,7 @@ from .tables import grow_rows
 CONTACT_TOL = 1e-11
 EVENT_TOL = 1e-12
 MAX_CONTACT_STEPS = 2_000_000
+STEADY_TOL = 10.0 * CONTACT_TOL  # |thetadot|, |thetadot'| below this: on a pseudo-equilibrium
 
 SLIDE_FORWARD = 0
 ROLLING = 1
@@ -115,6 +116,17 @@ def _events(x, v, r_ratio, omega, rho, phi, sgn):
 
 
 @njit(cache=True)
+def _attracting(x, v, sgn, gamma, omega, rho, mu, phi):
+    """The linearised sliding dynamics at (x, v) are asymptotically stable (trace < 0 < det)."""
+    hx = 1e-6 * (1.0 + abs(x))
+    hv = 1e-6
+    a_x = (_accel(x + hx, v, sgn, gamma, omega, rho, mu, phi) - _accel(x - hx, v, sgn, gamma, omega, rho, mu, phi)) / (2 * hx)
+    a_v = (_accel(x, v + hv, sgn, gamma, omega, rho, mu, phi) - _accel(x, v - hv, sgn, gamma, omega, rho, mu, phi)) / (2 * hv)
+    # Jacobian [[0, 1], [a_x, a_v]]: trace a_v, determinant -a_x
+    return a_v < 0.0 and -a_x > 0.0
+
+
+@njit(cache=True)
 def _append(path, n, t, x, v, sgn, gamma, omega, rho, mu, phi):
     path = grow_rows(path, n)
     path[n, 0] = t
@@ -171,6 +183,11 @@ def slide(theta, thetadot, t0, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio, 
         t += h
         x, v = xn, vn
         path, n_path = _append(path, n_path, t, x, v, sgn, gamma, omega, rho, mu, phi)
+        if abs(v) < STEADY_TOL and abs(path[n_path - 1, 3]) < STEADY_TOL and \
+                _attracting(x, v, sgn, gamma, omega, rho, mu, phi):
+            # at rest on a stable pseudo-equilibrium to the integrator's tolerance: it holds until t_end
+            path, n_path = _append(path, n_path, t_end, x, v, sgn, gamma, omega, rho, mu, phi)
+            return END, t_end, x, v, path, n_path
         h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
     return STEP_LIMIT, t, x, v, path, n_path
 

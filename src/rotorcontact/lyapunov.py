@@ -771,9 +771,20 @@ class _Walker:
 # ---------------------------------------------------------------------------
 
 
-def _check_options(t_transient, qr_interval) -> tuple[float, float]:
+MAX_T_END = 1e6  # tangent propagation in contact is integrated; longer runs would not end in bounded time
+MAX_QR_STEPS = 1e6
+
+
+def _check_options(t_transient, qr_interval, t_end: float | None = None) -> tuple[float, float]:
     t_transient = check_range("t_transient", t_transient, low=0.0)
     qr_interval = check_range("qr_interval", qr_interval, low=0.0, low_open=True)
+    if t_end is not None:
+        check_range("t_end", t_end, low=0.0, high=MAX_T_END, low_open=True)
+        if t_end / qr_interval > MAX_QR_STEPS:
+            raise ParameterError(
+                f"qr_interval = {qr_interval!r} is too small for t_end = {t_end!r}; allowed: "
+                f"qr_interval >= t_end / {MAX_QR_STEPS:g} = {t_end / MAX_QR_STEPS:g}"
+            )
     return t_transient, qr_interval
 
 
@@ -800,7 +811,7 @@ def trajectory_lyapunov(
     """
     if not isinstance(traj, Trajectory):
         raise ParameterError(f"traj = {traj!r} is not a Trajectory")
-    t_transient, qr_interval = _check_options(t_transient, qr_interval)
+    t_transient, qr_interval = _check_options(t_transient, qr_interval, traj.t_stop)
     if traj.status == "chatter":
         raise ParameterError(
             "the trajectory stopped at an accumulation of impacts (on_chatter='stop'); "
@@ -891,7 +902,7 @@ def lyapunov_spectrum(
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     if t_transient is None:
         t_transient = 0.25 * t_end
-    t_transient, qr_interval = _check_options(t_transient, qr_interval)
+    t_transient, qr_interval = _check_options(t_transient, qr_interval, t_end)
     if t_transient >= t_end:
         raise ParameterError(f"t_transient = {t_transient!r} is not below t_end = {t_end!r}; allowed: [0, t_end)")
     traj = simulate(params, u0, du0, t_end, on_chatter="contact", max_events=max_events)

@@ -140,6 +140,19 @@ class _Stages:
         return out
 
 
+def _panel(ax, draw: Callable[[], Any], title: str) -> None:
+    """Draw one panel; where it does not exist at these parameters, say so on the panel instead."""
+    try:
+        draw()
+    except ParameterError as exc:
+        ax.clear()
+        ax.text(0.5, 0.5, f"not defined at these parameters:\n{exc}", ha="center", va="center",
+                transform=ax.transAxes, wrap=True, fontsize=9)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    ax.set_title(title)
+
+
 def _save(rep: Reproduction, out: Path, fig, name: str, caption: str) -> None:
     png, svg = out / f"{name}.png", out / f"{name}.svg"
     fig.savefig(png, dpi=130, bbox_inches="tight")
@@ -154,23 +167,32 @@ def _fig2(p: Parameters, rep: Reproduction, out: Path) -> None:
     cases = [("(a) x_R", 0.3, None), ("(b) B1,d", 0.065, "B1,d"), ("(c) B1,a", 0.1, "B1,a")]
     for row, (title, gamma, label) in zip(axes, cases):
         q = p.replace(gamma=gamma)
-        if label is None:
-            traj = simulate(q, q.k, 0j, 2.0 * math.pi)
-        else:
-            orbit = next((o for o in one_impact_orbits(q) if o.label == label), None)
+
+        def trajectory(q=q, label=label, gamma=gamma):
+            if label is None:
+                if abs(q.k) >= 1.0:
+                    raise ParameterError(f"x_R is virtual at gamma = {gamma} (|k| = {abs(q.k):.4g} >= 1)")
+                return simulate(q, q.k, 0j, 2.0 * math.pi)
+            orbit = next((o for o in one_impact_orbits(q) if o.label == label and o.admissible), None)
             if orbit is None:
-                for ax in row:
-                    ax.text(0.5, 0.5, f"{label} does not exist at gamma = {gamma}", ha="center",
-                            transform=ax.transAxes)
-                continue
+                raise ParameterError(f"{label} does not exist (admissible) at gamma = {gamma}")
             u0, du0 = orbit.initial_condition()
-            traj = simulate(q, u0, du0, 0.999 * orbit.T)
-        plot_inertial(traj, row[0])
-        plot_corotating(traj, row[1])
-        plot_radius(traj, row[2])
-        row[0].set_title(f"{title}, γ = {gamma}: inertial frame")
-        row[1].set_title("co-rotating frame")
-        row[2].set_title("r(t)")
+            return simulate(q, u0, du0, 0.999 * orbit.T)
+
+        try:
+            traj = trajectory()
+            draws = [lambda ax: plot_inertial(traj, ax), lambda ax: plot_corotating(traj, ax),
+                     lambda ax: plot_radius(traj, ax)]
+        except ParameterError as exc:
+            message = exc
+
+            def fail(ax, message=message):
+                raise ParameterError(str(message))
+
+            draws = [fail, fail, fail]
+        titles = [f"{title}, γ = {gamma}: inertial frame", "co-rotating frame", "r(t)"]
+        for ax, draw, t in zip(row, draws, titles):
+            _panel(ax, lambda ax=ax, draw=draw: draw(ax), t)
     fig.tight_layout()
     _save(rep, out, fig, "fig2_orbits",
           "Fig. 2. (a) The regular equilibrium x_R at γ = 0.3; (b) the orbit B1,d near grazing at γ = 0.065; "
@@ -180,10 +202,8 @@ def _fig2(p: Parameters, rep: Reproduction, out: Path) -> None:
 
 def _fig3(p: Parameters, rep: Reproduction, out: Path) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
-    plot_equilibria(p, "gamma", 0.0, 0.2, ax=axes[0])
-    axes[0].set_title(f"(a) ω = {p.omega:g}: non-smooth fold")
-    plot_equilibria(p.replace(omega=1.0), "gamma", 0.0, 0.8, ax=axes[1])
-    axes[1].set_title("(b) ω = 1: persistence")
+    _panel(axes[0], lambda: plot_equilibria(p, "gamma", 0.0, 0.2, ax=axes[0]), f"(a) ω = {p.omega:g}")
+    _panel(axes[1], lambda: plot_equilibria(p.replace(omega=1.0), "gamma", 0.0, 0.8, ax=axes[1]), "(b) ω = 1")
     fig.tight_layout()
     _save(rep, out, fig, "fig3_equilibria",
           "Fig. 3. r of the regular equilibrium x_R and of its partner pseudo-equilibrium against γ, solid where "
@@ -193,14 +213,12 @@ def _fig3(p: Parameters, rep: Reproduction, out: Path) -> None:
 
 def _fig4(p: Parameters, rep: Reproduction, out: Path, g_dib: float | None) -> None:
     fig, axes = plt.subplots(2, 2, figsize=(12, 9))
-    plot_f1(p.replace(gamma=0.1), (0.0, 30.0), ax=axes[0, 0])
-    axes[0, 0].set_title("(a) F1(T), γ = 0.1")
-    plot_f1(p.replace(gamma=0.05), (0.0, 40.0), ax=axes[0, 1])
-    axes[0, 1].set_title("(b) F1(T), γ = 0.05")
-    plot_f1_zeros(p, "gamma", 0.0, 0.25, t_max=12.0, ax=axes[1, 0])
-    axes[1, 0].set_title("(c) zeros of F1 against γ")
-    plot_nsfh_schematic(p, gamma=None if g_dib is None else g_dib + 0.02, ax=axes[1, 1])
-    axes[1, 1].set_title("(d) the non-smooth fold–Hopf bifurcation (co-rotating plane)")
+    _panel(axes[0, 0], lambda: plot_f1(p.replace(gamma=0.1), (0.0, 30.0), ax=axes[0, 0]), "(a) F1(T), γ = 0.1")
+    _panel(axes[0, 1], lambda: plot_f1(p.replace(gamma=0.05), (0.0, 40.0), ax=axes[0, 1]), "(b) F1(T), γ = 0.05")
+    _panel(axes[1, 0], lambda: plot_f1_zeros(p, "gamma", 0.0, 0.25, t_max=12.0, ax=axes[1, 0]),
+           "(c) zeros of F1 against γ")
+    _panel(axes[1, 1], lambda: plot_nsfh_schematic(p, gamma=None if g_dib is None else g_dib + 0.02, ax=axes[1, 1]),
+           "(d) the non-smooth fold–Hopf bifurcation (co-rotating plane)")
     fig.tight_layout()
     _save(rep, out, fig, "fig4_f1",
           "Fig. 4. The function F1(T) whose zeros are the periods of one-impact orbits: (a) on [0, 30] at "
@@ -247,18 +265,16 @@ def _fig5(p: Parameters, rep: Reproduction, out: Path, branches, g_star: float |
     fig, axes = plt.subplots(2, 2, figsize=(12, 9))
     estimate = _local_overlay(p)
     zoom = (0.0, 0.2) if g_star is None else (g_star - 0.02, g_star + 0.06)
-    plot_rdot(p, branches=branches, ax=axes[0, 0])
-    axes[0, 0].set_title("(a) ṙ⁻ of B1,a..d")
-    plot_rdot(p, branches=branches, ax=axes[0, 1], labels=("B1,a", "B1,b"), xlim=zoom,
-              local=None if estimate is None else (lambda lab, g: estimate(lab, g, "rdot")))
-    axes[0, 1].set_title("(b) B1,a and B1,b near γ* with the local estimate")
-    _autoscale_y(axes[0, 1])
-    plot_thetadot(p, branches=branches, ax=axes[1, 0])
-    axes[1, 0].set_title("(c) θ̇⁻ of B1,a..d")
-    plot_thetadot(p, branches=branches, ax=axes[1, 1], labels=("B1,a", "B1,b"), xlim=zoom,
-                  local=None if estimate is None else (lambda lab, g: estimate(lab, g, "thetadot")))
-    axes[1, 1].set_title("(d) θ̇⁻ of B1,a and B1,b near γ* with the local estimate")
-    _autoscale_y(axes[1, 1])
+    local_r = None if estimate is None else (lambda lab, g: estimate(lab, g, "rdot"))
+    local_t = None if estimate is None else (lambda lab, g: estimate(lab, g, "thetadot"))
+    _panel(axes[0, 0], lambda: plot_rdot(p, branches=branches, ax=axes[0, 0]), "(a) ṙ⁻ of B1,a..d")
+    _panel(axes[0, 1], lambda: (plot_rdot(p, branches=branches, ax=axes[0, 1], labels=("B1,a", "B1,b"), xlim=zoom,
+                                          local=local_r), _autoscale_y(axes[0, 1])),
+           "(b) B1,a and B1,b near γ* with the local estimate")
+    _panel(axes[1, 0], lambda: plot_thetadot(p, branches=branches, ax=axes[1, 0]), "(c) θ̇⁻ of B1,a..d")
+    _panel(axes[1, 1], lambda: (plot_thetadot(p, branches=branches, ax=axes[1, 1], labels=("B1,a", "B1,b"),
+                                              xlim=zoom, local=local_t), _autoscale_y(axes[1, 1])),
+           "(d) θ̇⁻ of B1,a and B1,b near γ* with the local estimate")
     fig.tight_layout()
     _save(rep, out, fig, "fig5_branches",
           "Fig. 5. Impact velocities of the one-impact orbits B1,a to B1,d against γ (solid: admissible and "
@@ -269,10 +285,8 @@ def _fig5(p: Parameters, rep: Reproduction, out: Path, branches, g_star: float |
 
 def _fig6(p: Parameters, rep: Reproduction, out: Path, branches, diagram) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
-    plot_codim2(p, ("gamma", "omega"), ax=axes[0], diagram=diagram)
-    axes[0].set_title("(a) the (γ, ω) plane")
-    plot_max_multiplier(p, branches=branches, ax=axes[1])
-    axes[1].set_title("(b) largest |multiplier| of B1,a..d")
+    _panel(axes[0], lambda: plot_codim2(p, ("gamma", "omega"), ax=axes[0], diagram=diagram), "(a) the (γ, ω) plane")
+    _panel(axes[1], lambda: plot_max_multiplier(p, branches=branches, ax=axes[1]), "(b) largest |multiplier| of B1,a..d")
     fig.tight_layout()
     _save(rep, out, fig, "fig6_codim2",
           "Fig. 6. (a) The (γ, ω) plane: the first smooth-fold curve γ_F,1(ω) and the curve γ_DIB(ω) = "
@@ -282,10 +296,10 @@ def _fig6(p: Parameters, rep: Reproduction, out: Path, branches, diagram) -> Non
 
 def _fig7(p: Parameters, rep: Reproduction, out: Path, branches) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
-    plot_extrema(p, branches=branches, ax=axes[0], labels=("B1,a", "B1,b"), regular=True)
-    axes[0].set_title("(a) B1,a, B1,b and x_R")
-    plot_extrema(p, branches=branches, ax=axes[1], labels=("B1,c", "B1,d"), regular=False)
-    axes[1].set_title("(b) B1,c and B1,d")
+    _panel(axes[0], lambda: plot_extrema(p, branches=branches, ax=axes[0], labels=("B1,a", "B1,b"), regular=True),
+           "(a) B1,a, B1,b and x_R")
+    _panel(axes[1], lambda: plot_extrema(p, branches=branches, ax=axes[1], labels=("B1,c", "B1,d"), regular=False),
+           "(b) B1,c and B1,d")
     fig.tight_layout()
     _save(rep, out, fig, "fig7_extrema",
           "Fig. 7. Local extrema of r(t) between impacts against γ: (a) for B1,a, B1,b and x_R, (b) for B1,c "
@@ -337,10 +351,13 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
     g_star = stages.run("equilibria", lambda: boundary_gamma(p))
     g_pers = boundary_gamma(p.replace(omega=1.0))
     branches = stages.run("branches", lambda: orbit_branches(p, "gamma", -0.6, 0.25))
-    diagram = stages.run(
-        "two-parameter diagram",
-        lambda: codim2_diagram(p, ("gamma", "omega"), None, folds=(1,), grazing=()),
-    )
+    def two_parameter():
+        try:
+            return codim2_diagram(p, ("gamma", "omega"), None, folds=(1,), grazing=())
+        except ParameterError:
+            return None
+
+    diagram = stages.run("two-parameter diagram", two_parameter)
     events = branches.events
     folds = _fold_values(events)
     # the paper's bifurcations of B1,d lie at positive damping; gamma < 0 mirrors some of them
@@ -351,7 +368,7 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
     extrema = _first(events, "extrema-change", "B1,d", sign=1)
     coalesce = _first(events, "ac-coalescence", sign=-1)
     # of the points where gamma_F,1(omega) = gamma_DIB(omega), the one nearest the run's omega
-    fold_dibs = [pt for pt in diagram.points if pt.type == "fold-dib"]
+    fold_dibs = [] if diagram is None else [pt for pt in diagram.points if pt.type == "fold-dib"]
     fold_dib = min(fold_dibs, key=lambda pt: abs(pt.values[1] - p.omega), default=None)
 
     stages.run("figure 2", lambda: _fig2(p, rep, out))

@@ -254,11 +254,17 @@ def _all_time_bound(w: complex, dw: complex, gamma: float, h2: float) -> float:
 
     e^{-gamma s/2} C(s) <= 1 always; e^{-gamma s/2} S(s) <= 1/nu (underdamped,
     where the two combine as a Euclidean norm), <= 1/(2 kappa) (overdamped,
-    kappa < gamma/2) and <= 2/(e gamma) (critical).
+    kappa < gamma/2) and <= 2/(e gamma) (critical). Underdamped, W is also the
+    sum of two decaying circular motions A e^{(-gamma/2 + i nu) s} and
+    B e^{(-gamma/2 - i nu) s}, so |W| <= |A| + |B|, which is exact for a
+    circular whirl; the smaller of the two bounds is returned.
     """
     q = 0.5 * gamma * w + dw
     if h2 < 0.0:
-        return math.sqrt(abs(w) ** 2 + abs(q) ** 2 / (-h2))
+        nu = math.sqrt(-h2)
+        euclid = math.sqrt(abs(w) ** 2 + abs(q) ** 2 / (-h2))
+        a = (q + 1j * nu * w) / (2j * nu)  # dw - mu_minus w over (mu_plus - mu_minus)
+        return min(euclid, abs(a) + abs(w - a))
     if h2 > 0.0:
         return abs(w) + abs(q) / (2.0 * math.sqrt(h2))
     return abs(w) + abs(q) * 2.0 / (math.e * gamma)

@@ -354,7 +354,7 @@ def simulate(
     du0 = _as_complex("du0", du0)
     if abs(u0) > 1.0 + BOUNDARY_TOL:
         raise ParameterError(
-            f"u0 = {u0.real:g},{u0.imag:g} lies outside the clearance (|u0| = {abs(u0):.6g}); allowed: |u0| <= 1"
+            f"u0 = {u0.real!r},{u0.imag!r} lies outside the clearance (|u0| = {abs(u0)!r}); allowed: |u0| <= 1"
         )
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     if on_chatter not in ("contact", "stop"):

@@ -186,7 +186,7 @@ class Trajectory:
             th = self.impacts.theta[-1] if n else float(np.angle(self.u0))
             return (
                 f"Impacts accumulate (chatter) at t = {self.t_stop:.12g}, theta = {th:.6g}, "
-                f"after {n} impacts; continuous contact follows."
+                f"after {n} impacts; the run stops there (on_chatter='stop')."
             )
         if self.status == "max-events":
             return f"Stopped after the maximum number of events at t = {self.t_stop:.12g} ({n} impacts)."

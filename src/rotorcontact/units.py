@@ -13,12 +13,23 @@ __all__ = ["quantity_in", "registry"]
 _PINT_SPELLING = {"1": "dimensionless", "N s/m": "N*s/m", "rad/s": "rad/s"}
 
 
+# angle units: a speed written with one of these is an angular speed; without, a frequency in cycles
+_ANGLE_UNITS = {"radian", "degree", "revolution", "rev", "turn", "revolutions_per_minute", "revolutions_per_second",
+                "cycle", "arcminute", "arcsecond", "gradian"}
+
+
+_ANGULAR_SPEEDS = {"rad/s", "rpm"}
+
+
 @lru_cache(maxsize=1)
 def registry():
-    """The shared pint unit registry."""
+    """The shared pint unit registry (with ``rev`` for revolution)."""
     import pint
 
-    return pint.UnitRegistry()
+    ureg = pint.UnitRegistry()
+    if "rev" not in ureg:
+        ureg.define("rev = revolution")
+    return ureg
 
 
 def quantity_in(name: str, text: str, unit: str) -> float:
@@ -47,6 +58,10 @@ def quantity_in(name: str, text: str, unit: str) -> float:
     elif q.dimensionless and q.units == ureg.dimensionless and target != "dimensionless":
         q = ureg.Quantity(q.magnitude, target)
     try:
+        if target in _ANGULAR_SPEEDS and not any(name in _ANGLE_UNITS for name, _ in q.unit_items()) \
+                and q.check("1/[time]"):
+            # a frequency such as "50 Hz" or "3000 / minute" counts revolutions
+            q = q * ureg.revolution
         value = float(q.to(target).magnitude)
     except pint.errors.DimensionalityError:
         raise ParameterError(

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from ..branches import BRANCH_PARAMETERS, OrbitBranches, orbit_branches
 from ..errors import ParameterError
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+from .options import add_parameter_options, parameters_from_args, parse_float, print_json, renamed
 
 #: Default range of each parameter.
 DEFAULT_RANGES = {
@@ -86,11 +86,8 @@ def run(args: argparse.Namespace) -> int:
         branches = orbit_branches(params, args.param, start, stop, t_max=t_max, rdot_max=rdot_max,
                                   n_seeds=seeds)
     except ParameterError as exc:
-        text = str(exc)
-        for name, flag in (("t_max", "--t-max"), ("rdot_max", "--rdot-max"), ("start", "--from"),
-                           ("stop", "--to")):
-            text = text.replace(name, flag)
-        raise ParameterError(text) from None
+        raise renamed(exc, {"t_max": "--t-max", "rdot_max": "--rdot-max", "start": "--from", "stop": "--to",
+                            "n_seeds": "--seeds"}) from None
     if args.plot:
         import matplotlib.pyplot as plt
 

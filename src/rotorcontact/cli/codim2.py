@@ -8,7 +8,7 @@ from pathlib import Path
 from ..codim2 import DEFAULT_RANGES, Codim2Diagram, codim2_diagram
 from ..errors import ParameterError
 from ..orbitsystem import BRANCH_PARAMETERS
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+from .options import add_parameter_options, parameters_from_args, parse_float, print_json, renamed
 
 
 def register(sub) -> None:
@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         diagram = codim2_diagram(params, plane, ranges, folds=folds, grazing=grazing, t_max=t_max)
     except ParameterError as exc:
-        raise ParameterError(f"{str(exc).replace('t_max', '--t-max')}") from None
+        raise renamed(exc, {"t_max": "--t-max"}) from None
     if args.plot:
         from ..plotting.codim2 import plot_codim2
         from ..plotting.style import save_figure

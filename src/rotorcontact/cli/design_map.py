@@ -53,6 +53,10 @@ def parse_range(option: str, text: str, unit: str) -> tuple[float, float]:
     if len(parts) != 2 or not parts[0].strip() or not parts[1].strip():
         raise ParameterError(f"--{option} = {text!r} is malformed; expected A:B with optional units, e.g. 1000:6000rpm")
     a_text, b_text = parts[0].strip(), parts[1].strip()
+    for end in (a_text, b_text):
+        head = end.rstrip("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ/* ")
+        if end.lower().startswith(("nan", "inf", "-inf", "+inf")) or head.lower() in ("nan", "inf", "-inf", "+inf"):
+            raise ParameterError(f"--{option} = {text!r}: {end!r} is not finite; allowed: finite values")
     b = quantity_in(f"--{option}", b_text, unit)
     try:
         float(a_text)
@@ -63,6 +67,10 @@ def parse_range(option: str, text: str, unit: str) -> tuple[float, float]:
     a = quantity_in(f"--{option}", a_text, unit)
     if not a < b:
         raise ParameterError(f"--{option} = {text!r}: the range must increase (A < B)")
+    low, strict = (0.0, option != "damping")
+    if a < low or (strict and a == low):
+        allowed = "> 0" if strict else ">= 0"
+        raise ParameterError(f"--{option} = {text!r}: the range must lie at {allowed} (in {unit})")
     return a, b
 
 

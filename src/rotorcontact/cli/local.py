@@ -8,7 +8,7 @@ from ..equilibria import boundary_gamma
 from ..errors import ParameterError
 from ..local import LinearImpactingSystem, LocalAnalysis, local_analysis
 from ..params import check_range
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+from .options import add_parameter_options, parameters_from_args, parse_float, print_json, renamed
 
 
 def register(sub) -> None:
@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         analysis = local_analysis(system, t_max)
     except ParameterError as exc:
-        raise ParameterError(str(exc).replace("t_max", "--t-max")) from None
+        raise renamed(exc, {"t_max": "--t-max"}) from None
     if args.json:
         print_json({"gamma_star": gamma_star, "orbits": [o.to_dict() for o in analysis.orbits]})
     else:

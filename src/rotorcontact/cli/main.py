@@ -46,9 +46,21 @@ def main(argv: list[str] | None = None) -> int:
     except ParameterError as exc:
         print(f"rotorcontact {args.command}: error: {exc}", file=sys.stderr)
         return 2
-    except BrokenPipeError:  # output piped into a program that stopped reading
-        sys.stderr.close()
+    except OSError as exc:
+        if isinstance(exc, BrokenPipeError):  # output piped into a program that stopped reading
+            sys.stderr.close()
+            return 1
+        # an output path that cannot be written: bad input, reported as such
+        where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
+        print(f"rotorcontact {args.command}: error: cannot write{where}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except RuntimeError as exc:
+        # a computation that could not complete (for example a simulation that failed)
+        print(f"rotorcontact {args.command}: failed: {exc}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print(f"rotorcontact {args.command}: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import sys
 from typing import Any
 
@@ -64,8 +65,22 @@ def parameters_from_args(args: argparse.Namespace) -> tuple[Parameters, Machine 
     except ParameterError as exc:
         raise ParameterError(f"--{str(exc).replace('_', '-')}") from None
     if changes and machine is not None:
-        machine = None  # overridden parameters no longer describe the machine
+        # overridden parameters no longer describe the machine
+        print(
+            f"note: {', '.join('--' + k.replace('_', '-') for k in changes)} override the machine's values; "
+            "its SI outputs are left out",
+            file=sys.stderr,
+        )
+        machine = None
     return params, machine
+
+
+def renamed(exc: Exception, names: dict[str, str]) -> ParameterError:
+    """The error ``exc`` with library argument names replaced by their options (whole words only)."""
+    text = str(exc)
+    for name, flag in names.items():
+        text = re.sub(rf"(?<![\w-]){re.escape(name)}(?![\w-])", flag, text)
+    return ParameterError(text)
 
 
 def jsonable(obj: Any) -> Any:

@@ -16,7 +16,7 @@ from ..errors import ParameterError
 from ..impactmap import ImpactOrbit, one_impact_orbits
 from ..multiimpact import MultiImpactOrbit, multi_impact_orbits
 from ..params import check_range
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+from .options import add_parameter_options, parameters_from_args, parse_float, print_json, renamed
 
 
 def register(sub) -> None:
@@ -113,11 +113,11 @@ def run(args: argparse.Namespace) -> int:
         try:
             return _run_multi(args, params, t_max, p)
         except ParameterError as exc:
-            raise ParameterError(str(exc).replace("t_max", "--t-max")) from None
+            raise renamed(exc, {"t_max": "--t-max"}) from None
     try:
         orbits = one_impact_orbits(params, t_max)
     except ParameterError as exc:
-        raise ParameterError(str(exc).replace("t_max", "--t-max")) from None
+        raise renamed(exc, {"t_max": "--t-max"}) from None
     if args.json:
         print_json({"orbits": [o.to_dict() for o in orbits]})
     else:
