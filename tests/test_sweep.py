@@ -226,3 +226,18 @@ def test_invalid_input():
         sweep(REF, "gamma", values, scheduler="nowhere", n_transient=1, n_record=1)
     with pytest.raises(ParameterError, match="smaller"):
         sweep_values(0.2, 0.1, 3)
+
+
+def test_a_chunk_folder_without_chunks_does_not_block_another_study(tmp_path):
+    """A study that stopped before its first chunk leaves nothing to resume; one with chunks is protected."""
+    import numpy as np
+
+    from rotorcontact.errors import ParameterError
+    from rotorcontact.scaleout import ChunkStore
+
+    folder = tmp_path / "x.nc.chunks"
+    ChunkStore(folder, {"study": "a"})
+    store = ChunkStore(folder, {"study": "b"})  # replaces the empty study a
+    store.save("c0", {"v": np.zeros(2)})
+    with pytest.raises(ParameterError):
+        ChunkStore(folder, {"study": "c"})

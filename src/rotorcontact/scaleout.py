@@ -318,7 +318,11 @@ class ChunkStore:
                 old = json.loads(path.read_text(encoding="utf-8"))
             except (OSError, ValueError):
                 old = None
-            if old != json.loads(text):
+            if old != json.loads(text) and not any(self.folder.glob("*.npz")):
+                # a study that stopped before its first chunk (for example, no cluster to connect to)
+                # left nothing to resume: start this one afresh
+                _atomic_write_text(path, text)
+            elif old != json.loads(text):
                 raise ParameterError(
                     f"{self.folder} holds partial results of a different study; delete it, "
                     "start afresh (resume=False, --no-resume) or write to another file"
