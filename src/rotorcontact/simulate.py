@@ -1,7 +1,8 @@
-"""The hybrid simulator: exact free flight, guaranteed impact location, reset.
+"""The hybrid simulator: exact free flight, guaranteed impact location, reset, chatter and contact.
 
 Data flows one way: parameters -> exact flow (`flow`) -> impact location
-(`roots`) -> reset (`reset`) -> `Trajectory`.
+(`roots`) -> reset (`reset`) -> continuous contact when impacts accumulate
+(`contact`) -> `Trajectory`.
 """
 
 from __future__ import annotations
