@@ -40,12 +40,30 @@ ORIGIN = displacement_grid((0.0, 0.0, 1), (0.0, 0.0, 1))
 
 @pytest.mark.parametrize(
     "gamma, expected",
-    [(0.1, "B1,d"), (0.15, "rub"), (0.05, "rolling")],
+    [(0.1, "B1,d"), (0.15, "forward-rub"), (0.05, "backward-whirl")],
 )
 def test_release_from_rest(gamma, expected):
     res = basins(REF.replace(gamma=gamma), ORIGIN, progress=False)
     assert res.class_of(0, 0) == expected
     assert res.fractions == {expected: 1.0}
+
+
+def test_regimes_carry_the_simulator_names_and_accept_the_former_ones(tmp_path):
+    # released from rest at gamma = 0.15 the rotor ends in a forward rub, as `simulate` says
+    p = REF.replace(gamma=0.15)
+    res = basins(p, ORIGIN, progress=False, out=tmp_path / "b.nc")
+    from rotorcontact import simulate
+
+    assert simulate(p, 0j, 0j, 500.0).summary.regime == "forward-rub" == res.class_of(0, 0)
+    assert "rub" not in res.classes and "rolling" not in res.classes
+    assert res.fraction("rub") == res.fraction("forward-rub") == 1.0
+    assert res.fraction("rolling") == res.fraction("backward-whirl") == 0.0
+    with pytest.raises(ParameterError, match="'sliding'.*allowed"):
+        res.fraction("sliding")
+    back = xr.load_dataset(tmp_path / "b.nc", engine="scipy")
+    meanings = back["attractor"].attrs["flag_meanings"].split()
+    assert {"forward-rub", "backward-whirl"} <= set(meanings) and "rub" not in meanings
+    assert "formerly" in back["attractor"].attrs["comment"]
 
 
 def test_named_orbit_is_the_fixed_point_it_is_named_after():
@@ -93,7 +111,7 @@ def test_displacement_plane_fractions_and_outside_points(tmp_path):
     assert np.all(res.image[inside] != res.classes.index("outside"))
     assert math.isclose(sum(res.fractions.values()), 1.0, rel_tol=0, abs_tol=1e-12)
     assert int(ds["count"].sum()) == inside.sum()
-    assert {"B1,d", "rub"} <= set(res.fractions)
+    assert {"B1,d", "forward-rub"} <= set(res.fractions)
     # the file is the dataset, with parameters and units as attributes
     back = xr.load_dataset(tmp_path / "b.nc", engine="scipy")
     xr.testing.assert_identical(back, ds)

@@ -28,7 +28,7 @@ from rotorcontact.batch import (
     parameter_array,
     simulate_batch,
 )
-from rotorcontact.motion import detect_period
+from rotorcontact.motion import REGIME_ALIASES, REGIMES, canonical_regime, detect_period
 
 REF = Parameters.reference()
 
@@ -44,15 +44,8 @@ CASES = [
     (0.0825, 0j, 0j),
 ]
 
-#: `motion.classify` regimes against the batch's names
-MOTION_TO_BATCH = {
-    "no-contact": "no-contact",
-    "periodic-impacting": "periodic-impacting",
-    "irregular-impacting": "irregular-impacting",
-    "forward-rub": "rub",
-    "backward-whirl": "rolling",
-    "mixed": "mixed",
-}
+#: `motion.classify` regimes against the batch's names: one vocabulary
+MOTION_TO_BATCH = {name: name for name in REGIMES}
 
 
 def _two_runs(p, u0, du0, st: BatchSettings):
@@ -94,7 +87,7 @@ def test_each_item_is_the_single_simulator_bit_for_bit(batch_cases):
         assert res.n_contacts[i] == len(tr2.contact_intervals)
         seen.add(res.regime_names[i])
     # the cases cover impacting, rub and rolling motion
-    assert {"periodic-impacting", "rub", "rolling"} <= seen
+    assert {"periodic-impacting", "forward-rub", "backward-whirl"} <= seen
 
 
 def test_regime_is_motion_classify_on_the_window(batch_cases):
@@ -275,3 +268,12 @@ def test_parameter_rows_and_validation():
         simulate_batch(rows, np.zeros(3), 0j, n_transient=1, n_record=1)
     with pytest.raises(ParameterError, match="rows of 7"):
         simulate_batch(np.zeros((2, 5)), 0j, 0j)
+
+
+def test_one_vocabulary_of_regimes_with_the_former_names_as_aliases():
+    # the batch kernel's regime names are those of a single simulation (motion.classify)
+    assert REGIME_NAMES[: len(REGIMES)] == REGIMES
+    assert "rub" not in REGIME_NAMES and "rolling" not in REGIME_NAMES
+    assert REGIME_ALIASES == {"rub": "forward-rub", "rolling": "backward-whirl"}
+    assert canonical_regime("rub") == "forward-rub" and canonical_regime("rolling") == "backward-whirl"
+    assert canonical_regime("B1,d") == "B1,d" and canonical_regime("mixed") == "mixed"

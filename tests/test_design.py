@@ -67,6 +67,8 @@ def test_physical_outputs_in_si():
             # friction power mu N v_rel with v_rel = R Omega + c_r Omega (thetadot = 0)
             v_rel = 0.04 * 184.2 + 0.7e-3 * 184.2
             assert mo.friction_power_W == pytest.approx(0.15 * mo.contact_force_N * v_rel, rel=1e-12)
+            # a rub of a pseudo-equilibrium is named as the simulator names it
+            assert mo.kind == "forward-rub"
 
 
 def test_each_speed_point_is_the_analysis_at_that_speed():

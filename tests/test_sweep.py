@@ -26,6 +26,7 @@ import xarray as xr
 from rotorcontact import ParameterError, Parameters
 from rotorcontact.batch import BatchSettings, simulate_batch
 from rotorcontact.impactmap import one_impact_orbits
+from rotorcontact.motion import REGIMES
 from rotorcontact.scaleout import chunk_folder
 from rotorcontact.sweep import one_impact_overlay, start_state, sweep, sweep_values
 
@@ -60,13 +61,16 @@ def test_up_and_down_sweeps_show_hysteresis():
     res = sweep(REF, "gamma", values, mode="both", n_transient=1500, n_record=50, progress=False)
     up, down = res.regimes("up"), res.regimes("down")
     # down from gamma = 0.19 (beyond the fold of B1,d) the rotor rubs all the way
-    assert set(down) == {"rub"}
+    assert set(down) == {"forward-rub"}
     # up from rest at 0.14 it settles on B1,d and stays on it until its fold near 0.178
     fold_side = values < 0.175
     assert all(r == "periodic-impacting" for r, f in zip(up, fold_side) if f)
-    assert up[-1] == "rub"
-    both = (np.array(up) == "periodic-impacting") & (np.array(down) == "rub")
+    assert up[-1] == "forward-rub"
+    both = (np.array(up) == "periodic-impacting") & (np.array(down) == "forward-rub")
     assert both.sum() >= 5
+    # the NetCDF flags name the regimes as a single simulation does
+    meanings = res.dataset["regime"].attrs["flag_meanings"].split()
+    assert meanings[:6] == list(REGIMES) and "rub" not in meanings and "rolling" not in meanings
 
 
 def test_period_doubling_on_the_continued_branch_separates_one_and_two_impacts():

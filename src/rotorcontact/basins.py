@@ -10,9 +10,9 @@ transient and a window, and the attractor reached is classified:
   (`rotorcontact.impactmap.one_impact_orbits`) to ``match_tol``;
   ``"one-impact"`` when periodic with one impact but no fixed point matches;
 * ``"multi-impact"``: periodic with p >= 2 impacts per period;
-* ``"rub"``: continuous contact sliding forward only (forward rub, settling on
-  a pseudo-equilibrium);
-* ``"rolling"``: the window ends rolling on the stator (backward whirl);
+* ``"forward-rub"``: continuous contact sliding forward only (settling on a
+  pseudo-equilibrium);
+* ``"backward-whirl"``: the window ends rolling round the stator;
 * ``"mixed"``: impacts and contact phases, or contact with backward sliding;
 * ``"irregular"``: impacting with no period of up to
   `rotorcontact.motion.MAX_PERIOD_IMPACTS` impacts;
@@ -88,7 +88,10 @@ _AXIS_ATTRS = {
 }
 #: Classes before and after the named orbits, in code order.
 CLASSES_BEFORE = ("outside", "no-contact")
-CLASSES_AFTER = ("one-impact", "multi-impact", "rub", "rolling", "mixed", "irregular", "undetermined", "failed")
+#: The contact regimes are named as in `rotorcontact.motion.REGIMES`; their former names ``"rub"`` and
+#: ``"rolling"`` are accepted by `BasinResult.fraction` (`rotorcontact.motion.REGIME_ALIASES`).
+CLASSES_AFTER = ("one-impact", "multi-impact", "forward-rub", "backward-whirl", "mixed", "irregular", "undetermined",
+                 "failed")
 DEFAULT_CHUNK = 2048
 
 GRID_SYNTAX = """\
@@ -322,6 +325,24 @@ class BasinResult:
         """Class name at row ``i``, column ``j``."""
         return self.classes[int(self.image[i, j])]
 
+    def fraction(self, name: str) -> float:
+        """Fraction of the simulated grid points in the class ``name`` (0 where it does not occur).
+
+        Former regime names (``"rub"``, ``"rolling"``; `rotorcontact.motion.REGIME_ALIASES`) are accepted.
+
+        Raises
+        ------
+        ParameterError
+            If ``name`` is not a class of this result.
+        """
+        from .motion import canonical_regime
+
+        key = canonical_regime(name) if isinstance(name, str) else name
+        if key not in self.classes or key == "outside":
+            allowed = ", ".join(c for c in self.classes if c != "outside")
+            raise ParameterError(f"class = {name!r} is not a class of these basins; allowed: {allowed}")
+        return self.fractions.get(key, 0.0)
+
 
 def _orbit_table(params: Parameters, t_max: float):
     from .impactmap import one_impact_orbits
@@ -341,8 +362,8 @@ def classify(result: BatchResult, orbits, match_tol: float) -> tuple[np.ndarray,
     out = np.full(reg.shape, code["failed"], dtype=np.int32)
     matched = np.full(reg.shape, -1, dtype=np.int32)
     out[reg == NO_CONTACT] = code["no-contact"]
-    out[reg == RUB] = code["rub"]
-    out[reg == ROLL] = code["rolling"]
+    out[reg == RUB] = code["forward-rub"]
+    out[reg == ROLL] = code["backward-whirl"]
     out[reg == MIXED] = code["mixed"]
     out[reg == IRREGULAR] = code["irregular"]
     out[reg == UNDETERMINED] = code["undetermined"]
@@ -523,7 +544,7 @@ def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fracti
              machine=None):
     import xarray as xr
 
-    from .sweep import parameter_attrs, settings_attrs, summary_variables
+    from .sweep import REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 
     a0, a1 = grid.names
     dims = (a1, a0)
@@ -532,6 +553,7 @@ def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fracti
             long_name="attractor reached",
             flag_values=np.arange(len(names), dtype=np.int32),
             flag_meanings=" ".join(names),
+            comment=REGIME_COMMENT,
         )),
         "inside": (dims, inside.astype(np.int8), dict(long_name="initial state inside the clearance (simulated)")),
         "theta": (dims, result.theta[..., -1], dict(long_name="angle of the last impact of the window", units="rad")),

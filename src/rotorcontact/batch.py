@@ -15,7 +15,7 @@ that kernel:
 
 The impacts of the window are the recorded impact section, and the window is
 classified into a regime (no contact, periodic impacting with p impacts per
-period, irregular impacting, rub, rolling, mixed) with the rules of
+period, irregular impacting, forward rub, backward whirl, mixed) with the rules of
 `rotorcontact.motion.classify`, applied to the window.
 
 Items are laid out as *lanes* of *steps*. Lanes are independent and run in
@@ -42,7 +42,7 @@ from numba import njit, prange
 
 from .errors import ParameterError
 from .flow import equilibrium_point, propagate
-from .motion import MAX_PERIOD_IMPACTS, MIN_IRREGULAR, REPEAT_TOL, WINDOW
+from .motion import MAX_PERIOD_IMPACTS, MIN_IRREGULAR, REGIMES, REPEAT_TOL, WINDOW
 from .params import Parameters, check_range
 from .reset import polar_velocity
 from .simulate import BOUNDARY_TOL, COMPLETED, FAILED, MAX_EVENTS, STATUS_NAMES, simulate, simulate_kernel
@@ -76,17 +76,10 @@ ROLL = 4
 MIXED = 5
 UNDETERMINED = 6
 FAILED_REGIME = 7
-#: Names of the regime codes.
-REGIME_NAMES = (
-    "no-contact",
-    "periodic-impacting",
-    "irregular-impacting",
-    "rub",
-    "rolling",
-    "mixed",
-    "undetermined",
-    "failed",
-)
+#: Names of the regime codes: the regimes of `rotorcontact.motion.REGIMES` (``"forward-rub"`` and
+#: ``"backward-whirl"`` were formerly ``"rub"`` and ``"rolling"``, `rotorcontact.motion.REGIME_ALIASES`),
+#: then ``"undetermined"`` and ``"failed"``.
+REGIME_NAMES = (*REGIMES, "undetermined", "failed")
 #: Names of the final-kind codes: -1 free flight, then the contact kinds of `rotorcontact.contact`.
 FINAL_KIND_NAMES = {-1: "flight", **{i: name for i, name in enumerate(KIND_NAMES)}}
 

@@ -8,7 +8,7 @@ that can persist are collected from the analysis (no simulation):
   (MODEL.md §4);
 - impacting motions: one-impact periodic orbits B_n,a..d that are admissible,
   physically plausible and stable (MODEL.md §5, `rotorcontact.impactmap`);
-- rubs: pseudo-equilibria P1, P2 that are admissible and stable (MODEL.md §4).
+- forward rubs: pseudo-equilibria P1, P2 that are admissible and stable (MODEL.md §4).
 
 The point's regime is ``"safe"`` (whirl admissible, no stable contact motion),
 ``"bistable"`` (whirl admissible and a stable contact motion coexists, so a
@@ -67,7 +67,8 @@ class Motion:
     name : str
         ``"x_R"``, an orbit label such as ``"B1,d"``, or ``"P1"`` / ``"P2"``.
     kind : str
-        ``"contact-free"``, ``"impacting"`` or ``"rub"``.
+        ``"contact-free"``, ``"impacting"`` or ``"forward-rub"`` (the regime names of
+        `rotorcontact.motion.REGIMES`; ``"rub"`` is the former name of ``"forward-rub"``).
     stable : bool
         Linear stability.
     amplitude_um : float
@@ -166,7 +167,7 @@ def _rub_motion(machine: Machine, pseudo, stable: bool) -> Motion:
     v_rel = p.r_ratio + 1.0
     return Motion(
         name=pseudo.name,
-        kind="rub",
+        kind="forward-rub",
         stable=stable,
         amplitude_um=machine.clearance * 1e6,
         contact_force_N=pseudo.normal_force * machine.force_scale,

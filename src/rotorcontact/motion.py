@@ -10,13 +10,36 @@ import numpy as np
 if TYPE_CHECKING:
     from .trajectory import Trajectory
 
-__all__ = ["MotionSummary", "classify", "detect_period", "REGIMES"]
+__all__ = ["MotionSummary", "classify", "detect_period", "REGIMES", "REGIME_ALIASES", "canonical_regime"]
 
 MAX_PERIOD_IMPACTS = 16
 REPEAT_TOL = 1e-6
 MIN_IRREGULAR = 30
 WINDOW = 1.0 / 3.0
+#: The contact regimes of a trajectory. The same names are used everywhere a regime is
+#: reported: simulations, sweeps, basins, design maps, NetCDF attributes, figures and JSON.
 REGIMES = ("no-contact", "periodic-impacting", "irregular-impacting", "forward-rub", "backward-whirl", "mixed")
+#: Former names of regimes, accepted on input (`canonical_regime`): ``"rub"`` is ``"forward-rub"``
+#: (continuous contact sliding forward) and ``"rolling"`` is ``"backward-whirl"`` (rolling round the stator).
+REGIME_ALIASES = {"rub": "forward-rub", "rolling": "backward-whirl"}
+
+
+def canonical_regime(name: str) -> str:
+    """The current name of a regime or class name: former names (`REGIME_ALIASES`) are translated.
+
+    Any other name (including orbit labels such as ``"B1,d"``) is returned unchanged.
+
+    Parameters
+    ----------
+    name : str
+        A regime name, current or former.
+
+    Returns
+    -------
+    str
+        ``"forward-rub"`` for ``"rub"``, ``"backward-whirl"`` for ``"rolling"``, otherwise ``name``.
+    """
+    return REGIME_ALIASES.get(name, name)
 
 
 @dataclass(frozen=True)

@@ -108,13 +108,17 @@ SECTION_ATTRS = {
 }
 
 
+#: Note on the regime names stored with the flags (files of earlier versions used the former names).
+REGIME_COMMENT = "forward-rub and backward-whirl were formerly named rub and rolling"
+
+
 def _flag_attrs(names: Sequence[str], values: Sequence[int] | None = None, **extra: str) -> dict[str, Any]:
     vals = list(range(len(names))) if values is None else list(values)
     return dict(flag_values=np.asarray(vals, dtype=np.int32), flag_meanings=" ".join(names), **extra)
 
 
 SUMMARY_ATTRS: dict[str, dict[str, Any]] = {
-    "regime": _flag_attrs(REGIME_NAMES, long_name="regime of the recorded window"),
+    "regime": _flag_attrs(REGIME_NAMES, long_name="regime of the recorded window", comment=REGIME_COMMENT),
     "impacts_per_period": dict(long_name="impacts per period of a periodic impacting window (0: none)", units="1"),
     "period": dict(long_name="period of a periodic impacting window", units="1"),
     "n_impacts": dict(long_name="impacts in the recorded window", units="1"),

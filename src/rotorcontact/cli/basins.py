@@ -14,8 +14,10 @@ Basins of attraction: every initial state of a grid is simulated through a
 transient and a recorded window, and the attractor reached is classified as
 no-contact (the contact-free whirl x_R), a named one-impact orbit (B1,d, ...,
 matched to the fixed points of the impact map), one-impact (unmatched),
-multi-impact (p >= 2 impacts per period), rub (forward sliding), rolling
-(backward whirl), mixed (impacts and contact), irregular, undetermined or failed.
+multi-impact (p >= 2 impacts per period), forward-rub (continuous contact
+sliding forward), backward-whirl (rolling round the stator), mixed (impacts and
+contact), irregular, undetermined or failed. (forward-rub and backward-whirl were
+formerly named rub and rolling.)
 The image and the fraction of each class go to a NetCDF file; each finished
 chunk is written to FILE.nc.chunks/ so that an interrupted run continues.
 

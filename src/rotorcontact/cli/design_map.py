@@ -23,7 +23,7 @@ def register(sub) -> None:
         help="classify a machine's speed range or controller gains: safe, bistable, contact-certain",
         description=(
             "Classify each setting of a machine as safe (contact-free whirl only), bistable (contact-free whirl "
-            "and a stable impacting orbit or rub coexist) or contact-certain (no contact-free whirl). "
+            "and a stable impacting orbit or forward rub coexist) or contact-certain (no contact-free whirl). "
             "With --speed alone: a map against speed. With --speed and --stiffness (or --damping): a plane at "
             "the machine's other settings. With --stiffness and --damping: a plane at the machine's speed. "
             "Ranges are A:B with units after B (for example 1000:6000rpm, 2e5:2e6N/m, 0.5:2kN*s/m); "

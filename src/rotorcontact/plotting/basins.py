@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from ..motion import canonical_regime
 from .style import draw_clearance, new_axes, save_figure
 
 __all__ = ["plot_basins", "save_basins_figure", "CLASS_COLORS"]
@@ -16,8 +17,8 @@ CLASS_COLORS = {
     "no-contact": "#c7e9c0",
     "one-impact": "#6baed6",
     "multi-impact": "#9467bd",
-    "rub": "#d62728",
-    "rolling": "#ff7f0e",
+    "forward-rub": "#d62728",
+    "backward-whirl": "#ff7f0e",
     "mixed": "#8c564b",
     "irregular": "#17becf",
     "undetermined": "#bcbd22",
@@ -63,7 +64,8 @@ def plot_basins(ds, ax=None, *, legend: bool = True):
     from matplotlib.patches import Patch
 
     fig, ax = new_axes(ax)
-    names = [str(n) for n in ds["class_name"].values]
+    # files written before the regimes were renamed hold "rub" and "rolling"
+    names = [canonical_regime(str(n)) for n in ds["class_name"].values]
     codes = ds["attractor"].values
     row_dim, col_dim = ds["attractor"].dims
     x = ds[col_dim].values

@@ -6,8 +6,8 @@ The one-impact orbits can be overlaid, either as continued branches
 (`rotorcontact.branches.OrbitBranches`, with their bifurcations marked) or
 as the fixed points computed at each value (`rotorcontact.sweep.one_impact_overlay`):
 solid where stable, dashed where unstable, admissible orbits only. A strip
-under the diagram shows the regime of each direction at each value (rub and
-rolling have no impacts to plot).
+under the diagram shows the regime of each direction at each value (forward rub
+and backward whirl have no impacts to plot).
 """
 
 from __future__ import annotations
@@ -39,8 +39,8 @@ REGIME_COLORS = {
     "no-contact": "#d9d9d9",
     "periodic-impacting": "#1f77b4",
     "irregular-impacting": "#9467bd",
-    "rub": "#d62728",
-    "rolling": "#ff7f0e",
+    "forward-rub": "#d62728",
+    "backward-whirl": "#ff7f0e",
     "mixed": "#8c564b",
     "undetermined": "#bcbd22",
     "failed": "#000000",
