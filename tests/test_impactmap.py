@@ -361,7 +361,8 @@ def test_orbits_solve_the_fixed_point_equations_with_expm(gamma, t_max):
         w = scipy.linalg.expm(A_of(p) * o.T) @ np.array([u0 - k, du_plus])
         assert abs(w[0] - (u0 - k)) < 1e-9 and abs(w[1] - du_minus) < 1e-9
         assert o.admissible == (o.rdot > 0)
-        assert (o.multipliers is None) == (not o.admissible) and (o.stable is None) == (not o.admissible)
+        assert (o.multipliers is None) == (not o.admissible)
+        assert (o.stable is None) == (not o.admissible or o.friction_reverses)
 
 
 def test_orbit_roots_are_ordered_as_in_model():
@@ -530,6 +531,27 @@ def test_not_slipping_orbits_are_not_plausible():
         assert o.slipping == (v_rel > p.mu * (1 + p.d) * o.rdot)
         if not o.slipping:
             assert not o.plausible
+
+
+@pytest.mark.parametrize("r_ratio", [0.0, 0.2, 0.35])
+def test_an_orbit_whose_friction_would_reverse_is_neither_stable_nor_plausible(r_ratio):
+    # below r_ratio ~ 0.37 the relative surface velocity at the impact of B1,d is at most
+    # mu (1 + d) rdot-: the law of F1 would reverse the slip, the simulator's friction stops at v_rel = 0
+    p = P(gamma=0.1, r_ratio=r_ratio)
+    d = {o.label: o for o in im.one_impact_orbits(p)}["B1,d"]
+    assert d.admissible and r_ratio + 1.0 + d.thetadot <= p.mu * (1 + p.d) * d.rdot
+    assert d.friction_reverses is True
+    assert d.stable is None and not d.plausible
+    assert d.multipliers is not None  # the multipliers of the law of MODEL.md §5 are still reported
+    assert d.to_dict()["friction_reverses"] is True and d.to_dict()["stable"] is None
+
+
+def test_at_the_reference_friction_never_reverses():
+    orbits = im.one_impact_orbits(P(gamma=0.1))
+    assert orbits and not any(o.friction_reverses for o in orbits)
+    d = {o.label: o for o in orbits}["B1,d"]
+    assert d.stable is True and d.plausible
+    assert im.orbit_stability(d.multipliers, False) is None
 
 
 # ---------------------------------------------------------------------------

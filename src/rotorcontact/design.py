@@ -30,6 +30,7 @@ from .equilibria import equilibria
 from .errors import ParameterError
 from .impactmap import one_impact_orbits
 from .params import Machine, check_range
+from .si import MICROMETRE, orbit_si, pseudo_si, regular_si
 
 __all__ = [
     "REGIMES",
@@ -140,38 +141,30 @@ class MapPoint:
 
 
 def _impact_motion(machine: Machine, orbit) -> Motion:
-    """SI outputs of a one-impact orbit: impulse, rate, friction power (MODEL.md §2 reset)."""
-    p = orbit.params
-    q_n = (1.0 + p.d) * orbit.rdot  # normal impulse per unit mass
-    v_minus = p.r_ratio + 1.0 + orbit.thetadot
-    p_t = min(p.mu * q_n, abs(v_minus))
-    v_plus = v_minus - math.copysign(p_t, v_minus)
-    # work of an impulsive Coulomb force: impulse times the mean slip velocity (v_rel is linear in it)
-    energy = p_t * 0.5 * (abs(v_minus) + abs(v_plus)) * machine.mass * (machine.clearance * machine.speed) ** 2
-    period_s = orbit.T * machine.time_scale
+    """SI outputs of a one-impact orbit: impulse, rate, friction power (`rotorcontact.si.orbit_si`)."""
+    si = orbit_si(machine, orbit)
     return Motion(
         name=orbit.label,
         kind="impacting",
         stable=bool(orbit.stable),
-        amplitude_um=machine.clearance * 1e6,
-        impulse_Ns=q_n * machine.impulse_scale,
-        impact_rate_hz=1.0 / period_s,
-        friction_power_W=energy / period_s,
-        period_s=period_s,
+        amplitude_um=si["amplitude_um"],
+        impulse_Ns=si["normal_impulse_Ns"],
+        impact_rate_hz=si["impact_rate_hz"],
+        friction_power_W=si["friction_power_W"],
+        period_s=si["T_s"],
     )
 
 
 def _rub_motion(machine: Machine, pseudo, stable: bool) -> Motion:
-    """SI outputs of a rub: contact force N and friction power mu N v_rel (thetadot = 0)."""
-    p = machine.parameters()
-    v_rel = p.r_ratio + 1.0
+    """SI outputs of a forward rub: contact force and friction power (`rotorcontact.si.pseudo_si`)."""
+    si = pseudo_si(machine, pseudo)
     return Motion(
         name=pseudo.name,
         kind="forward-rub",
         stable=stable,
-        amplitude_um=machine.clearance * 1e6,
-        contact_force_N=pseudo.normal_force * machine.force_scale,
-        friction_power_W=p.mu * pseudo.normal_force * v_rel * machine.force_scale * machine.clearance * machine.speed,
+        amplitude_um=machine.clearance * MICROMETRE,
+        contact_force_N=si["normal_force_N"],
+        friction_power_W=si["friction_power_W"],
     )
 
 
@@ -190,7 +183,7 @@ def classify_machine(machine: Machine, *, t_max: float = 12.0) -> MapPoint:
     motions: list[Motion] = []
     whirl = bool(eq.regular.exists and eq.regular.admissible and eq.regular.stable)
     if whirl:
-        motions.append(Motion("x_R", "contact-free", True, eq.regular.r * machine.clearance * 1e6))
+        motions.append(Motion("x_R", "contact-free", True, regular_si(machine, eq.regular)["amplitude_um"]))
     coexisting = []
     for orbit in one_impact_orbits(p, t_max):
         if orbit.admissible and orbit.plausible and orbit.stable:

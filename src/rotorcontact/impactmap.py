@@ -141,6 +141,7 @@ __all__ = [
     "fixed_point_residual",
     "flight_extrema",
     "one_impact_orbits",
+    "orbit_stability",
 ]
 
 #: Impact laws: the slip-bounded law of the simulator, and the law of MODEL.md §5
@@ -1117,11 +1118,17 @@ class ImpactOrbit:
     interior_extrema : int
         Number of interior local extrema of r.
     multipliers : tuple of complex or None
-        Eigenvalues of the Jacobian of P_I, largest modulus first; None when virtual.
+        Eigenvalues of the Jacobian of P_I (law of MODEL.md §5), largest
+        modulus first; None when virtual.
     stable : bool or None
-        All multipliers inside the unit circle; None when virtual.
+        All multipliers inside the unit circle; None when virtual or when
+        `friction_reverses` (see `orbit_stability`).
     params : Parameters
         The parameters of the orbit.
+
+    See Also
+    --------
+    friction_reverses : whether the fixed point is an orbit of the simulator at all.
     """
 
     label: str
@@ -1139,6 +1146,21 @@ class ImpactOrbit:
     multipliers: tuple[complex, ...] | None
     stable: bool | None
     params: Parameters = field(repr=False)
+
+    @property
+    def friction_reverses(self) -> bool:
+        """True when the friction of the law of MODEL.md §5 does not stop at v_rel = 0 at this impact.
+
+        That law applies the friction impulse mu (1 + d) rdot- against +theta
+        whatever the relative surface velocity v_rel- = r_ratio + 1 + thetadot-
+        is. Where it is at least v_rel- (small ``r_ratio``: v_rel- near zero or
+        negative), the impulse would reverse v_rel within the impact. The
+        simulator's friction never reverses v_rel (MODEL.md §2), so such a
+        fixed point is not an orbit of the simulator: it is neither plausible
+        nor called stable (``stable`` is None). False for virtual orbits, which
+        have no impact.
+        """
+        return bool(self.admissible and not self.slipping)
 
     @property
     def state(self) -> np.ndarray:
@@ -1165,11 +1187,35 @@ class ImpactOrbit:
             "thetadot": self.thetadot,
             "admissible": self.admissible,
             "plausible": self.plausible,
+            "friction_reverses": self.friction_reverses,
             "r_max_interior": self.r_max_interior,
             "interior_extrema": self.interior_extrema,
             "multipliers": None if self.multipliers is None else [[m.real, m.imag] for m in self.multipliers],
             "stable": self.stable,
         }
+
+
+def orbit_stability(multipliers, slipping: bool) -> bool | None:
+    """Stability of an admissible one-impact orbit from the multipliers of its impact map.
+
+    Parameters
+    ----------
+    multipliers : sequence of complex
+        Eigenvalues of the Jacobian of P_I at the fixed point.
+    slipping : bool
+        The impact slips with v_rel- > mu (1 + d) rdot- (`ImpactOrbit.slipping`).
+
+    Returns
+    -------
+    bool or None
+        True when every multiplier lies inside the unit circle; None when the
+        impact does not slip, since the friction of the law of MODEL.md §5
+        then reverses v_rel (`ImpactOrbit.friction_reverses`) and the fixed
+        point is not an orbit of the simulator, whose stability could be claimed.
+    """
+    if not slipping:
+        return None
+    return bool(np.all(np.abs(np.asarray(multipliers)) < 1.0))
 
 
 def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> ImpactOrbit:
@@ -1193,7 +1239,7 @@ def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> Impact
         ev = np.linalg.eigvals(jac)
         ev = ev[np.argsort(-np.abs(ev), kind="stable")]
         multipliers = tuple(complex(x) for x in ev)
-        stable = bool(np.all(np.abs(ev) < 1.0))
+        stable = orbit_stability(multipliers, slipping)
         if slipping and (r_max is None or r_max < 1.0):
             # With the extrema of r isolated, r < 1 on (0, T) already follows: r falls after
             # the impact, rises into the next one, and every interior maximum is below 1.

@@ -61,6 +61,7 @@ from .impactmap import (
     flight_extrema,
     impact_map,
     impact_map_jacobian,
+    orbit_stability,
 )
 from .params import Parameters
 
@@ -229,7 +230,8 @@ def orbit_with_extrema(params: Parameters, T: float, rdot: float, *, n: int | No
     slipping, the interior extrema of r (guaranteed isolation), plausibility
     (admissible, slipping, r < 1 between the impacts, and the simulator's
     impact location finds the next impact at T), and for admissible orbits
-    the multipliers of the analytic Jacobian of P_I and stability.
+    the multipliers of the analytic Jacobian of P_I and stability
+    (`rotorcontact.impactmap.orbit_stability`).
 
     Parameters
     ----------
@@ -263,7 +265,7 @@ def orbit_with_extrema(params: Parameters, T: float, rdot: float, *, n: int | No
         ev = np.linalg.eigvals(jac)
         ev = ev[np.argsort(-np.abs(ev), kind="stable")]
         multipliers = tuple(complex(x) for x in ev)
-        stable = bool(np.all(np.abs(ev) < 1.0))
+        stable = orbit_stability(multipliers, slipping)
         if slipping and (r_max is None or r_max < 1.0):
             k = params.k
             hit = impact_map(params, state, horizon=T * (1.0 + 1e-6) + 1e-9, law=IDEAL)

@@ -34,7 +34,7 @@ def run_json(capsys, *args):
 
 def test_period_two_orbit_json_contract(capsys):
     data = run_json(capsys, "--impacts", "2", "--gamma", "0.083")
-    assert set(data) == {"orbits"}
+    assert set(data) == {"parameters", "orbits"} and data["parameters"]["gamma"] == 0.083
     (orbit,) = data["orbits"]
     assert set(orbit) == KEYS
     assert orbit["label"] == "B1,d/PD" and orbit["impacts"] == 2

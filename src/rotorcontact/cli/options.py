@@ -103,6 +103,29 @@ def jsonable(obj: Any) -> Any:
     return obj
 
 
+def json_result(params: Parameters, data: dict[str, Any], machine: Machine | None = None) -> dict[str, Any]:
+    """The object a subcommand prints with ``--json``: its ``"parameters"`` first, then ``data``.
+
+    Parameters
+    ----------
+    params : Parameters
+        The dimensionless parameters of the computation (``"parameters"``).
+    data : dict
+        The subcommand's own keys (a ``"parameters"`` key in it is replaced).
+    machine : Machine, optional
+        With ``--machine``: its SI values are added as ``"machine"``.
+
+    Returns
+    -------
+    dict
+    """
+    out: dict[str, Any] = {"parameters": params.as_dict()}
+    out.update((k, v) for k, v in data.items() if k != "parameters")
+    if machine is not None:
+        out["machine"] = machine.as_dict()
+    return out
+
+
 def print_json(data: Any) -> None:
     """Write ``data`` as JSON on stdout."""
     json.dump(jsonable(data), sys.stdout, indent=2, allow_nan=False)

@@ -15,8 +15,9 @@ import argparse
 from ..errors import ParameterError
 from ..impactmap import ImpactOrbit, one_impact_orbits
 from ..multiimpact import MultiImpactOrbit, multi_impact_orbits
-from ..params import check_range
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json, renamed
+from ..params import Machine, check_range
+from ..si import orbit_si, rate_scale, times_si, velocity_scale
+from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
 
 
 def register(sub) -> None:
@@ -47,21 +48,35 @@ def _num(x, fmt: str = ".8g") -> str:
     return "-" if x is None else format(x, fmt)
 
 
-def _table(orbits: tuple[ImpactOrbit, ...]) -> list[str]:
+def _table(orbits: tuple[ImpactOrbit, ...], machine: Machine | None = None) -> list[str]:
     if not orbits:
         return ["no one-impact periodic orbit with T in (0, T_max]"]
+    si_head = f" {'T ms':>10} {'impulse N s':>12} {'power W':>10}" if machine is not None else ""
     head = (
         f"{'orbit':<6} {'T':>14} {'theta':>14} {'rdot-':>14} {'thetadot-':>14} "
-        f"{'state':<10} {'plausible':<9} {'r_max':>10} {'extrema':>7} {'max|mult|':>10} {'stability'}"
-    )
+        f"{'state':<10} {'plausible':<9} {'friction':<9} {'r_max':>10} {'extrema':>7} {'max|mult|':>10} "
+        f"{'stability':<9}{si_head}"
+    ).rstrip()
     lines = [head, "-" * len(head)]
     for o in orbits:
         mult = "-" if o.multipliers is None else format(max(abs(m) for m in o.multipliers), ".6g")
         stability = "-" if o.stable is None else ("stable" if o.stable else "unstable")
+        si = ""
+        if machine is not None:
+            v = orbit_si(machine, o)
+            si = f" {1e3 * v['T_s']:>10.5g} {_num(v['normal_impulse_Ns'], '.5g'):>12} {_num(v['friction_power_W'], '.5g'):>10}"
         lines.append(
             f"{o.label:<6} {_num(o.T):>14} {_num(o.theta):>14} {_num(o.rdot):>14} {_num(o.thetadot):>14} "
             f"{'admissible' if o.admissible else 'virtual':<10} {'yes' if o.plausible else 'no':<9} "
-            f"{_num(o.r_max_interior, '.7g'):>10} {o.interior_extrema:>7} {mult:>10} {stability}"
+            f"{'reverses' if o.friction_reverses else '-':<9} "
+            f"{_num(o.r_max_interior, '.7g'):>10} {o.interior_extrema:>7} {mult:>10} {stability:<9}{si}".rstrip()
+        )
+    reversed_ = [o.label for o in orbits if o.friction_reverses]
+    if reversed_:
+        lines.append(
+            f"friction reverses at the impact of {', '.join(reversed_)}: v_rel = r_ratio + 1 + thetadot- is at most "
+            "mu (1 + d) rdot-, so the law of MODEL.md §5 would reverse the slip, which the simulator's friction "
+            "never does; not an orbit of the simulator (not plausible, stability not claimed)"
         )
     return lines
 
@@ -76,14 +91,17 @@ def _impacts(text: str) -> int:
     return value
 
 
-def _multi_table(orbits: tuple[MultiImpactOrbit, ...], p: int) -> list[str]:
+def _multi_table(orbits: tuple[MultiImpactOrbit, ...], p: int, machine: Machine | None = None) -> list[str]:
     if not orbits:
         return [f"no periodic orbit with {p} impacts per period found"]
     lines = []
     for o in orbits:
         mult = format(max(abs(m) for m in o.multipliers), ".6g")
+        period = f"period {o.period:.10g}"
+        if machine is not None:
+            period += f" ({1e3 * o.period * machine.time_scale:.6g} ms)"
         lines.append(
-            f"{o.label}: {o.impacts} impacts, period {o.period:.10g}, max|mult| {mult}, "
+            f"{o.label}: {o.impacts} impacts, {period}, max|mult| {mult}, "
             f"{'stable' if o.stable else 'unstable'}, {'plausible' if o.plausible else 'not plausible'}"
         )
         head = f"  {'theta':>14} {'rdot-':>14} {'thetadot-':>14} {'dt':>14}"
@@ -93,25 +111,43 @@ def _multi_table(orbits: tuple[MultiImpactOrbit, ...], p: int) -> list[str]:
     return lines
 
 
-def _run_multi(args: argparse.Namespace, params, t_max: float, p: int) -> int:
+def _multi_dict(o: MultiImpactOrbit, machine: Machine | None) -> dict:
+    out = o.to_dict()
+    if machine is not None:
+        out.update(times_si(machine, period=o.period))
+        for row, q in zip(out["points"], o.points):
+            row.update(times_si(machine, dt=q.dt))
+            row["rdot_m_per_s"] = q.rdot * velocity_scale(machine)
+            row["thetadot_rad_per_s"] = q.thetadot * rate_scale(machine)
+    return out
+
+
+def _orbit_dict(o: ImpactOrbit, machine: Machine | None) -> dict:
+    out = o.to_dict()
+    if machine is not None:
+        out.update(orbit_si(machine, o))
+    return out
+
+
+def _run_multi(args: argparse.Namespace, params, machine, t_max: float, p: int) -> int:
     orbits = multi_impact_orbits(params, p, t_max=t_max)
     if args.json:
-        print_json({"orbits": [o.to_dict() for o in orbits]})
+        print_json(json_result(params, {"orbits": [_multi_dict(o, machine) for o in orbits]}, machine))
     else:
         print(f"periodic orbits with {p} impacts per period at gamma = {params.gamma:g}, "
               f"omega = {params.omega:g}, rho = {params.rho:g}, mu = {params.mu:g}, d = {params.d:g}")
-        for line in _multi_table(orbits, p):
+        for line in _multi_table(orbits, p, machine):
             print(line)
     return 0
 
 
 def run(args: argparse.Namespace) -> int:
-    params, _machine = parameters_from_args(args)
+    params, machine = parameters_from_args(args)
     t_max = check_range("--t-max", parse_float("t-max", args.t_max), low=0.0, low_open=True)
     p = _impacts(args.impacts)
     if p >= 2:
         try:
-            return _run_multi(args, params, t_max, p)
+            return _run_multi(args, params, machine, t_max, p)
         except ParameterError as exc:
             raise renamed(exc, {"t_max": "--t-max"}) from None
     try:
@@ -119,10 +155,11 @@ def run(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         raise renamed(exc, {"t_max": "--t-max"}) from None
     if args.json:
-        print_json({"orbits": [o.to_dict() for o in orbits]})
+        print_json(json_result(params, {"orbits": [_orbit_dict(o, machine) for o in orbits]}, machine))
     else:
         print(f"one-impact periodic orbits with T in (0, {t_max:g}] at gamma = {params.gamma:g}, "
-              f"omega = {params.omega:g}, rho = {params.rho:g}, mu = {params.mu:g}, d = {params.d:g}")
-        for line in _table(orbits):
+              f"omega = {params.omega:g}, rho = {params.rho:g}, mu = {params.mu:g}, d = {params.d:g}, "
+              f"r_ratio = {params.r_ratio:g}")
+        for line in _table(orbits, machine):
             print(line)
     return 0
