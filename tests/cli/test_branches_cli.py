@@ -38,7 +38,7 @@ def reference_json():
 
 def test_json_contract_at_the_reference(reference_json):
     data = reference_json
-    assert set(data) == {"param", "events", "branches"}
+    assert set(data) == {"parameters", "param", "events", "branches"}
     assert data["param"] == "gamma"
     for e in data["events"]:
         assert set(e) == {"type", "value", "orbits"}

@@ -35,7 +35,7 @@ def reference_json():
 
 def test_json_contract(reference_json):
     data = reference_json
-    assert set(data) == {"curves", "points"}
+    assert set(data) == {"parameters", "curves", "points"}
     assert set(data["curves"]) == {"fold_1", "dib", "grazing_B1d"}
     for name, pts in data["curves"].items():
         assert pts and all(p is None or (len(p) == 2 and all(isinstance(x, float) for x in p)) for p in pts)

@@ -33,7 +33,7 @@ def run_json(capsys, *args):
 
 def test_json_contract_at_the_reference(capsys):
     data = run_json(capsys)
-    assert set(data) == {"gamma_star", "orbits"}
+    assert set(data) == {"parameters", "gamma_star", "orbits"}
     p = Parameters.reference()
     assert data["gamma_star"] == boundary_gamma(p)
     assert [o["label"] for o in data["orbits"]] == ["B1,a", "B1,b"]

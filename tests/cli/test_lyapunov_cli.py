@@ -31,7 +31,7 @@ def run_json(capsys, *args):
 
 def test_json_contract_on_the_stable_one_impact_orbit(capsys):
     data = run_json(capsys, "--gamma", "0.1", "--u0", "0,0", "--du0", "0,0", "--t-end", "800")
-    assert set(data) == {"exponents"}
+    assert set(data) == {"parameters", "exponents"}
     ex = data["exponents"]
     assert len(ex) == 4 and all(isinstance(x, float) for x in ex)
     assert ex == sorted(ex, reverse=True)

@@ -6,7 +6,7 @@ import argparse
 import time
 
 from ..basins import GRID_SYNTAX
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json
 from .scale import add_scale_options, check_plot_path, parse_int, scale_kwargs
 
 DESCRIPTION = f"""\
@@ -101,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
         "plot": args.plot,
     }
     if args.json:
-        print_json(summary)
+        print_json(json_result(params, summary, machine))
     else:
         print(f"wrote {res.path}: {grid.kind} grid {cols} x {rows} ({summary['simulated']} simulated)")
         for name, frac in res.fractions.items():

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from ..branches import BRANCH_PARAMETERS, OrbitBranches, orbit_branches
 from ..errors import ParameterError
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json, renamed
+from ..params import Machine
+from ..si import parameter_si, rate_scale, scaled_list, times_si, velocity_scale
+from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
 
 #: Default range of each parameter.
 DEFAULT_RANGES = {
@@ -57,19 +60,49 @@ def _int(name: str, text: str, low: int) -> int:
     return value
 
 
-def _text(b: OrbitBranches) -> list[str]:
+def _event_si(machine: Machine, param: str, value: float, T: float, rdot: float) -> dict[str, Any]:
+    """SI values of an event: the parameter's SI value, the period and the impact velocity."""
+    return {**parameter_si(machine, param, value), **times_si(machine, T=T),
+            "rdot_m_per_s": scaled_list([rdot], velocity_scale(machine))[0]}
+
+
+def _branches_dict(b: OrbitBranches, machine: Machine | None) -> dict[str, Any]:
+    """The ``branches --json`` object; with a machine, SI values beside the dimensionless ones."""
+    data = b.to_dict()
+    if machine is None:
+        return data
+    for row, e in zip(data["events"], b.events):
+        row.update(_event_si(machine, b.param, e.value, e.T, e.rdot))
+    for arrays in data["branches"].values():
+        rows = [parameter_si(machine, b.param, v) for v in arrays[b.param]]  # {} for mu, d
+        for key in parameter_si(machine, b.param, 0.0):
+            arrays[key] = [row[key] for row in rows]
+        arrays["T_s"] = scaled_list(arrays["T"], machine.time_scale)
+        arrays["rdot_m_per_s"] = scaled_list(arrays["rdot"], velocity_scale(machine))
+        arrays["thetadot_rad_per_s"] = scaled_list(arrays["thetadot"], rate_scale(machine))
+    return data
+
+
+def _text(b: OrbitBranches, machine: Machine | None = None) -> list[str]:
     lines = [f"one-impact orbits along {b.param} in [{b.start:g}, {b.stop:g}] (T <= {b.t_max:g}): "
              f"{', '.join(b.labels) or 'none'}"]
     lines.append(f"{len(b.events)} events:")
     for e in b.events:
         extra = f"  ({e.detail})" if e.detail else ""
+        si = ""
+        if machine is not None:
+            v = _event_si(machine, b.param, e.value, e.T, e.rdot)
+            units = {"damping_Ns_per_m": "N s/m", "stiffness_N_per_m": "N/m", "eccentricity_m": "m",
+                     "rotor_radius_m": "m"}
+            si = "".join(f"{v[k]:.6g} {u}, " for k, u in units.items() if k in v)
+            si = f"  [{si}T = {1e3 * v['T_s']:.6g} ms, rdot = {v['rdot_m_per_s']:.4g} m/s]"
         lines.append(f"  {e.type:<16} {b.param} = {e.value:<20.12g} {', '.join(e.orbits):<14} "
-                     f"T = {e.T:.8g}, rdot = {e.rdot:.6g}{extra}")
+                     f"T = {e.T:.8g}, rdot = {e.rdot:.6g}{extra}{si}")
     return lines
 
 
 def run(args: argparse.Namespace) -> int:
-    params, _machine = parameters_from_args(args)
+    params, machine = parameters_from_args(args)
     if args.param not in BRANCH_PARAMETERS:
         raise ParameterError(
             f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
@@ -104,9 +137,9 @@ def run(args: argparse.Namespace) -> int:
         )
         save_figure(fig, args.plot)
     if args.json:
-        print_json(branches.to_dict())
+        print_json(json_result(params, _branches_dict(branches, machine), machine))
     else:
-        for line in _text(branches):
+        for line in _text(branches, machine):
             print(line)
         if args.plot:
             print(f"figure written to {args.plot}")

@@ -8,7 +8,7 @@ from pathlib import Path
 from ..codim2 import DEFAULT_RANGES, Codim2Diagram, codim2_diagram
 from ..errors import ParameterError
 from ..orbitsystem import BRANCH_PARAMETERS
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json, renamed
+from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
 
 
 def register(sub) -> None:
@@ -81,7 +81,7 @@ def _text(d: Codim2Diagram) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    params, _machine = parameters_from_args(args)
+    params, machine = parameters_from_args(args)
     plane = _plane(args.params)
     lo = _pair("from", args.start) if args.start is not None else tuple(DEFAULT_RANGES[n][0] for n in plane)
     hi = _pair("to", args.stop) if args.stop is not None else tuple(DEFAULT_RANGES[n][1] for n in plane)
@@ -102,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
         fig, _ = plot_codim2(params, diagram=diagram, t_max=t_max)
         save_figure(fig, args.plot)
     if args.json:
-        print_json(diagram.to_dict())
+        print_json(json_result(params, diagram.to_dict(), machine))
     else:
         for line in _text(diagram):
             print(line)

@@ -12,7 +12,7 @@ from ..design import DesignMap, plane_map, speed_map
 from ..errors import ParameterError
 from ..params import load_machine
 from ..units import quantity_in
-from .options import print_json
+from .options import json_result, print_json
 
 _UNITS = {"speed": "rpm", "stiffness": "N/m", "damping": "N s/m"}
 
@@ -144,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
         save_design_map(dmap, out / "map.png")
         dmap.to_xarray().to_netcdf(out / "map.nc", engine="scipy")
     if args.json:
-        print_json(dmap.to_dict())
+        print_json(json_result(dmap.machine.parameters(), dmap.to_dict(), dmap.machine))
     else:
         print(_table(dmap))
         if args.out is not None:

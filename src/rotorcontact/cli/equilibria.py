@@ -7,7 +7,9 @@ from typing import Any
 
 from ..equilibria import BRANCH_PARAMETERS, Equilibria, EquilibriumBranches, equilibria, equilibrium_branches
 from ..errors import ParameterError
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json
+from ..params import Machine
+from ..si import equilibria_si, parameter_si
+from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json
 
 
 def register(sub) -> None:
@@ -61,23 +63,28 @@ def _branches(args: argparse.Namespace, params) -> EquilibriumBranches | None:
         raise ParameterError(f"--from/--to: {exc}") from None
 
 
-def _text(eq: Equilibria, branches: EquilibriumBranches | None) -> list[str]:
+def _text(eq: Equilibria, branches: EquilibriumBranches | None, machine: Machine | None = None) -> list[str]:
     def num(x: Any, fmt: str = ".8g") -> str:
         return "-" if x is None else format(x, fmt)
+
+    si = equilibria_si(machine, eq) if machine is not None else None
 
     lines = []
     reg = eq.regular
     if reg.exists:
         state = "admissible" if reg.admissible else "virtual"
+        amplitude = "" if si is None else f" ({num(si['regular']['amplitude_um'], '.5g')} um)"
         lines.append(
-            f"x_R : r = {num(reg.r)}, theta = {num(reg.theta)}, {state}, {'stable' if reg.stable else 'unstable'}"
+            f"x_R : r = {num(reg.r)}{amplitude}, theta = {num(reg.theta)}, {state}, "
+            f"{'stable' if reg.stable else 'unstable'}"
         )
     else:
         lines.append(f"x_R : does not exist ({reg.reason})")
-    for pe in eq.pseudo:
+    for i, pe in enumerate(eq.pseudo):
         if pe.exists:
+            force = "" if si is None else f" ({num(si['pseudo'][i]['normal_force_N'], '.5g')} N)"
             lines.append(
-                f"x_{pe.name}: theta = {num(pe.theta)}, N = {num(pe.normal_force)}, "
+                f"x_{pe.name}: theta = {num(pe.theta)}, N = {num(pe.normal_force)}{force}, "
                 f"{'admissible' if pe.admissible else 'virtual'}, {'stable' if pe.stable else 'unstable'}"
             )
         else:
@@ -88,7 +95,8 @@ def _text(eq: Equilibria, branches: EquilibriumBranches | None) -> list[str]:
     else:
         kind = b.kind if b.kind is not None else f"unclassified ({b.reason})"
         partner = f" with x_{b.partner}" if b.partner else ""
-        lines.append(f"x_B : gamma* = {num(b.gamma_star)}, theta = {num(b.theta)}, {kind}{partner}")
+        damping = "" if si is None else f" (damping {num(si['boundary']['damping_star_Ns_per_m'], '.5g')} N s/m)"
+        lines.append(f"x_B : gamma* = {num(b.gamma_star)}{damping}, theta = {num(b.theta)}, {kind}{partner}")
     if branches is not None:
         lines.append(f"events for {branches.param} in [{branches.values[0]:g}, {branches.values[-1]:g}]:")
         if not branches.events:
@@ -100,7 +108,7 @@ def _text(eq: Equilibria, branches: EquilibriumBranches | None) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
-    params, _machine = parameters_from_args(args)
+    params, machine = parameters_from_args(args)
     branches = _branches(args, params)
     if args.plot:
         from pathlib import Path
@@ -119,16 +127,26 @@ def run(args: argparse.Namespace) -> int:
         save_figure(fig, args.plot)
     if args.json:
         data = eq.to_dict()
+        if machine is not None:
+            si = equilibria_si(machine, eq)
+            data["regular"].update(si["regular"])
+            for row, extra in zip(data["pseudo"], si["pseudo"]):
+                row.update(extra)
+            data["boundary"].update(si["boundary"])
         if branches is not None:
+            events = [e.to_dict() for e in branches.events]
+            if machine is not None:
+                for row, e in zip(events, branches.events):
+                    row.update(parameter_si(machine, e.param, e.value))
             data["branches"] = {
                 "param": branches.param,
                 "from": float(branches.values[0]),
                 "to": float(branches.values[-1]),
-                "events": [e.to_dict() for e in branches.events],
+                "events": events,
             }
-        print_json(data)
+        print_json(json_result(params, data, machine))
     else:
-        for line in _text(eq, branches):
+        for line in _text(eq, branches, machine):
             print(line)
         if args.plot:
             print(f"figure written to {args.plot}")

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from ..equilibria import boundary_gamma
 from ..errors import ParameterError
 from ..local import LinearImpactingSystem, LocalAnalysis, local_analysis
-from ..params import check_range
-from .options import add_parameter_options, parameters_from_args, parse_float, print_json, renamed
+from ..params import Machine, check_range
+from ..si import parameter_si, times_si
+from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
 
 
 def register(sub) -> None:
@@ -36,27 +38,32 @@ def _side(side: int) -> str:
     return {1: "gamma > gamma*", -1: "gamma < gamma*"}.get(side, "-")
 
 
-def _table(gamma_star: float, analysis: LocalAnalysis) -> list[str]:
+def _table(gamma_star: float, analysis: LocalAnalysis, machine: Machine | None = None) -> list[str]:
+    damping = ""
+    if machine is not None:
+        damping = f" (damping {parameter_si(machine, 'gamma', gamma_star)['damping_Ns_per_m']:.6g} N s/m)"
     lines = [
-        f"gamma* = {gamma_star:.10g}, impact angle at gamma*: Psi = {analysis.psi:.10g}",
+        f"gamma* = {gamma_star:.10g}{damping}, impact angle at gamma*: Psi = {analysis.psi:.10g}",
         f"equilibrium shift z1 = {analysis.z1:.6g} (radial {analysis.radial_shift:.6g}, "
         f"tangential {analysis.tangential_shift:.6g}); x_R admissible for {_side(analysis.equilibrium_side)}",
     ]
     if not analysis.orbits:
         return lines + ["no zero of F1 with T in (0, T_max]: no small one-impact orbit"]
-    head = (f"{'orbit':<6} {'T0':>14} {'rdot slope':>14} {'thetadot slope':>15} {'theta slope':>14} "
+    si_head = f" {'T0 ms':>10}" if machine is not None else ""
+    head = (f"{'orbit':<6} {'T0':>14}{si_head} {'rdot slope':>14} {'thetadot slope':>15} {'theta slope':>14} "
             f"{'admissible for'}")
     lines += [head, "-" * (len(head) + 8)]
     for o in analysis.orbits:
+        si = f" {1e3 * times_si(machine, T=o.T)['T_s']:>10.6g}" if machine is not None else ""
         lines.append(
-            f"{o.label:<6} {_num(o.T):>14} {_num(o.rdot_slope):>14} {_num(o.thetadot_slope):>15} "
+            f"{o.label:<6} {_num(o.T):>14}{si} {_num(o.rdot_slope):>14} {_num(o.thetadot_slope):>15} "
             f"{_num(o.theta_slope):>14} {_side(o.side)}"
         )
     return lines
 
 
 def run(args: argparse.Namespace) -> int:
-    params, _machine = parameters_from_args(args)
+    params, machine = parameters_from_args(args)
     t_max = check_range("--t-max", parse_float("t-max", args.t_max), low=0.0, low_open=True)
     system = LinearImpactingSystem.from_parameters(params)
     gamma_star = boundary_gamma(params)
@@ -65,8 +72,15 @@ def run(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         raise renamed(exc, {"t_max": "--t-max"}) from None
     if args.json:
-        print_json({"gamma_star": gamma_star, "orbits": [o.to_dict() for o in analysis.orbits]})
+        orbits = [o.to_dict() for o in analysis.orbits]
+        data: dict[str, Any] = {"gamma_star": gamma_star, "orbits": orbits}
+        if machine is not None:
+            data.update(damping_star_Ns_per_m=parameter_si(machine, "gamma", gamma_star)["damping_Ns_per_m"])
+            for row, o in zip(orbits, analysis.orbits):
+                row.update(times_si(machine, T=o.T))
+        # the analysis is made at gamma = gamma*, whatever --gamma says
+        print_json(json_result(params.replace(gamma=gamma_star), data, machine))
     else:
-        for line in _table(gamma_star, analysis):
+        for line in _table(gamma_star, analysis, machine):
             print(line)
     return 0

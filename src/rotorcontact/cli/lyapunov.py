@@ -6,7 +6,8 @@ import argparse
 
 from ..lyapunov import COORDINATES, lyapunov_spectrum
 from ..params import check_range
-from .options import add_parameter_options, parameters_from_args, parse_complex, parse_float, print_json
+from ..si import rate_scale, scaled_list, times_si
+from .options import add_parameter_options, json_result, parameters_from_args, parse_complex, parse_float, print_json
 
 
 def register(sub) -> None:
@@ -48,7 +49,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    params, _machine = parameters_from_args(args)
+    params, machine = parameters_from_args(args)
     u0 = parse_complex("u0", args.u0)
     du0 = parse_complex("du0", args.du0)
     t_end = check_range("--t-end", parse_float("t-end", args.t_end), low=0.0, low_open=True)
@@ -60,12 +61,19 @@ def run(args: argparse.Namespace) -> int:
     qr_interval = check_range("--qr-interval", parse_float("qr-interval", args.qr_interval), low=0.0, low_open=True)
     res = lyapunov_spectrum(params, u0, du0, t_end, t_transient=t_transient, qr_interval=qr_interval)
     data = res.to_dict()
+    if machine is not None:
+        data["exponents_per_s"] = scaled_list(data["exponents"], rate_scale(machine))
+        data.update(times_si(machine, time=res.time, t_start=res.t_start, t_stop=res.t_stop))
     if args.json:
-        print_json(data if args.details else {"exponents": data["exponents"]})
+        if not args.details:
+            data = {k: v for k, v in data.items() if k in ("exponents", "exponents_per_s")}
+        print_json(json_result(params, data, machine))
         return 0
-    print(f"Lyapunov spectrum of ({', '.join(COORDINATES)}), largest first:")
+    print(f"Lyapunov spectrum of ({', '.join(COORDINATES)}), largest first"
+          f"{' (per unit time; per second)' if machine is not None else ''}:")
     for x in res.exponents:
-        print(f"  {x:+.10g}" if x != float("-inf") else "  -inf (annihilated direction)")
+        si = f"  {x * rate_scale(machine):+.6g} /s" if machine is not None and x != float("-inf") else ""
+        print(f"  {x:+.10g}{si}" if x != float("-inf") else "  -inf (annihilated direction)")
     window = "impact to impact" if res.aligned else "time window"
     print(
         f"averaged over t in [{res.t_start:.10g}, {res.t_stop:.10g}] ({window}), {res.n_impacts} impacts; "

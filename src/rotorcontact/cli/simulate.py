@@ -6,7 +6,7 @@ import argparse
 
 from ..params import check_range
 from ..simulate import simulate
-from .options import add_parameter_options, parameters_from_args, parse_complex, parse_float, print_json
+from .options import add_parameter_options, json_result, parameters_from_args, parse_complex, parse_float, print_json
 
 
 def register(sub) -> None:
@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
 
         save_trajectory_figure(traj, args.plot)
     if args.json:
-        print_json(traj.to_dict())
+        print_json(json_result(params, traj.to_dict(), machine))
     else:
         s = traj.summary
         print(traj.message)

@@ -6,7 +6,14 @@ import argparse
 import time
 
 from ..errors import ParameterError
-from .options import add_parameter_options, parameters_from_args, parse_complex, parse_float, print_json
+from .options import (
+    add_parameter_options,
+    json_result,
+    parameters_from_args,
+    parse_complex,
+    parse_float,
+    print_json,
+)
 from .scale import add_scale_options, check_plot_path, parse_int, scale_kwargs
 
 DESCRIPTION = """\
@@ -120,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
         "overlay": overlay_kind,
     }
     if args.json:
-        print_json(summary)
+        print_json(json_result(params, summary, machine))
     else:
         dirs = ", ".join(summary["directions"])
         print(f"wrote {res.path}: {args.param} sweep, {values.size} values, directions {dirs}")
