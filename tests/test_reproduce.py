@@ -5,14 +5,32 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import shutil
 import xml.etree.ElementTree as ET
+from html.parser import HTMLParser
 from pathlib import Path
 
 import matplotlib.image as mpimg
+import numpy as np
 import pytest
 
-from rotorcontact.reproduce import _ROWS, paper_parameters, reproduce
+from rotorcontact.branches import orbit_branches
+from rotorcontact.codim2 import codim2_diagram
+from rotorcontact.plotting.branches import EVENT_NAMES
+from rotorcontact.reproduce import (
+    _ROWS,
+    PAPER_VIEWS,
+    WIDE,
+    Reproduction,
+    _fig2,
+    _fig5,
+    _fig6,
+    _fig7,
+    paper_parameters,
+    paper_values,
+    reproduce,
+)
 
 REPORT_KEYS = (
     "nondimensional",
@@ -91,6 +109,173 @@ def test_paper_values_agree_where_the_paper_states_them(reproduction):
 def test_other_parameters_leave_the_paper_column_empty(tmp_path):
     rep = reproduce(tmp_path, paper_parameters().replace(mu=0.2), progress=False)
     assert all(q.paper is None and q.agrees is None for q in rep.quantities)
+    assert json.loads((tmp_path / "report.json").read_text())["paper"] == {}
+
+
+# what the paper states beyond gamma*, gamma_F,1 and the persistence, under the report's keys
+PAPER_STATES = {
+    "B1d_grazing": "0.0636",
+    "B1d_stability.gamma": "0.0834",
+    "B1d_extrema_change": "0.0785",
+    "ac_coalescence": "-0.497",
+    "codim2_fold_dib.gamma": "0.178",
+    "codim2_fold_dib.omega": "0.781",
+}
+
+
+def _resolve(report, key):
+    """The value of a dotted key of the report (an index for lists); KeyError where there is none."""
+    value = report
+    for part in key.split("."):
+        if isinstance(value, list):
+            value = value[int(part)]
+        elif isinstance(value, dict):
+            value = value[part]
+        else:
+            raise KeyError(key)
+    return value
+
+
+def test_report_json_holds_every_stated_value_of_the_paper_under_the_reports_keys(reproduction):
+    out, rep = reproduction
+    report = json.loads((out / "report.json").read_text())
+    stated = report["paper"]
+    assert stated == paper_values()["values"]
+    for key, value in PAPER_STATES.items():
+        assert stated[key] == value, key
+    for key, value in stated.items():
+        assert isinstance(value, str), key
+        assert key.split(".")[0] not in ("paper", "timings", "version"), key
+        ours = _resolve(report, key)  # every key of "paper" is a key of the report
+        assert isinstance(ours, (int, float)), (key, ours)
+    rows = {q.key: q for q in rep.quantities}
+    for key in PAPER_STATES:
+        assert rows[key].paper == PAPER_STATES[key]
+        assert rows[key].agrees, (key, rows[key].ours, rows[key].paper)
+        assert "no value from the paper" not in rows[key].note
+
+
+class _Tables(HTMLParser):
+    """The cells of each row of each table of a page, by table id, as text."""
+
+    def __init__(self):
+        super().__init__()
+        self.tables, self._table, self._row, self._cell = {}, None, None, None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "table":
+            self._table = self.tables.setdefault(dict(attrs).get("id"), [])
+        elif tag == "tr" and self._table is not None:
+            self._row = []
+            self._table.append(self._row)
+        elif tag in ("td", "th") and self._row is not None:
+            self._cell = ""
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th") and self._cell is not None:
+            self._row.append(self._cell)
+            self._cell = None
+        elif tag == "table":
+            self._table = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell += data
+
+
+def test_report_html_shows_the_papers_values_beside_ours(reproduction):
+    out, rep = reproduction
+    report = json.loads((out / "report.json").read_text())
+    parser = _Tables()
+    parser.feed((out / "report.html").read_text())
+    results = {row[1]: row for row in parser.tables["results"] if len(row) == 6 and row[0] != "quantity"}
+    shown = 0
+    for key, value in report["paper"].items():
+        if key in results:
+            _label, _key, paper, ours, agrees, _note = results[key]
+            assert paper == value and ours == f"{_resolve(report, key):.6g}" and agrees == "yes", results[key]
+            shown += 1
+    assert shown == len([k for k in report["paper"] if not k.startswith("parameters.")])
+    params = {row[0]: row for row in parser.tables["parameters"]}
+    for key, value in report["paper"].items():
+        if key.startswith("parameters."):
+            name = key.split(".", 1)[1]
+            assert params[name][1] == value and params[name][2] == f"{report['parameters'][name]:.12g}"
+
+
+def test_report_html_writes_math_labels_with_subscripts(reproduction):
+    out, _rep = reproduction
+    page = (out / "report.html").read_text()
+    text = re.sub(r"data:image/png;base64,[A-Za-z0-9+/=]*", "", page)
+    text = re.sub(r"<code>.*?</code>", "", text)  # report.json keys are shown as they are
+    for raw in ("x_R", "x_P", "γ_F", "γ_DIB", "T_0", "F_1", "e_c"):
+        assert raw not in text, raw
+    assert re.search(r"\bB\d+,[a-d]", text) is None  # orbit labels as B<sub>1,a</sub>
+    for html_label in ("x<sub>R</sub>", "γ<sub>F,1</sub>", "γ<sub>DIB</sub>", "B<sub>1,a</sub>", "B<sub>1,d</sub>"):
+        assert html_label in text, html_label
+
+
+@pytest.fixture(scope="module")
+def paper_run(tmp_path_factory):
+    """The branches and the two-parameter diagram of `reproduce`, to draw its figures again and inspect them."""
+    p = paper_parameters()
+    branches = orbit_branches(p, "gamma", *WIDE)
+    diagram = codim2_diagram(p, ("gamma", "omega"), None, folds=(1,), grazing=())
+    return p, branches, diagram, tmp_path_factory.mktemp("figures")
+
+
+def _legend_texts(ax):
+    legend = ax.get_legend()
+    return [] if legend is None else [t.get_text() for t in legend.texts]
+
+
+def test_figures_5_6b_and_7_are_drawn_at_the_papers_ranges(paper_run):
+    p, branches, diagram, out = paper_run
+    rep = Reproduction(p, True)
+    axes5 = _fig5(p, rep, out, branches).axes
+    assert PAPER_VIEWS["fig5b"][0] == PAPER_VIEWS["fig5d"][0] == (0.0, 0.2)
+    assert axes5[1].get_xlim() == pytest.approx((0.0, 0.2)) and axes5[3].get_xlim() == pytest.approx((0.0, 0.2))
+    axes6 = _fig6(p, rep, out, branches, diagram).axes
+    assert axes6[1].get_xlim() == pytest.approx((0.0, 0.2))
+    assert axes6[1].get_ylim() == pytest.approx((0.5, 3.0))
+    assert axes6[1].get_yscale() == "linear"
+    assert axes6[2].get_xlim() == pytest.approx(WIDE) and axes6[2].get_yscale() == "log"  # the wide view
+    axes7 = _fig7(p, rep, out, branches).axes
+    assert axes7[0].get_xlim() == pytest.approx((0.0, 0.2)) and axes7[0].get_ylim() == pytest.approx((0.96, 1.02))
+    assert axes7[1].get_xlim() == pytest.approx((0.0, 0.2)) and axes7[1].get_ylim() == pytest.approx((-0.2, 1.4))
+    # what the ranges are for: the NSFH, the grazing, the extrema change and the stability change of B1,d in view
+    marks7b = {ln.get_gid(): ln for ln in axes7[1].get_lines() if (ln.get_gid() or "").startswith(("event:", "nsfh"))}
+    assert {"nsfh", "event:grazing", "event:extrema-change"} <= set(marks7b)
+    for ln in marks7b.values():
+        assert 0.0 < ln.get_xdata()[0] < 0.2
+    pd = [ln for ln in axes6[1].get_lines() if ln.get_gid() == "event:period-doubling"]
+    assert pd and all(0.0 < ln.get_xdata()[0] < 0.2 and 0.5 < ln.get_ydata()[0] < 3.0 for ln in pd)
+    # every kind of event marked has its legend entry (in (b) and (c), one legend in the fourth slot)
+    for ax in (axes5[0], axes5[1], axes5[3]):
+        kinds = {ln.get_gid().split(":")[1] for ln in ax.get_lines() if (ln.get_gid() or "").startswith("event:")}
+        assert {"fold", "nsfh"} <= kinds
+        assert {EVENT_NAMES[k] for k in kinds} <= set(_legend_texts(ax))
+    # the two local estimates have an entry each
+    assert sum(text.startswith("local estimate") for text in _legend_texts(axes5[1])) == 2
+    assert {"NSFH", "fold", "period doubling", "grazing"} <= set(_legend_texts(axes6[3]))
+    assert {"grazing", "change in number of extrema"} <= set(_legend_texts(axes7[1]))
+    assert r"$x_R$" in _legend_texts(axes7[0])
+
+
+def test_figure_2c_zooms_on_the_small_orbit(paper_run):
+    p, _branches, _diagram, out = paper_run
+    fig = _fig2(p, Reproduction(p, True), out)
+    corotating = fig.axes[7]  # row (c), middle column
+    (orbit,) = [ln for ln in corotating.get_lines() if ln.get_gid() == "orbit"]
+    x, y = orbit.get_data()
+    extent = max(np.ptp(x), np.ptp(y))
+    lo, hi = corotating.get_xlim()
+    assert extent < 0.01 * (hi - lo)  # too small to see at the scale of the clearance circle
+    (zoom,) = [child for child in corotating.child_axes if child.get_label() == "zoom"]
+    (zx0, zx1), (zy0, zy1) = zoom.get_xlim(), zoom.get_ylim()
+    assert zx0 <= x.min() and x.max() <= zx1 and zy0 <= y.min() and y.max() <= zy1
+    assert extent > 0.5 * (zx1 - zx0)  # it fills the inset
+    assert r"$x_R$" in _legend_texts(corotating)
 
 
 def _browser_paths():

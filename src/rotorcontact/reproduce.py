@@ -9,6 +9,7 @@ from __future__ import annotations
 import base64
 import html
 import math
+import re
 import sys
 import time
 import tomllib
@@ -18,6 +19,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 import matplotlib.pyplot as plt
+from matplotlib.figure import Figure
 import numpy as np
 
 from . import __version__
@@ -35,9 +37,20 @@ from .plotting.f1 import plot_f1, plot_f1_zeros, plot_nsfh_schematic
 from .plotting.trajectory import plot_corotating, plot_inertial, plot_radius
 from .simulate import simulate
 
-__all__ = ["paper_values", "paper_parameters", "Quantity", "Reproduction", "reproduce"]
+__all__ = ["paper_values", "paper_parameters", "Quantity", "Reproduction", "reproduce", "PAPER_VIEWS"]
 
 STABILITY_TYPES = ("branch-point", "period-doubling", "neimark-sacker")
+
+#: The ranges of the paper's panels, (gamma range, y range); None where the y range is fitted to the data.
+PAPER_VIEWS: dict[str, tuple[tuple[float, float], tuple[float, float] | None]] = {
+    "fig5b": ((0.0, 0.2), None),
+    "fig5d": ((0.0, 0.2), None),
+    "fig6b": ((0.0, 0.2), (0.5, 3.0)),
+    "fig7a": ((0.0, 0.2), (0.96, 1.02)),
+    "fig7b": ((0.0, 0.2), (-0.2, 1.4)),
+}
+#: The gamma range of the branches computed, and of the wide views.
+WIDE = (-0.6, 0.25)
 
 
 def paper_values() -> dict[str, Any]:
@@ -153,18 +166,20 @@ def _panel(ax, draw: Callable[[], Any], title: str) -> None:
     ax.set_title(title)
 
 
-def _save(rep: Reproduction, out: Path, fig, name: str, caption: str) -> None:
+def _save(rep: Reproduction, out: Path, fig: Figure, name: str, caption: str) -> Figure:
+    """Write ``fig`` as PNG and SVG, record it in ``rep`` and close it; return it (for inspection)."""
     png, svg = out / f"{name}.png", out / f"{name}.svg"
     fig.savefig(png, dpi=130, bbox_inches="tight")
     fig.savefig(svg, bbox_inches="tight")
     plt.close(fig)
     rep.figures.append((name, caption, png, svg))
+    return fig
 
 
-def _fig2(p: Parameters, rep: Reproduction, out: Path) -> None:
+def _fig2(p: Parameters, rep: Reproduction, out: Path) -> Figure:
     """Three orbits in the inertial frame, the co-rotating frame and r(t)."""
     fig, axes = plt.subplots(3, 3, figsize=(12, 11), gridspec_kw={"width_ratios": [1, 1, 1.5]})
-    cases = [("(a) x_R", 0.3, None), ("(b) B1,d", 0.065, "B1,d"), ("(c) B1,a", 0.1, "B1,a")]
+    cases = [(r"(a) $x_R$", 0.3, None), (r"(b) $B_{1,d}$", 0.065, "B1,d"), (r"(c) $B_{1,a}$", 0.1, "B1,a")]
     for row, (title, gamma, label) in zip(axes, cases):
         q = p.replace(gamma=gamma)
 
@@ -181,7 +196,9 @@ def _fig2(p: Parameters, rep: Reproduction, out: Path) -> None:
 
         try:
             traj = trajectory()
-            draws = [lambda ax: plot_inertial(traj, ax), lambda ax: plot_corotating(traj, ax),
+            # the small orbit B1,a is drawn again in a zoomed inset, as in the paper
+            draws = [lambda ax: plot_inertial(traj, ax),
+                     lambda ax, small=label == "B1,a": plot_corotating(traj, ax, inset=small),
                      lambda ax: plot_radius(traj, ax)]
         except ParameterError as exc:
             message = exc
@@ -194,36 +211,44 @@ def _fig2(p: Parameters, rep: Reproduction, out: Path) -> None:
         for ax, draw, t in zip(row, draws, titles):
             _panel(ax, lambda ax=ax, draw=draw: draw(ax), t)
     fig.tight_layout()
-    _save(rep, out, fig, "fig2_orbits",
-          "Fig. 2. (a) The regular equilibrium x_R at γ = 0.3; (b) the orbit B1,d near grazing at γ = 0.065; "
-          "(c) the small orbit B1,a near the non-smooth fold–Hopf bifurcation at γ = 0.1. Each in the inertial "
-          "frame Z, the co-rotating frame U (clearance circle in grey) and as r(t) over one period.")
+    caption = (
+        "Fig. 2. (a) The regular equilibrium x_R at γ = 0.3; (b) the orbit B1,d near grazing at γ = 0.065; "
+        "(c) the small orbit B1,a near the non-smooth fold–Hopf bifurcation at γ = 0.1. Each in the inertial "
+        "frame Z, the co-rotating frame U (clearance circle in grey; in (c) with an inset zoomed on the small"
+        " orbit) and as r(t) over one period."
+    )
+    return _save(rep, out, fig, "fig2_orbits", caption)
 
 
-def _fig3(p: Parameters, rep: Reproduction, out: Path) -> None:
+def _fig3(p: Parameters, rep: Reproduction, out: Path) -> Figure:
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     _panel(axes[0], lambda: plot_equilibria(p, "gamma", 0.0, 0.2, ax=axes[0]), f"(a) ω = {p.omega:g}")
     _panel(axes[1], lambda: plot_equilibria(p.replace(omega=1.0), "gamma", 0.0, 0.8, ax=axes[1]), "(b) ω = 1")
     fig.tight_layout()
-    _save(rep, out, fig, "fig3_equilibria",
-          "Fig. 3. r of the regular equilibrium x_R and of its partner pseudo-equilibrium against γ, solid where "
-          "admissible and dashed where virtual, with the boundary equilibrium bifurcation marked: (a) a "
-          "non-smooth fold with x_P1 at the reference ω; (b) persistence of x_P2 into x_R at ω = 1.")
+    caption = (
+        "Fig. 3. r of the regular equilibrium x_R and of its partner pseudo-equilibrium against γ, solid "
+        "where admissible and dashed where virtual, with the boundary equilibrium bifurcation marked: (a) a "
+        "non-smooth fold with x_P1 at the reference ω; (b) persistence of x_P2 into x_R at ω = 1."
+    )
+    return _save(rep, out, fig, "fig3_equilibria", caption)
 
 
-def _fig4(p: Parameters, rep: Reproduction, out: Path, g_dib: float | None) -> None:
+def _fig4(p: Parameters, rep: Reproduction, out: Path, g_dib: float | None) -> Figure:
     fig, axes = plt.subplots(2, 2, figsize=(12, 9))
-    _panel(axes[0, 0], lambda: plot_f1(p.replace(gamma=0.1), (0.0, 30.0), ax=axes[0, 0]), "(a) F1(T), γ = 0.1")
-    _panel(axes[0, 1], lambda: plot_f1(p.replace(gamma=0.05), (0.0, 40.0), ax=axes[0, 1]), "(b) F1(T), γ = 0.05")
+    _panel(axes[0, 0], lambda: plot_f1(p.replace(gamma=0.1), (0.0, 30.0), ax=axes[0, 0]), r"(a) $F_1(T)$, γ = 0.1")
+    _panel(axes[0, 1], lambda: plot_f1(p.replace(gamma=0.05), (0.0, 40.0), ax=axes[0, 1]),
+           r"(b) $F_1(T)$, γ = 0.05")
     _panel(axes[1, 0], lambda: plot_f1_zeros(p, "gamma", 0.0, 0.25, t_max=12.0, ax=axes[1, 0]),
-           "(c) zeros of F1 against γ")
+           r"(c) zeros of $F_1$ against γ")
     _panel(axes[1, 1], lambda: plot_nsfh_schematic(p, gamma=None if g_dib is None else g_dib + 0.02, ax=axes[1, 1]),
            "(d) the non-smooth fold–Hopf bifurcation (co-rotating plane)")
     fig.tight_layout()
-    _save(rep, out, fig, "fig4_f1",
-          "Fig. 4. The function F1(T) whose zeros are the periods of one-impact orbits: (a) on [0, 30] at "
-          "γ = 0.1 and (b) on [0, 40] at γ = 0.05; (c) its zeros T0,n,a/b against γ with the smooth folds "
-          "γ_F,1..3 and γ_DIB marked; (d) a sketch of the small orbits born at the boundary equilibrium.")
+    caption = (
+        "Fig. 4. The function F_1(T) whose zeros are the periods of one-impact orbits: (a) on [0, 30] at γ = "
+        "0.1 and (b) on [0, 40] at γ = 0.05; (c) its zeros T_0,n,a and T_0,n,b against γ with the smooth "
+        "folds γ_F,1..3 and γ_DIB marked; (d) a sketch of the small orbits born at the boundary equilibrium."
+    )
+    return _save(rep, out, fig, "fig4_f1", caption)
 
 
 def _local_overlay(p: Parameters) -> Callable[[str, np.ndarray], np.ndarray | None] | None:
@@ -245,11 +270,22 @@ def _local_overlay(p: Parameters) -> Callable[[str, np.ndarray], np.ndarray | No
     return estimate
 
 
-def _autoscale_y(ax, margin: float = 0.08) -> None:
-    """Fit the y-range to the lines inside the current x-range."""
+def _autoscale_y(ax, margin: float = 0.08, select: Callable[[str], bool] | None = None) -> None:
+    """Fit the y-range to the lines inside the current x-range.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    margin : float
+        Space added above and below, as a fraction of the span.
+    select : callable, optional
+        Only the lines whose gid it accepts count (all lines when None).
+    """
     lo, hi = ax.get_xlim()
     ys = []
     for line in ax.get_lines():
+        if select is not None and not select(line.get_gid() or ""):
+            continue
         x, y = (np.asarray(v, dtype=float) for v in line.get_data())
         if x.shape != y.shape or x.size < 2:
             continue
@@ -261,50 +297,86 @@ def _autoscale_y(ax, margin: float = 0.08) -> None:
         ax.set_ylim(y.min() - margin * span, y.max() + margin * span)
 
 
-def _fig5(p: Parameters, rep: Reproduction, out: Path, branches, g_star: float | None) -> None:
-    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
+def _plausible(gid: str) -> bool:
+    """The lines of orbits that are admissible and physically plausible (gid ``"<label>:plausible-..."``)."""
+    return ":plausible-" in gid
+
+
+def _fig5(p: Parameters, rep: Reproduction, out: Path, branches) -> Figure:
+    fig, axes = plt.subplots(2, 2, figsize=(13, 10))
     estimate = _local_overlay(p)
-    zoom = (0.0, 0.2) if g_star is None else (g_star - 0.02, g_star + 0.06)
     local_r = None if estimate is None else (lambda lab, g: estimate(lab, g, "rdot"))
     local_t = None if estimate is None else (lambda lab, g: estimate(lab, g, "thetadot"))
-    _panel(axes[0, 0], lambda: plot_rdot(p, branches=branches, ax=axes[0, 0]), "(a) ṙ⁻ of B1,a..d")
-    _panel(axes[0, 1], lambda: (plot_rdot(p, branches=branches, ax=axes[0, 1], labels=("B1,a", "B1,b"), xlim=zoom,
-                                          local=local_r), _autoscale_y(axes[0, 1])),
-           "(b) B1,a and B1,b near γ* with the local estimate")
-    _panel(axes[1, 0], lambda: plot_thetadot(p, branches=branches, ax=axes[1, 0]), "(c) θ̇⁻ of B1,a..d")
+    (zoom_b, _), (zoom_d, _) = PAPER_VIEWS["fig5b"], PAPER_VIEWS["fig5d"]
+    # the wide views: fitted to the plausible orbits (the virtual ends run to |rdot| = rdot_max), with room
+    # around them for the virtual and implausible parts nearby
+    _panel(axes[0, 0], lambda: (plot_rdot(p, branches=branches, ax=axes[0, 0]),
+                                _autoscale_y(axes[0, 0], 0.5, _plausible)),
+           r"(a) $\dot r^-$ of $B_{1,a}$–$B_{1,d}$")
+    _panel(axes[0, 1], lambda: (plot_rdot(p, branches=branches, ax=axes[0, 1], labels=("B1,a", "B1,b"),
+                                          xlim=zoom_b, local=local_r), _autoscale_y(axes[0, 1])),
+           r"(b) $B_{1,a}$ and $B_{1,b}$ with the local estimate")
+    _panel(axes[1, 0], lambda: (plot_thetadot(p, branches=branches, ax=axes[1, 0]),
+                                _autoscale_y(axes[1, 0], 0.5, _plausible)),
+           r"(c) $\dot\theta^-$ of $B_{1,a}$–$B_{1,d}$")
     _panel(axes[1, 1], lambda: (plot_thetadot(p, branches=branches, ax=axes[1, 1], labels=("B1,a", "B1,b"),
-                                              xlim=zoom, local=local_t), _autoscale_y(axes[1, 1])),
-           "(d) θ̇⁻ of B1,a and B1,b near γ* with the local estimate")
+                                              xlim=zoom_d, local=local_t), _autoscale_y(axes[1, 1])),
+           r"(d) $\dot\theta^-$ of $B_{1,a}$ and $B_{1,b}$ with the local estimate")
     fig.tight_layout()
-    _save(rep, out, fig, "fig5_branches",
-          "Fig. 5. Impact velocities of the one-impact orbits B1,a to B1,d against γ (solid: admissible and "
-          "plausible, thick where stable; dashed: virtual): (a) ṙ⁻ and (c) θ̇⁻ over the whole range including "
-          "negative γ; (b), (d) zoom on B1,a and B1,b at the non-smooth fold–Hopf point γ*, with the "
-          "first-order local estimate of MODEL.md §6 overlaid.")
+    caption = (
+        "Fig. 5. Impact velocities of the one-impact orbits B1,a to B1,d against γ (solid: admissible and "
+        "plausible, thick where stable; dotted: not plausible; dashed: virtual; markers: the events along the"
+        " branches): (a) ṙ⁻ and (c) θ̇⁻ over the whole range including negative γ; (b), (d) B1,a and B1,b for"
+        " γ from 0 to 0.2, through the non-smooth fold–Hopf point γ* and the fold γ_F,1, with the first-order"
+        " local estimate of MODEL.md §6 of each overlaid."
+    )
+    return _save(rep, out, fig, "fig5_branches", caption)
 
 
-def _fig6(p: Parameters, rep: Reproduction, out: Path, branches, diagram) -> None:
+def _fig6(p: Parameters, rep: Reproduction, out: Path, branches, diagram) -> Figure:
+    fig, axes = plt.subplots(2, 2, figsize=(13, 10))
+    (xlim, ylim) = PAPER_VIEWS["fig6b"]
+    _panel(axes[0, 0], lambda: plot_codim2(p, ("gamma", "omega"), ax=axes[0, 0], diagram=diagram),
+           "(a) the (γ, ω) plane")
+    _panel(axes[0, 1], lambda: plot_max_multiplier(p, branches=branches, ax=axes[0, 1], xlim=xlim, ylim=ylim,
+                                                    log=False, legend=False),
+           r"(b) largest |multiplier| of $B_{1,a}$–$B_{1,d}$")
+    _panel(axes[1, 0], lambda: plot_max_multiplier(p, branches=branches, ax=axes[1, 0], xlim=WIDE),
+           "(c) the same over the whole range (log scale)")
+    # one legend for (b) and (c), in the fourth slot: (c) shows every kind of line and event that (b) does
+    axes[1, 1].axis("off")
+    wide = axes[1, 0].get_legend()
+    if wide is not None:
+        axes[1, 1].legend(handles=wide.legend_handles, labels=[t.get_text() for t in wide.texts], loc="center",
+                          fontsize=10, title="(b) and (c)")
+        wide.remove()
+    fig.tight_layout()
+    caption = (
+        "Fig. 6. (a) The (γ, ω) plane: the first smooth-fold curve γ_F,1(ω) and the curve γ_DIB(ω) = √(ρ² − "
+        "(1 − ω²)²), with the regions R1–R4 (grey, \"other\": points fitting none of them) and the labels NSFH,"
+        " NSF and Pers; (b) the largest modulus of the multipliers of B1,a..d against γ from 0 to 0.2 (stable"
+        " below 1), with the events along the branches marked; (c) the same over the whole range computed, "
+        "including negative γ, on a log scale."
+    )
+    return _save(rep, out, fig, "fig6_codim2", caption)
+
+
+def _fig7(p: Parameters, rep: Reproduction, out: Path, branches) -> Figure:
     fig, axes = plt.subplots(1, 2, figsize=(13, 5))
-    _panel(axes[0], lambda: plot_codim2(p, ("gamma", "omega"), ax=axes[0], diagram=diagram), "(a) the (γ, ω) plane")
-    _panel(axes[1], lambda: plot_max_multiplier(p, branches=branches, ax=axes[1]), "(b) largest |multiplier| of B1,a..d")
+    (xa, ya), (xb, yb) = PAPER_VIEWS["fig7a"], PAPER_VIEWS["fig7b"]
+    _panel(axes[0], lambda: plot_extrema(p, branches=branches, ax=axes[0], labels=("B1,a", "B1,b"), regular=True,
+                                         xlim=xa, ylim=ya),
+           r"(a) $B_{1,a}$, $B_{1,b}$ and $x_R$")
+    _panel(axes[1], lambda: plot_extrema(p, branches=branches, ax=axes[1], labels=("B1,c", "B1,d"), regular=False,
+                                         xlim=xb, ylim=yb),
+           r"(b) $B_{1,c}$ and $B_{1,d}$")
     fig.tight_layout()
-    _save(rep, out, fig, "fig6_codim2",
-          "Fig. 6. (a) The (γ, ω) plane: the first smooth-fold curve γ_F,1(ω) and the curve γ_DIB(ω) = "
-          "√(ρ² − (1 − ω²)²), with the regions R1–R4 and the labels NSFH, NSF and Pers; (b) the largest "
-          "modulus of the multipliers of B1,a..d against γ (stable below 1).")
-
-
-def _fig7(p: Parameters, rep: Reproduction, out: Path, branches) -> None:
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5))
-    _panel(axes[0], lambda: plot_extrema(p, branches=branches, ax=axes[0], labels=("B1,a", "B1,b"), regular=True),
-           "(a) B1,a, B1,b and x_R")
-    _panel(axes[1], lambda: plot_extrema(p, branches=branches, ax=axes[1], labels=("B1,c", "B1,d"), regular=False),
-           "(b) B1,c and B1,d")
-    fig.tight_layout()
-    _save(rep, out, fig, "fig7_extrema",
-          "Fig. 7. Local extrema of r(t) between impacts against γ: (a) for B1,a, B1,b and x_R, (b) for B1,c "
-          "and B1,d, with the non-smooth fold–Hopf point, the grazing of B1,d and the change in the number "
-          "of extrema marked.")
+    caption = (
+        "Fig. 7. Local extrema of r(t) between impacts against γ from 0 to 0.2: (a) for B1,a, B1,b and x_R, "
+        "(b) for B1,c and B1,d, with the non-smooth fold–Hopf point, the grazing of B1,d and the change in "
+        "the number of extrema marked."
+    )
+    return _save(rep, out, fig, "fig7_extrema", caption)
 
 
 def _first(events, type_: str, orbit: str | None = None, sign: int = 0):
@@ -327,8 +399,11 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
     """Compute everything behind the paper's Figures 2 to 7 and write the report to ``out``.
 
     Writes each figure as PNG and SVG, ``report.json`` and a self-contained
-    ``report.html``. With ``params`` other than the paper's, the paper column
-    of the table is left empty.
+    ``report.html``. report.json holds our values and, under ``"paper"``, the
+    paper's stated values keyed by the report's own keys (dotted for nested
+    values, an index for lists, e.g. ``"codim2_fold_dib.omega"``,
+    ``"gamma_F.0"``), as the paper writes them. With ``params`` other than the
+    paper's, ``"paper"`` is empty and so is the paper column of the table.
 
     Parameters
     ----------
@@ -338,6 +413,10 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
         Parameters of the run; default `paper_parameters`.
     progress : bool
         Report each stage on stderr.
+
+    Returns
+    -------
+    Reproduction
     """
     paper = paper_parameters()
     p = paper if params is None else params
@@ -350,7 +429,7 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
 
     g_star = stages.run("equilibria", lambda: boundary_gamma(p))
     g_pers = boundary_gamma(p.replace(omega=1.0))
-    branches = stages.run("branches", lambda: orbit_branches(p, "gamma", -0.6, 0.25))
+    branches = stages.run("branches", lambda: orbit_branches(p, "gamma", *WIDE))
     def two_parameter():
         try:
             return codim2_diagram(p, ("gamma", "omega"), None, folds=(1,), grazing=())
@@ -374,7 +453,7 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
     stages.run("figure 2", lambda: _fig2(p, rep, out))
     stages.run("figure 3", lambda: _fig3(p, rep, out))
     stages.run("figure 4", lambda: _fig4(p, rep, out, None if nsfh is None else nsfh.value))
-    stages.run("figure 5", lambda: _fig5(p, rep, out, branches, g_star))
+    stages.run("figure 5", lambda: _fig5(p, rep, out, branches))
     stages.run("figures 6 and 7", lambda: (_fig6(p, rep, out, branches, diagram), _fig7(p, rep, out, branches)))
 
     rep.timings = stages.timings
@@ -393,10 +472,11 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
             "omega": None if fold_dib is None else fold_dib.values[1],
         },
         "persistence_gamma_star": g_pers,
+        "paper": dict(paper_values()["values"]) if is_paper else {},
         "timings": rep.timings,
         "version": __version__,
     }
-    rep.quantities = _quantities(rep.report, paper_values()["values"] if is_paper else {})
+    rep.quantities = _quantities(rep.report, rep.report["paper"])
     t0 = time.perf_counter()
     _write_json(rep, out)
     _write_html(rep, out)
@@ -467,6 +547,19 @@ def _fmt(value: Any) -> str:
     return html.escape(str(value))
 
 
+# subscripts as the plain-text labels write them: x_R, x_P1, γ_F,1, γ_F,1..3, T_0,n,a, e_c, F_1(T), and the
+# orbit labels B1,a, B1,a..d, B1,a/b
+_SUBSCRIPT = re.compile(r"(?<=[A-Za-z\u0370-\u03ff])_([A-Za-z0-9]+(?:(?:,|\.\.)[A-Za-z0-9]+)*)")
+_ORBIT = re.compile(r"\bB([1-9][0-9]*,[a-d](?:(?:\.\.|/)[a-d])?)(?![A-Za-z0-9])")
+
+
+def _html_text(text: str) -> str:
+    """Plain text with its math labels as HTML: ``x_R`` gives x<sub>R</sub>, ``B1,a`` gives B<sub>1,a</sub>."""
+    out = html.escape(text)
+    out = _SUBSCRIPT.sub(r"<sub>\1</sub>", out)
+    return _ORBIT.sub(r"B<sub>\1</sub>", out)
+
+
 def _write_html(rep: Reproduction, out: Path) -> None:
     """One self-contained page: figures inlined as base64 PNG, the table, parameters and version."""
     rows = []
@@ -474,17 +567,21 @@ def _write_html(rep: Reproduction, out: Path) -> None:
         agree = {True: "yes", False: "no", None: "—"}[q.agrees]
         cls = {True: "agree", False: "disagree", None: ""}[q.agrees]
         rows.append(
-            f"<tr class='{cls}'><td>{html.escape(q.label)}</td><td><code>{html.escape(q.key)}</code></td>"
-            f"<td>{_fmt(q.paper)}</td><td>{_fmt(q.ours)}</td><td>{agree}</td><td>{html.escape(q.note)}</td></tr>"
+            f"<tr class='{cls}'><td>{_html_text(q.label)}</td><td><code>{html.escape(q.key)}</code></td>"
+            f"<td>{_fmt(q.paper)}</td><td>{_fmt(q.ours)}</td><td>{agree}</td><td>{_html_text(q.note)}</td></tr>"
         )
     figs = []
     for name, caption, png, svg in rep.figures:
         data = base64.b64encode(png.read_bytes()).decode("ascii")
         figs.append(
             f"<figure id='{name}'><img alt='{html.escape(name)}' src='data:image/png;base64,{data}'>"
-            f"<figcaption>{html.escape(caption)} <a href='{svg.name}'>SVG</a></figcaption></figure>"
+            f"<figcaption>{_html_text(caption)} <a href='{svg.name}'>SVG</a></figcaption></figure>"
         )
-    params = "".join(f"<tr><td>{k}</td><td>{v:.12g}</td></tr>" for k, v in rep.params.as_dict().items())
+    stated = rep.report.get("paper", {})
+    params = "".join(
+        f"<tr><td>{html.escape(k)}</td><td>{_fmt(stated.get(f'parameters.{k}'))}</td><td>{v:.12g}</td></tr>"
+        for k, v in rep.params.as_dict().items()
+    )
     timings = "".join(f"<tr><td>{html.escape(k)}</td><td>{v:.2f} s</td></tr>" for k, v in rep.timings.items())
     source = "the paper's parameters" if rep.paper else "parameters other than the paper's (paper column left empty)"
     page = f"""<!DOCTYPE html>
@@ -508,7 +605,8 @@ figcaption {{ font-size: 0.95em; color: #333; }}
 <h2>Figures</h2>
 {''.join(figs)}
 <h2>Parameters</h2>
-<table id="parameters"><tbody>{params}</tbody></table>
+<table id="parameters"><thead><tr><th>parameter</th><th>paper</th><th>rotorcontact</th></tr></thead>
+<tbody>{params}</tbody></table>
 <h2>Timings</h2>
 <table id="timings"><tbody>{timings}</tbody></table>
 <p>Software: rotorcontact {html.escape(__version__)}.</p>

@@ -15,16 +15,19 @@ from rotorcontact import impactmap as im  # noqa: E402
 from rotorcontact.branches import orbit_branches  # noqa: E402
 from rotorcontact.codim2 import codim2_diagram  # noqa: E402
 from rotorcontact.equilibria import boundary_gamma  # noqa: E402
+from rotorcontact.codim2 import region  # noqa: E402
 from rotorcontact.plotting.branches import (  # noqa: E402
+    BRANCH_COLORS,
+    EVENT_NAMES,
     plot_branch_quantity,
     plot_extrema,
     plot_max_multiplier,
     plot_rdot,
     plot_thetadot,
 )
-from rotorcontact.plotting.codim2 import plot_codim2  # noqa: E402
+from rotorcontact.plotting.codim2 import OTHER, plot_codim2, region_label_cells  # noqa: E402
 from rotorcontact.plotting.f1 import plot_f1, plot_f1_zeros, plot_nsfh_schematic  # noqa: E402
-from rotorcontact.plotting.style import save_figure  # noqa: E402
+from rotorcontact.plotting.style import orbit_tex, save_figure  # noqa: E402
 from rotorcontact.zerocurves import f1_zero_curves  # noqa: E402
 
 REF = Parameters.reference()
@@ -85,6 +88,9 @@ def test_fig4d_schematic_shows_the_boundary_equilibrium_and_small_orbits():
     for ln in orbits:
         r = np.hypot(ln.get_xdata(), ln.get_ydata())
         assert r.max() == pytest.approx(1.0, abs=1e-9) and r.min() < 1.0
+    texts = legend_texts(ax)
+    assert {orbit_tex("B1,a"), orbit_tex("B1,b"), r"$x_R$"} <= set(texts)
+    assert any(t.startswith(r"$x_B$") for t in texts)
 
 
 def test_fig5_rdot_and_thetadot_are_the_branch_data(branches):
@@ -192,3 +198,96 @@ def test_figures_accept_an_axes_and_save(tmp_path, branches):
     assert path.stat().st_size > 0
     with pytest.raises(ParameterError):
         plot_branch_quantity(branches, "nonsense")
+
+
+def legend_texts(ax):
+    legend = ax.get_legend()
+    return [] if legend is None else [t.get_text() for t in legend.texts]
+
+
+def marked_kinds(ax):
+    return {ln.get_gid().split(":", 1)[1] for ln in lines(ax, "event:")}
+
+
+def test_every_kind_of_event_marked_has_a_legend_entry(branches):
+    for draw in (plot_rdot, plot_thetadot, plot_max_multiplier):
+        fig, ax = draw(REF, branches=branches)
+        kinds = marked_kinds(ax)
+        assert {"fold", "nsfh"} <= kinds or draw is plot_max_multiplier
+        assert kinds, draw
+        assert {EVENT_NAMES[k] for k in kinds} <= set(legend_texts(ax)), draw
+        # and no entry for a kind that is not marked
+        assert not ({EVENT_NAMES[k] for k in set(EVENT_NAMES) - kinds} & set(legend_texts(ax)))
+    # only the events inside the view are marked and listed
+    fig, ax = plot_rdot(REF, branches=branches, labels=("B1,a", "B1,b"), xlim=(0.1, 0.25))
+    assert marked_kinds(ax) == {"fold"} and "NSFH" not in legend_texts(ax)
+
+
+def test_markers_follow_the_curves_of_every_quantity(branches):
+    """On the thetadot panel, the marker of an event sits on the drawn curve of its orbit."""
+    fig, ax = plot_thetadot(REF, branches=branches, labels=("B1,d",))
+    drawn = lines(ax, "B1,d:")
+    assert {"fold", "grazing", "period-doubling"} <= marked_kinds(ax)
+    for mark in lines(ax, "event:"):
+        gx, gy = mark.get_xdata()[0], mark.get_ydata()[0]
+        gaps = []
+        for ln in drawn:
+            x, y = (np.asarray(v, dtype=float) for v in ln.get_data())
+            for i in range(len(x) - 1):
+                if min(x[i], x[i + 1]) <= gx <= max(x[i], x[i + 1]):
+                    gaps.append(min(abs(gy - y[i]), abs(gy - y[i + 1])) - abs(y[i + 1] - y[i]))
+        assert gaps and min(gaps) <= 1e-12, mark.get_gid()  # within the segment's own y-range
+
+
+def test_each_local_estimate_has_its_own_legend_entry_in_its_orbits_colour(branches):
+    gs = boundary_gamma(REF)
+    fig, ax = plot_rdot(REF, branches=branches, labels=("B1,a", "B1,b"),
+                        local=lambda label, x: (x - gs) * (0.1 if label == "B1,a" else 0.2))
+    entries = [t for t in legend_texts(ax) if t.startswith("local estimate")]
+    assert entries == [f"local estimate, {orbit_tex('B1,a')}", f"local estimate, {orbit_tex('B1,b')}"]
+    for label in ("B1,a", "B1,b"):
+        (est,) = lines(ax, f"{label}:local")
+        assert est.get_color() == BRANCH_COLORS[label[-1]]
+
+
+def test_fig7_legend_names_the_marks_and_x_R(branches):
+    fig, ax = plot_extrema(REF, branches=branches, labels=("B1,c", "B1,d"), regular=False, xlim=(0.0, 0.2))
+    texts = legend_texts(ax)
+    assert {"grazing", "change in number of extrema"} <= set(texts)
+    assert any(t.startswith("NSFH") for t in texts)
+    fig, ax = plot_extrema(REF, branches=branches, labels=("B1,a", "B1,b"), regular=True, xlim=(0.0, 0.2),
+                           ylim=(0.96, 1.02))
+    assert r"$x_R$" in legend_texts(ax) and orbit_tex("B1,a") in legend_texts(ax)
+    assert ax.get_xlim() == pytest.approx((0.0, 0.2)) and ax.get_ylim() == pytest.approx((0.96, 1.02))
+    # outside the view: no NSFH line and no entry for it
+    fig, ax = plot_extrema(REF, branches=branches, labels=("B1,c", "B1,d"), regular=False, xlim=(0.1, 0.2))
+    assert not lines(ax, "nsfh") and not any(t.startswith("NSFH") for t in legend_texts(ax))
+
+
+def test_region_labels_lie_inside_their_regions_away_from_the_curves():
+    diagram = codim2_diagram(REF, ("gamma", "omega"), ((0.0, 0.5), (0.6, 1.25)))
+    shape = (31, 31)
+    fig, ax = plot_codim2(REF, diagram=diagram, shape=shape)
+    (g0, g1), (w0, w1) = diagram.ranges
+    cell = max((g1 - g0) / (shape[0] - 1), (w1 - w0) / (shape[1] - 1))
+    curves = np.concatenate([ln.get_xydata() for ln in lines(ax, "curve:")])
+    curves = curves[np.all(np.isfinite(curves), axis=1)]
+    labels = [t for t in ax.texts if (t.get_gid() or "").startswith("label:")]
+    names = {t.get_text() for t in labels}
+    assert {"R1", "R2", "R3", "R4", OTHER} <= names  # every region of the box, the points fitting none too
+    for t in labels:
+        x, y = t.get_position()
+        name = t.get_text()
+        assert region(REF.replace(gamma=x, omega=y)) == (None if name == OTHER else name), (name, x, y)
+        # not on a curve: more than a grid cell from each curve, in the plane scaled to the box
+        d = np.hypot((curves[:, 0] - x) / (g1 - g0), (curves[:, 1] - y) / (w1 - w0)).min()
+        assert d * max(g1 - g0, w1 - w0) > cell, (name, x, y, d)
+
+
+def test_region_label_cells_pick_the_deepest_cell_of_each_part():
+    mask = np.zeros((9, 20), dtype=bool)
+    mask[1:8, 1:8] = True  # a 7 x 7 square: its centre
+    mask[2:7, 12:19] = True  # a 5 x 7 block: its centre
+    mask[0, 9:11] = True  # a sliver along the frame: not labelled
+    assert region_label_cells(mask) == [(4, 4), (15, 4)]
+    assert region_label_cells(np.zeros((5, 5), dtype=bool)) == []

@@ -108,3 +108,28 @@ def test_three_panels_with_a_rub_and_the_regime_in_the_title():
     assert "forward-rub" in fig._suptitle.get_text()
     assert len(_spans(axes[2])) == len(traj.contact_intervals) == 1
     plt.close(fig)
+
+
+def test_corotating_panel_names_x_R_and_zooms_on_a_small_orbit():
+    """B1,a at gamma = 0.1 stays within 1e-3 of the clearance: the inset shows it at a scale it fills."""
+    from rotorcontact.impactmap import one_impact_orbits
+    from rotorcontact.plotting.trajectory import plot_corotating
+
+    p = Parameters.reference().replace(gamma=0.1)
+    orbit = next(o for o in one_impact_orbits(p) if o.label == "B1,a")
+    traj = simulate(p, *orbit.initial_condition(), 0.999 * orbit.T)
+    fig, ax = plot_corotating(traj)
+    assert r"$x_R$" in [t.get_text() for t in ax.get_legend().get_texts()]
+    assert not ax.child_axes
+    fig2, ax2 = plt.subplots()
+    assert plot_corotating(traj, ax2, inset=True) == (fig2, ax2)
+    (zoom,) = [child for child in ax2.child_axes if child.get_label() == "zoom"]
+    (orbit_line,) = [ln for ln in zoom.get_lines() if ln.get_gid() == "orbit"]
+    x, y = orbit_line.get_data()
+    (x0, x1), (y0, y1) = zoom.get_xlim(), zoom.get_ylim()
+    assert x0 <= x.min() and x.max() <= x1 and y0 <= y.min() and y.max() <= y1
+    assert max(np.ptp(x), np.ptp(y)) > 0.5 * (x1 - x0)
+    (factor,) = [t for t in zoom.texts if t.get_gid() == "zoom-factor"]
+    main = ax2.get_xlim()
+    assert factor.get_text() == f"×{(main[1] - main[0]) / (x1 - x0):.0f}"
+    plt.close("all")

@@ -17,6 +17,7 @@ branch letter. Every line carries a ``gid`` ``"<label>:<style>"`` with style
 
 from __future__ import annotations
 
+import math
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
@@ -26,7 +27,7 @@ from ..equilibria import boundary_gamma
 from ..errors import ParameterError
 from ..params import Parameters
 from .equilibria import PARAM_LABELS
-from .style import CLEARANCE_COLOR, new_axes
+from .style import CLEARANCE_COLOR, new_axes, orbit_tex
 
 __all__ = [
     "BRANCH_COLORS",
@@ -39,6 +40,8 @@ __all__ = [
     "plot_max_multiplier",
     "plot_extrema",
     "compute_branches",
+    "EVENT_MARKERS",
+    "EVENT_NAMES",
 ]
 
 #: Colour of each branch letter.
@@ -56,6 +59,14 @@ _QUANTITIES = {
     "max_multiplier": (r"$\max|\lambda_i|$", lambda b: b.max_multiplier),
     "r_max_interior": (r"$r_{\max}$", lambda b: b.r_max_interior),
 }
+
+#: Marker of each kind of event along a branch.
+EVENT_MARKERS = {"fold": "o", "nsfh": "s", "period-doubling": "^", "neimark-sacker": "D", "grazing": "v",
+                 "branch-point": "x", "ac-coalescence": "P", "extrema-change": "*"}
+#: Legend text of each kind of event.
+EVENT_NAMES = {"fold": "fold", "nsfh": "NSFH", "period-doubling": "period doubling",
+               "neimark-sacker": "Neimark–Sacker", "grazing": "grazing", "branch-point": "branch point",
+               "ac-coalescence": "a–c coalescence", "extrema-change": "change in number of extrema"}
 
 LocalEstimate = Callable[[str, np.ndarray], "np.ndarray | None"] | Mapping[str, tuple[np.ndarray, np.ndarray]]
 
@@ -127,12 +138,14 @@ def plot_branch_quantity(
     ax : matplotlib.axes.Axes, optional
     xlim, ylim : (float, float), optional
     local : callable or mapping, optional
-        A local estimate to overlay (black, dash-dotted): either a mapping
+        A local estimate to overlay (dash-dotted, in the orbit's colour, with
+        its own legend entry per orbit): either a mapping
         ``label -> (x, y)`` of arrays, or a callable ``local(label, x)``
         returning y at the parameter values x of the branch (or None).
     events : bool
-        Mark the folds (o) and NSFH points (s) of the drawn orbits.
+        Mark the events of the drawn orbits (`EVENT_MARKERS`), each kind with a legend entry.
     legend : bool
+        Add a legend: the orbits, the line styles, each local estimate and each kind of event marked.
 
     Returns
     -------
@@ -145,74 +158,127 @@ def plot_branch_quantity(
     ylabel, getter = _QUANTITIES[quantity]
     fig, ax = new_axes(ax)
     drawn = _check_labels(branches, labels)
+    estimated = []
     for label in drawn:
         b = branches.branch(label)
         color = BRANCH_COLORS.get(label.split(",")[1], "k")
         y = getter(b)
         for sl in b.pieces():
             _draw_styled(ax, label, b.values, y, b, color, sl)
-        if local is not None:
-            _draw_local(ax, label, b, local, quantity)
-    if events:
-        _mark_events(ax, branches, drawn, quantity)
+        if local is not None and _draw_local(ax, label, b, local, color):
+            estimated.append(label)
+    view = xlim or (branches.start, branches.stop)
+    marked = _mark_events(ax, branches, drawn, quantity, view) if events else []
     level = {"rdot": 0.0, "thetadot": 0.0, "max_multiplier": 1.0, "r_max_interior": 1.0}.get(quantity)
     if level is not None:
         ax.axhline(level, color=CLEARANCE_COLOR, lw=0.8, zorder=0)
-    ax.set_xlim(*(xlim or (branches.start, branches.stop)))
+    ax.set_xlim(*view)
     if ylim is not None:
         ax.set_ylim(*ylim)
     ax.set_xlabel(PARAM_LABELS.get(branches.param, branches.param))
     ax.set_ylabel(ylabel)
     if legend:
-        _legend(ax, drawn, local is not None)
+        _legend(ax, drawn, estimated, marked)
     return fig, ax
 
 
-def _draw_local(ax, label: str, b: LabelBranch, local, quantity: str) -> None:
+#: Style of the local estimate of an orbit (in the orbit's colour).
+_LOCAL = dict(ls="-.", lw=1.3, alpha=0.75)
+
+
+def _draw_local(ax, label: str, b: LabelBranch, local, color: str) -> bool:
+    """Draw the local estimate of ``label`` (True when there is one)."""
     if isinstance(local, Mapping):
         if label not in local:
-            return
+            return False
         x, y = (np.asarray(v, dtype=float) for v in local[label])
     elif callable(local):
         x = np.sort(b.values[np.isfinite(b.values)])
         y = local(label, x)
         if y is None:
-            return
+            return False
         y = np.asarray(y, dtype=float)
     else:
         raise ParameterError("local must be a mapping label -> (x, y) or a callable local(label, x)")
-    ax.plot(x, y, color="k", ls="-.", lw=1.0, gid=f"{label}:local")
+    ax.plot(x, y, color=color, gid=f"{label}:local", **_LOCAL)
+    return True
 
 
-def _mark_events(ax, branches: OrbitBranches, labels: Sequence[str], quantity: str) -> None:
-    markers = {"fold": "o", "nsfh": "s", "period-doubling": "^", "neimark-sacker": "D", "grazing": "v",
-               "branch-point": "x", "ac-coalescence": "P"}
+def _at_event(b: LabelBranch, e, y: np.ndarray) -> float | None:
+    """``y`` of the orbit of branch ``b`` at the event ``e``, interpolated along the branch.
+
+    Of the segments of the branch whose parameter values bracket the event's,
+    the one whose impact velocity there is closest to the event's is used (a
+    branch can take the same parameter value more than once, around a fold).
+    """
+    best, out = math.inf, None
+    for sl in b.pieces():
+        v, r, q = b.values[sl], b.rdot[sl], y[sl]
+        for i in range(len(v) - 1):
+            lo, hi = sorted((v[i], v[i + 1]))
+            if not (lo <= e.value <= hi) or not np.all(np.isfinite([r[i], r[i + 1], q[i], q[i + 1]])):
+                continue
+            s = 0.5 if hi == lo else (e.value - v[i]) / (v[i + 1] - v[i])
+            miss = abs(r[i] + s * (r[i + 1] - r[i]) - e.rdot)
+            if miss < best:
+                best, out = miss, float(q[i] + s * (q[i + 1] - q[i]))
+    return out
+
+
+def _in_view(value: float, view: tuple[float, float]) -> bool:
+    lo, hi = sorted(view)
+    return lo <= value <= hi
+
+
+def _mark_events(ax, branches: OrbitBranches, labels: Sequence[str], quantity: str,
+                 view: tuple[float, float]) -> list[str]:
+    """Mark the events of the orbits ``labels`` inside the parameter range ``view`` on the curves of
+    ``quantity``; return the kinds marked."""
+    getter = _QUANTITIES[quantity][1]
+    cache: dict[str, LabelBranch] = {}
+    marked: list[str] = []
     for e in branches.events:
-        if e.type not in markers or not any(lab in labels for lab in e.orbits):
+        orbits = [lab for lab in e.orbits if lab in labels]
+        if e.type not in EVENT_MARKERS or not orbits or not _in_view(e.value, view):
             continue
         if quantity == "rdot":
             y = e.rdot
         elif quantity == "T":
             y = e.T
         else:
+            b = cache.setdefault(orbits[0], branches.branch(orbits[0]))
+            y = _at_event(b, e, getter(b))
+        if y is None or not math.isfinite(y):
             continue
-        ax.plot([e.value], [y], markers[e.type], mfc="none", color="k", ms=6, zorder=5, gid=f"event:{e.type}")
+        ax.plot([e.value], [y], EVENT_MARKERS[e.type], mfc="none", color="k", ms=6, zorder=5,
+                gid=f"event:{e.type}")
+        if e.type not in marked:
+            marked.append(e.type)
+    return marked
 
 
-def _legend(ax, labels: Sequence[str], local: bool) -> None:
+def _event_handles(kinds: Sequence[str]) -> list:
     from matplotlib.lines import Line2D
 
-    handles = [Line2D([], [], color=BRANCH_COLORS.get(lab.split(",")[1], "k"), lw=1.6,
-                      label=rf"$B_{{{lab[1:].split(',')[0]},{lab.split(',')[1]}}}$") for lab in labels]
+    return [Line2D([], [], marker=EVENT_MARKERS[k], mfc="none", color="k", ms=6, ls="none", label=EVENT_NAMES[k])
+            for k in EVENT_MARKERS if k in kinds]
+
+
+def _legend(ax, labels: Sequence[str], estimated: Sequence[str], events: Sequence[str]) -> None:
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=BRANCH_COLORS.get(lab.split(",")[1], "k"), lw=1.6, label=orbit_tex(lab))
+               for lab in labels]
     handles += [
         Line2D([], [], color="0.3", lw=LW_STABLE, label="stable"),
         Line2D([], [], color="0.3", lw=LW_UNSTABLE, label="unstable"),
         Line2D([], [], color="0.3", ls=":", lw=1.4, label="not plausible"),
         Line2D([], [], color="0.3", ls="--", lw=LW_UNSTABLE, label="virtual"),
     ]
-    if local:
-        handles.append(Line2D([], [], color="k", ls="-.", lw=1.0, label="local estimate"))
-    ax.legend(handles=handles, fontsize=7, loc="best")
+    handles += [Line2D([], [], color=BRANCH_COLORS.get(lab.split(",")[1], "k"),
+                       label=f"local estimate, {orbit_tex(lab)}", **_LOCAL) for lab in estimated]
+    handles += _event_handles(events)
+    ax.legend(handles=handles, fontsize=7, loc="best", ncol=2 if len(handles) > 10 else 1)
 
 
 def plot_rdot(
@@ -283,18 +349,40 @@ def plot_max_multiplier(
     xlim: tuple[float, float] | None = None,
     ylim: tuple[float, float] | None = (0.3, 10.0),
     log: bool = True,
+    events: bool = True,
+    legend: bool = True,
 ):
     """max |multiplier| of the admissible orbits against the parameter (paper Fig. 6b).
 
     Virtual orbits have no multipliers and are not drawn. The unit circle is
-    the grey line at 1.
+    the grey line at 1. The paper's view is ``xlim=(0, 0.2)``,
+    ``ylim=(0.5, 3)``, ``log=False``.
+
+    Parameters
+    ----------
+    params : Parameters
+    start, stop : float
+        The parameter range computed (when ``branches`` is not given).
+    param : str
+    labels : sequence of str
+    ax : matplotlib.axes.Axes, optional
+    branches : OrbitBranches, optional
+        Precomputed branches.
+    xlim, ylim : (float, float), optional
+        The view.
+    log : bool
+        A logarithmic axis of |multiplier|.
+    events : bool
+        Mark the events of the drawn orbits (a stability change lies on the line at 1).
+    legend : bool
 
     Returns
     -------
     (fig, ax)
     """
     branches = branches or orbit_branches(params, param, start, stop)
-    fig, ax = plot_branch_quantity(branches, "max_multiplier", labels, ax=ax, xlim=xlim, ylim=None, events=False)
+    fig, ax = plot_branch_quantity(branches, "max_multiplier", labels, ax=ax, xlim=xlim, ylim=None, events=events,
+                                   legend=legend)
     if log:
         ax.set_yscale("log")
     if ylim is not None:
@@ -320,10 +408,30 @@ def plot_extrema(
 
     For each orbit, each interior local maximum (and minimum) of r is drawn
     as a line while the number of extrema stays the same; x_R (r = |k|) is
-    drawn when ``regular``. Vertical lines mark the NSFH (gamma*), triangles
-    the grazing points (r_max = 1) and crosses the points where the number of
-    interior extrema changes. Fig. 7a: ``labels=("B1,a", "B1,b")``,
+    drawn when ``regular``. A dash-dotted vertical line marks the NSFH
+    (gamma*), triangles the grazing points (r_max = 1) and dotted vertical
+    lines the points where the number of interior extrema changes, each kind
+    with a legend entry. Fig. 7a: ``labels=("B1,a", "B1,b")``,
     ``regular=True``; Fig. 7b: ``labels=("B1,c", "B1,d")``, ``regular=False``.
+    The paper's views are ``xlim=(0, 0.2)`` with ``ylim=(0.96, 1.02)`` (7a)
+    and ``ylim=(-0.2, 1.4)`` (7b).
+
+    Parameters
+    ----------
+    params : Parameters
+    start, stop : float
+        The parameter range computed (when ``branches`` is not given).
+    param : str
+    labels : sequence of str
+        Orbits to draw.
+    regular : bool
+        Draw x_R.
+    ax : matplotlib.axes.Axes, optional
+    branches : OrbitBranches, optional
+        Precomputed branches.
+    xlim, ylim : (float, float), optional
+        The view.
+    legend : bool
 
     Returns
     -------
@@ -331,6 +439,7 @@ def plot_extrema(
     """
     branches = branches or orbit_branches(params, param, start, stop)
     fig, ax = new_axes(ax)
+    view = xlim or (branches.start, branches.stop)
     drawn = _check_labels(branches, labels)
     for label in drawn:
         b = branches.branch(label)
@@ -352,27 +461,29 @@ def plot_extrema(
                                 **kw)
                     i0 = i
     if regular:
-        v = np.linspace(*(xlim or (branches.start, branches.stop)), 801)
-        rk = np.array([abs(branches.params_at(x).k) for x in v])
+        v = np.linspace(*view, 801)
+        rk = np.array([_radius_of_x_R(branches.params_at(x)) for x in v])
         adm = rk < 1.0
         for mask, ls, tag in ((adm, "-", "admissible"), (~adm, "--", "virtual")):
             y = np.where(mask, rk, np.nan)
             ax.plot(v, y, color="k", ls=ls, lw=1.2, gid=f"x_R:{tag}")
     ax.axhline(1.0, color=CLEARANCE_COLOR, lw=1.0, zorder=0)
+    marks = {}  # legend entries of the marks drawn, by kind
     if branches.param == "gamma":
         gs = boundary_gamma(branches.base)
-        if gs is not None and branches.start <= gs <= branches.stop:
-            ax.axvline(gs, color="k", lw=0.8, ls="-.", zorder=0, gid="nsfh")
-            ax.annotate("NSFH", (gs, 1.0), textcoords="offset points", xytext=(3, 6), fontsize=8)
+        if gs is not None and branches.start <= gs <= branches.stop and _in_view(gs, view):
+            ax.axvline(gs, **_EXTREMA_MARKS["nsfh"], zorder=0, gid="nsfh")
+            marks["nsfh"] = True
     for e in branches.events:
-        if not any(lab in drawn for lab in e.orbits):
+        if not any(lab in drawn for lab in e.orbits) or not _in_view(e.value, view):
             continue
         if e.type == "grazing":
-            ax.plot([e.value], [1.0], "v", color="k", ms=6, zorder=5, gid="event:grazing")
-            ax.annotate("grazing", (e.value, 1.0), textcoords="offset points", xytext=(3, -12), fontsize=8)
+            ax.plot([e.value], [1.0], **_EXTREMA_MARKS["grazing"], zorder=5, gid="event:grazing")
+            marks["grazing"] = True
         elif e.type == "extrema-change":
-            ax.axvline(e.value, color="0.4", lw=0.7, ls=":", zorder=0, gid="event:extrema-change")
-    ax.set_xlim(*(xlim or (branches.start, branches.stop)))
+            ax.axvline(e.value, **_EXTREMA_MARKS["extrema-change"], zorder=0, gid="event:extrema-change")
+            marks["extrema-change"] = True
+    ax.set_xlim(*view)
     if ylim is not None:
         ax.set_ylim(*ylim)
     ax.set_xlabel(PARAM_LABELS.get(branches.param, branches.param))
@@ -380,8 +491,8 @@ def plot_extrema(
     if legend:
         from matplotlib.lines import Line2D
 
-        handles = [Line2D([], [], color=BRANCH_COLORS.get(lab.split(",")[1], "k"), lw=1.6,
-                          label=rf"$B_{{{lab[1:].split(',')[0]},{lab.split(',')[1]}}}$") for lab in drawn]
+        handles = [Line2D([], [], color=BRANCH_COLORS.get(lab.split(",")[1], "k"), lw=1.6, label=orbit_tex(lab))
+                   for lab in drawn]
         if regular:
             handles.append(Line2D([], [], color="k", lw=1.2, label=r"$x_R$"))
         handles += [
@@ -390,5 +501,25 @@ def plot_extrema(
             Line2D([], [], color="0.3", ls="--", lw=LW_UNSTABLE, label="virtual"),
             Line2D([], [], color="0.3", ls=":", lw=1.4, label="not plausible"),
         ]
+        handles += [Line2D([], [], **_EXTREMA_MARKS[kind], label=_EXTREMA_NAMES[kind])
+                    for kind in _EXTREMA_MARKS if kind in marks]
         ax.legend(handles=handles, fontsize=7, loc="best")
     return fig, ax
+
+
+def _radius_of_x_R(p: Parameters) -> float:
+    """|k|, NaN at the undamped resonance (gamma = 0, omega = 1) where x_R does not exist."""
+    try:
+        return abs(p.k)
+    except ZeroDivisionError:
+        return math.nan
+
+
+#: How `plot_extrema` marks the NSFH (a vertical line at gamma*), the grazing points
+#: (a triangle on r = 1) and the changes in the number of extrema (a vertical line).
+_EXTREMA_MARKS = {
+    "nsfh": dict(color="k", lw=0.8, ls="-."),
+    "grazing": dict(marker="v", color="k", ms=6, ls="none"),
+    "extrema-change": dict(color="0.4", lw=0.9, ls=":"),
+}
+_EXTREMA_NAMES = {"nsfh": r"NSFH ($\gamma^*$)", "grazing": "grazing", "extrema-change": "change in number of extrema"}

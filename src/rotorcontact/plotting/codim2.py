@@ -1,7 +1,8 @@
 """The two-parameter diagram (the paper's Fig. 6a).
 
 The plane (by default (gamma, omega)) is shaded by region R1-R4 (MODEL.md §5,
-from `rotorcontact.codim2.classify_plane`), with the fold curve gamma_F,1, the
+from `rotorcontact.codim2.classify_plane`; grey and "other" where a point fits
+none of them), each part of a region labelled inside it, with the fold curve gamma_F,1, the
 DIB curve gamma_DIB and, optionally, grazing curves drawn over it, and the
 intersection points marked. Along the DIB curve, the part where the one-impact
 orbits of the first pair exist is labelled NSFH (they are born there); where
@@ -24,10 +25,12 @@ from ..params import Parameters
 from .equilibria import PARAM_LABELS
 from .style import new_axes
 
-__all__ = ["plot_codim2", "REGION_COLORS", "CURVE_STYLES"]
+__all__ = ["plot_codim2", "region_label_cells", "REGION_COLORS", "CURVE_STYLES", "OTHER"]
 
+#: The label of the points that fit none of R1-R4 (`rotorcontact.codim2.region` gives None).
+OTHER = "other"
 #: Shading of the regions.
-REGION_COLORS = {"R1": "#dbe9f6", "R2": "#fde2c8", "R3": "#e5f5e0", "R4": "#f2dcef"}
+REGION_COLORS = {"R1": "#dbe9f6", "R2": "#fde2c8", "R3": "#e5f5e0", "R4": "#f2dcef", OTHER: "#ececec"}
 #: Style of each kind of curve.
 CURVE_STYLES = {"fold": dict(color="C0", lw=2.0), "dib": dict(color="k", lw=2.0),
                 "grazing": dict(color="C3", lw=1.5, ls="--")}
@@ -41,6 +44,46 @@ def _curve_label(name: str, kind: str, gamma_axis: bool) -> str:
         return r"$\gamma_{DIB}$" if gamma_axis else "DIB"
     orbit = name.split("_", 1)[1] if "_" in name else name
     return f"grazing {orbit}"
+
+
+def region_label_cells(mask: np.ndarray, min_depth: float = 1.5) -> list[tuple[int, int]]:
+    """Where to label a region of a grid: the cell deepest inside each of its connected parts.
+
+    The depth of a cell is its distance (in cells) to the nearest cell outside
+    the region or outside the grid, so a label placed there lies as far from
+    the region's boundary curves and from the frame as the region allows; of
+    equally deep cells, the one nearest the part's centroid.
+
+    Parameters
+    ----------
+    mask : numpy.ndarray of bool, shape (n2, n1)
+        The cells of the region (rows along the second parameter).
+    min_depth : float
+        Parts whose deepest cell is shallower than this (slivers along a
+        curve) are not labelled.
+
+    Returns
+    -------
+    list of (int, int)
+        ``(i1, i2)``, the column and row of the cell of each part, largest part first.
+    """
+    from scipy import ndimage
+
+    mask = np.asarray(mask, dtype=bool)
+    parts, count = ndimage.label(mask)
+    depth = ndimage.distance_transform_edt(np.pad(mask, 1))[1:-1, 1:-1]
+    out = []
+    for k in range(1, count + 1):
+        jj, ii = np.nonzero(parts == k)
+        d = depth[jj, ii]
+        if d.max() < min_depth:
+            continue
+        # of the deepest cells, the one nearest the part's centroid
+        deepest = np.flatnonzero(d >= d.max() - 1e-9)
+        m = deepest[np.argmin((jj[deepest] - jj.mean()) ** 2 + (ii[deepest] - ii.mean()) ** 2)]
+        out.append((jj.size, int(ii[m]), int(jj[m])))
+    out.sort(key=lambda item: -item[0])
+    return [(i, j) for _size, i, j in out]
 
 
 def _dib_labels(diagram: Codim2Diagram, t_max: float) -> list[tuple[str, float, float]]:
@@ -96,6 +139,9 @@ def plot_codim2(
         Precomputed curves (else `codim2_diagram` with fold_1 and the given grazing curves).
     regions : bool
         Shade and label the regions (a grid of ``shape`` points is classified).
+        Each connected part of a region is labelled at its cell deepest
+        inside it (`region_label_cells`); points fitting none of R1-R4 are
+        shaded grey and labelled `OTHER`.
     shape : (int, int)
         Grid of the region classification.
     grazing : sequence of str
@@ -117,19 +163,16 @@ def plot_codim2(
         from matplotlib.colors import ListedColormap
 
         v1, v2, labels = classify_plane(diagram.base, diagram.params, diagram.ranges, shape, t_max)
-        code = np.full(labels.shape, np.nan)
-        for i, name in enumerate(REGIONS):
-            code[labels == name] = i
-        cmap = ListedColormap([REGION_COLORS[r] for r in REGIONS])
-        ax.pcolormesh(v1, v2, np.ma.masked_invalid(code), cmap=cmap, vmin=-0.5, vmax=len(REGIONS) - 0.5,
+        names = (*REGIONS, OTHER)
+        code = np.zeros(labels.shape)
+        for i, name in enumerate(names):
+            code[labels == (None if name == OTHER else name)] = i
+        cmap = ListedColormap([REGION_COLORS[r] for r in names])
+        ax.pcolormesh(v1, v2, code, cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5,
                       shading="nearest", zorder=0, gid="regions")
-        for i, name in enumerate(REGIONS):
-            jj, ii = np.nonzero(code == i)
-            if jj.size:
-                # label at the cell closest to the region's centroid
-                cj, ci = jj.mean(), ii.mean()
-                m = int(np.argmin((jj - cj) ** 2 + (ii - ci) ** 2))
-                ax.text(v1[ii[m]], v2[jj[m]], name, ha="center", va="center", fontsize=11, weight="bold",
+        for i, name in enumerate(names):
+            for i1, i2 in region_label_cells(code == i):
+                ax.text(v1[i1], v2[i2], name, ha="center", va="center", fontsize=11, weight="bold",
                         color="0.25", gid=f"label:{name}")
     for name, curve in diagram.curves.items():
         style = CURVE_STYLES.get(curve.kind, {})

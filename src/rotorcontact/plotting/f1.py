@@ -24,7 +24,7 @@ from ..impactmap import f1, f1_zeros, one_impact_orbits
 from ..params import Parameters, check_range
 from ..zerocurves import F1ZeroCurves, f1_zero_curves
 from .equilibria import PARAM_LABELS
-from .style import CLEARANCE_COLOR, new_axes
+from .style import CLEARANCE_COLOR, new_axes, orbit_tex
 
 __all__ = ["plot_f1", "plot_f1_zeros", "plot_nsfh_schematic", "PAIR_COLORS"]
 
@@ -241,7 +241,11 @@ def plot_nsfh_schematic(params: Parameters, *, gamma: float | None = None, ax=No
     ax.set_ylabel(r"$\mathrm{Im}\,U$")
     from matplotlib.lines import Line2D
 
-    handles = [Line2D([], [], color=c, lw=lw, label=lab) for lab, (c, lw, _) in styles.items() if lab in orbits]
+    handles = [Line2D([], [], color=c, lw=lw, label=orbit_tex(lab)) for lab, (c, lw, _) in styles.items()
+               if lab in orbits]
+    handles.append(Line2D([], [], color="k", marker="o", ms=5, ls="none", label=r"$x_R$"))
+    handles.append(Line2D([], [], color="k", marker="s", mfc="white", ms=6, ls="none",
+                          label=r"$x_B$ (boundary equilibrium)"))
     handles.append(Line2D([], [], color="k", lw=0.8, ls=":", label=r"$x_R(\gamma)$"))
     handles.append(Line2D([], [], color=CLEARANCE_COLOR, lw=2, label=r"$|U| = 1$"))
     ax.legend(handles=handles, fontsize=8, loc="best")

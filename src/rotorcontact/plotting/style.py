@@ -16,6 +16,24 @@ from ..errors import ParameterError  # noqa: E402
 CLEARANCE_COLOR = "0.6"
 
 
+def orbit_tex(label: str) -> str:
+    """The mathtext of an orbit label: ``"B1,a"`` gives ``"$B_{1,a}$"`` (other labels unchanged).
+
+    Parameters
+    ----------
+    label : str
+        An orbit label ``"B<n>,<m>"``.
+
+    Returns
+    -------
+    str
+    """
+    name, sep, letter = label.partition(",")
+    if not sep or not name.startswith("B") or not name[1:].isdigit():
+        return label
+    return rf"$B_{{{name[1:]},{letter}}}$"
+
+
 def new_axes(ax=None, **subplot_kw):
     """Return (fig, ax), creating a figure when ``ax`` is None."""
     if ax is not None:

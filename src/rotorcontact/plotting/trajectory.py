@@ -43,21 +43,64 @@ def plot_inertial(traj: Trajectory, ax=None, *, t_from: float | None = None, n: 
     return fig, ax
 
 
-def plot_corotating(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000):
-    """Rotor centre U in the co-rotating frame, impacts marked, clearance circle in grey."""
+def _draw_corotating(ax, u: np.ndarray, impacts: np.ndarray, k: complex, lw: float = 0.8) -> None:
+    ax.plot(u.real, u.imag, lw=lw, color="C0", gid="orbit", label="orbit")
+    if impacts.size:
+        ax.plot(impacts.real, impacts.imag, "o", ms=3, color="C3", gid="impacts", label="impacts")
+    ax.plot([k.real], [k.imag], "k+", ms=8, gid="x_R", label=r"$x_R$")
+    draw_clearance(ax)
+
+
+def plot_corotating(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000,
+                    inset: bool = False, legend: bool = True):
+    """Rotor centre U in the co-rotating frame, impacts marked, clearance circle in grey.
+
+    Parameters
+    ----------
+    traj : Trajectory
+    ax : matplotlib.axes.Axes, optional
+    t_from : float, optional
+        Draw from this time on.
+    n : int
+        Number of uniform plot times (impacts and contact phases are added).
+    inset : bool
+        Add an inset zoomed on the orbit (for a small orbit near the
+        clearance, such as B1,a near the NSFH), its frame marked on the main
+        axes and its magnification written in it. The inset is the child axes
+        with label ``"zoom"``.
+    legend : bool
+        A legend of the orbit, the impacts and x_R.
+
+    Returns
+    -------
+    (fig, ax)
+    """
     fig, ax = new_axes(ax)
     t = _times(traj, t_from, n)
     u = traj.U(t)
-    ax.plot(u.real, u.imag, lw=0.8)
     imp = traj.impacts
-    sel = imp.t >= t[0]
-    ax.plot(imp.point.real[sel], imp.point.imag[sel], "o", ms=3, color="C3", label="impacts")
+    hits = imp.point[imp.t >= t[0]]
     k = traj.params.k
-    ax.plot([k.real], [k.imag], "k+", ms=8, label="x_R")
-    draw_clearance(ax)
-    ax.set_xlabel("Re U")
-    ax.set_ylabel("Im U")
+    _draw_corotating(ax, u, hits, k)
+    ax.set_xlabel(r"$\mathrm{Re}\,U$")
+    ax.set_ylabel(r"$\mathrm{Im}\,U$")
     ax.set_title("co-rotating frame")
+    if inset:
+        zoom = ax.inset_axes([0.25, 0.25, 0.5, 0.5], label="zoom")
+        _draw_corotating(zoom, u, hits, k, lw=1.2)
+        x, y = np.concatenate([u.real, hits.real]), np.concatenate([u.imag, hits.imag])
+        cx, cy = 0.5 * (x.min() + x.max()), 0.5 * (y.min() + y.max())
+        half = 0.6 * max(x.max() - x.min(), y.max() - y.min(), 1e-9)
+        zoom.set_xlim(cx - half, cx + half)
+        zoom.set_ylim(cy - half, cy + half)
+        zoom.set_xticks([])
+        zoom.set_yticks([])
+        lo, hi = ax.get_xlim()
+        zoom.text(0.04, 0.96, f"×{(hi - lo) / (2.0 * half):.0f}", transform=zoom.transAxes, ha="left", va="top",
+                  fontsize=7, gid="zoom-factor")
+        ax.indicate_inset_zoom(zoom, edgecolor="0.3")
+    if legend:
+        ax.legend(loc="upper right", fontsize=7, framealpha=0.85)
     return fig, ax
 
 
