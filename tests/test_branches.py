@@ -95,8 +95,14 @@ def test_branches_pass_through_the_smooth_fold(ref_branches):
     labels = curve.labels
     folds = [i for i, kind in curve.event_index if kind == "fold"]
     assert len(folds) == 2
+    # a multiplier +1 at the fold is the fold: no second event point beside it
+    assert not [k for _, k in curve.event_index if k == "plus-one"]
+    events = {i for i, _ in curve.event_index}
     for i in folds:
-        assert {labels[i - 1], labels[i + 1]} in ({"B1,a", "B1,b"}, {"B1,c", "B1,d"})
+        # the nearest regular points on either side, whatever events sit next to the fold
+        before = max(j for j in range(i) if j not in events)
+        after = min(j for j in range(i + 1, len(labels)) if j not in events)
+        assert {labels[before], labels[after]} in ({"B1,a", "B1,b"}, {"B1,c", "B1,d"})
         # the parameter turns back at the fold: it is the largest value nearby
         window = curve.values[max(0, i - 6): i + 7]
         assert curve.values[i] >= window.max() - 1e-14

@@ -63,46 +63,58 @@ def graze_case(request):
     return Parameters(**kw), T, alpha, beta
 
 
-@pytest.mark.parametrize("delta", [1e-8, 1e-10, 1e-12])
-def test_grazing_crossing_is_found(ref, graze_case, delta):
+# Rounding limit of the crossing time: f = |U|^2 - 1 is computed with an error of a few
+# 1e-16, so the root moves by that over f' = 2 rdot (a bound a few times above the error seen).
+F_ROUNDING = 1e-15
+
+
+@pytest.mark.parametrize("beta_scale", [0.9, 1.0, 1.1])
+@pytest.mark.parametrize("delta", [1e-8, 1e-10, 1e-12, 1e-13, 1e-14])
+def test_grazing_crossing_is_found_to_the_rounding_limit(ref, graze_case, delta, beta_scale):
     p, T, alpha, beta = graze_case
-    u0, du0 = grazing_state(ref, p, delta, T, alpha, beta)
+    u0, du0 = grazing_state(ref, p, delta, T, alpha, beta * beta_scale)
+    fl = ref.flight(p, u0, du0)
+    with mp.workdps(ref.DPS):
+        if fl.f(0) >= 0:
+            pytest.skip("the backward flight leaves the clearance: no flight from inside")
     fl, tm, top = excursion(ref, p, u0, du0, T)
     assert abs(tm - T) < 1e-9
-    assert abs(top / delta - 1) < 1e-3  # the construction: max |U| = 1 + delta
+    assert abs(top / delta - 1) < 2e-2  # the construction: max |U| = 1 + delta (to rounding of u0)
     t_hit = ref.mp_first_crossing(fl, T + EXTRA, dt=0.01)
     assert t_hit is not None and t_hit < tm
     with mp.workdps(ref.DPS):
-        t_exit = mp.findroot(fl.f, (tm, 2 * tm - t_hit), solver="anderson")  # the second crossing
-        rdot_hit = fl.fp(t_hit) / 2  # r = 1 there
+        rdot_hit = float(fl.fp(t_hit) / 2)  # r = 1 there
+        half_fpp = float(abs(fl.fpp(t_hit)) / 2)
 
     traj = ref.run(p, u0, du0, T + EXTRA, max_impacts=1, chatter_rdot=1e-300)
     assert len(traj.impacts) == 1, traj.message
     t_sim = traj.impacts.t[0]
-    # The impact belongs to this excursion (found before it ends) ...
-    assert float(t_hit) - 1e-9 <= t_sim <= float(t_exit)
-    assert traj.impacts.rdot[0] > 0
-    if delta >= 1e-10:
-        # ... and, where the crossing is not too ill-conditioned, at the right time:
-        # f' = 2 rdot ~ 2.4e-5 at delta = 1e-10, so a rounding error of 1e-16 in |U|^2
-        # moves the root by ~ 4e-12.
-        assert abs(t_sim - float(t_hit)) < 1e-10, (t_sim, float(t_hit))
-        assert abs(traj.impacts.rdot[0] / float(rdot_hit) - 1) < 1e-4
+    # the crossing to the rounding limit of f: |t - t*| <= eps_f / f' with f' = 2 rdot
+    dt_max = F_ROUNDING / (2.0 * rdot_hit)
+    assert abs(t_sim - float(t_hit)) <= dt_max, (t_sim - float(t_hit), dt_max)
+    # and rdot = f'/2 with the error that this time error carries (rdot' = f''/2 at r = 1)
+    assert abs(traj.impacts.rdot[0] - rdot_hit) <= half_fpp * dt_max + 1e-12 * rdot_hit
 
 
-@pytest.mark.parametrize("delta", [-1e-10, -1e-12])
-def test_tangency_just_below_is_not_an_impact(ref, graze_case, delta):
+@pytest.mark.parametrize("beta_scale", [0.9, 1.0, 1.1])
+@pytest.mark.parametrize("delta", [-1e-10, -1e-12, -1e-14])
+def test_tangency_just_below_is_not_an_impact(ref, graze_case, delta, beta_scale):
+    """The guarantee's other edge: a maximum 1e-14 below the wall is no impact."""
     p, T, alpha, beta = graze_case
-    u0, du0 = grazing_state(ref, p, delta, T, alpha, beta)
+    u0, du0 = grazing_state(ref, p, delta, T, alpha, beta * beta_scale)
+    fl = ref.flight(p, u0, du0)
+    with mp.workdps(ref.DPS):
+        if fl.f(0) >= 0:
+            pytest.skip("the backward flight leaves the clearance: no flight from inside")
     fl, tm, top = excursion(ref, p, u0, du0, T)
-    assert abs(top / delta - 1) < 1e-3 and top < 0
+    assert abs(top / delta - 1) < 2e-2 and top < 0
     # the reference confirms there is no crossing at all up to the end of the run
     assert ref.mp_first_crossing(fl, T + EXTRA, dt=0.01) is None
     traj = ref.run(p, u0, du0, T + EXTRA)
     assert len(traj.impacts) == 0
     assert traj.status == "completed"
-    # dense output passes within 1e-10 of the wall at the tangency
-    assert 1 - 2e-10 < traj.r(float(tm)) < 1
+    # dense output passes within 2|delta| of the wall at the tangency
+    assert 1 + 2 * delta < traj.r(float(tm)) < 1
 
 
 def test_sampling_event_detector_misses_a_crossing_that_simulate_finds(ref):

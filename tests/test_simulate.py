@@ -73,22 +73,22 @@ def test_first_50_impacts_match_solve_ivp(ref, label, kw, u0, du0):
     assert np.max(np.abs(imp.thetadot - rows[:, 3])) < 1e-7
 
 
-def test_bouncing_sequence_matches_mpmath_where_event_integration_drops_impacts(ref):
-    """An undamped rotor that ends up bouncing along the stator: the closed-form
-    simulator follows the 40-digit reference over 45 impacts, the event-driven
-    integration loses impacts once the bounces become shorter than its first step."""
+def test_bouncing_sequence_matches_mpmath(ref):
+    """An undamped rotor that ends up bouncing along the stator, with bounces
+    shrinking geometrically: the closed-form simulator follows the 40-digit
+    reference impact by impact over 45 impacts."""
     p = Parameters(gamma=0.0, omega=0.9, rho=0.6, mu=0.1, d=0.9, phi=1.0, r_ratio=10.0)
     u0, du0 = 0.1 + 0j, 0.5j
     n = 45
     exact = ref.mp_simulate(p, u0, du0, n)
     t_ref = np.array([float(e["t"]) for e in exact])
+    rdot_ref = np.array([float(e["rdot"]) for e in exact])
     traj = ref.run(p, u0, du0, t_ref[-1] + 1e-3, max_impacts=n, impacts_only=True)
     assert len(traj.impacts) == n
     assert np.max(np.abs(traj.impacts.t - t_ref) / t_ref) < 1e-12
-    rows, _ = ref.ivp_simulate(p, u0, du0, n, t_end=t_ref[-1] + 1e-3)
-    m = min(len(rows), n)
-    # the baseline departs from the exact sequence somewhere in the fast bounces
-    assert np.max(np.abs(rows[:m, 0] - t_ref[:m])) > 1e-3
+    # the last bounces are short: the sequence really is a fast one
+    assert np.min(np.diff(t_ref[-5:])) < 0.05
+    assert np.max(np.abs(traj.impacts.rdot - rdot_ref)) < 1e-9
 
 
 # ---------------------------------------------------------------------------
@@ -412,3 +412,13 @@ def test_default_run_through_chatter_stays_inside(ref):
     assert len(traj.impacts) > 0
     t = traj.sample(5000)
     assert np.max(traj.r(t)) <= 1 + 1e-12
+
+
+def test_liftoff_at_rounding_level_does_not_stall():
+    """A lift-off whose flight grazes the stator within rounding at once: the crossing found there
+    never lies before the lift-off point, so time advances and the run finishes in a few events."""
+    p = Parameters(gamma=0.9308174741659798, omega=1.8969756864730352, rho=0.0, mu=0.03203641893996379,
+                   d=0.03203641893996379, phi=-0.2717020802885477, r_ratio=4.559516843896395)
+    traj = simulate(p, 1 + 0j, -0.2717020802885477 + 1.8969756864730352j, 98.61433052120861, max_events=1000)
+    assert traj.status == "completed", traj.message
+    assert any(c.kind == "sliding-forward" for c in traj.contact_intervals)

@@ -134,9 +134,8 @@ def _final_state(impacts, flights, contacts, path, t_stop, gamma, omega, rho, ph
 
     The simulator records the state at the start of every flight (the start of
     the run, after each impact, touch and lift-off) and every contact phase
-    with its path on r = 1. The accumulation phase of a chatter sequence
-    records the mean angular velocity over the phase, from which the velocity
-    at its end follows with the velocity after the last impact.
+    with its path on r = 1; the last row of a phase (an accumulation of
+    impacts included) is the state at its end.
     """
     n_fl = flights.shape[0]
     n_ct = contacts.shape[0]
@@ -150,9 +149,6 @@ def _final_state(impacts, flights, contacts, path, t_stop, gamma, omega, rho, ph
             theta = path[row, 1]
             thetadot = path[row, 2]
             kind = int(contacts[n_ct - 1, 2])
-            n_imp = impacts.shape[0]
-            if kind == ACCUMULATION and n_imp > 0 and impacts[n_imp - 1, 0] == cs:
-                thetadot = 2.0 * thetadot - impacts[n_imp - 1, 5]
             e = complex(math.cos(theta), math.sin(theta))
             du = complex(0.0, thetadot) * e
             # the simulator restarts from u / |u|; remove any outward radial velocity

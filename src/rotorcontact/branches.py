@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .branchevents import BranchAnalyser, branch_event_functions, report_events
+from .branchevents import BranchAnalyser, at_turning_point, branch_event_functions, report_events, turning_points
 from .branchresults import EVENT_TYPES, LabelBranch, OrbitBranches, OrbitCurve, OrbitEvent
 from .continuation import (
     ContinuationResult,
@@ -155,8 +155,10 @@ def _insert_events(result: ContinuationResult, weights: np.ndarray) -> tuple[lis
     pts = [p for p in result.points]
     kinds: list[str | None] = [None] * len(pts)
     extra: dict[int, list[tuple[float, np.ndarray, str]]] = {}
+    turning = turning_points(result.events)
     for e in result.events:
-        if e.terminal:
+        if e.terminal or (e.name == "plus-one" and at_turning_point(e.y, turning)):
+            # a multiplier +1 at a fold or coalescence is that point, not another one
             continue
         base = result.points[e.index]
         dist = float(np.linalg.norm(weights * (e.y - base)))

@@ -34,7 +34,8 @@ from .impactmap import IDEAL, flight_extrema, impact_map_jacobian
 from .orbitsystem import OneImpactSystem, label_of, orbit_angles, regularised_residual
 from .branchresults import OrbitEvent
 
-__all__ = ["BranchAnalyser", "branch_event_functions", "classify_event", "report_events"]
+__all__ = ["BranchAnalyser", "at_turning_point", "branch_event_functions", "classify_event", "report_events",
+           "turning_points"]
 
 # How close a multiplier must be to +-1 or to the unit circle at a located test-function zero.
 _MULTIPLIER_TOL = 1e-6
@@ -212,12 +213,23 @@ def classify_event(e: LocatedEvent, an: BranchAnalyser, system: OneImpactSystem)
     return None
 
 
+def turning_points(raw: list[LocatedEvent]) -> list[np.ndarray]:
+    """The located folds and coalescences among ``raw``: where the branch turns in the parameter."""
+    return [e.y for e in raw if e.name in ("fold", "ac-coalescence") and e.continuous]
+
+
+def at_turning_point(y: np.ndarray, turning: list[np.ndarray]) -> bool:
+    """Whether the point y = (T, rdot, lambda) is one of the turning points (relative distance 1e-6).
+
+    A multiplier +1 located there is the fold itself, not a separate branch point.
+    """
+    return any(np.linalg.norm((y - t) / np.array([1.0 + abs(t[0]), 1.0 + abs(t[1]), 1.0])) < 1e-6
+               for t in turning)
+
+
 def report_events(raw: list[LocatedEvent], an: BranchAnalyser, system: OneImpactSystem) -> tuple[OrbitEvent, ...]:
     """The reported events (typed, labelled, sorted by value, without duplicates) from the located ones."""
-    turning = []
-    for e in raw:
-        if e.name in ("fold", "ac-coalescence") and e.continuous:
-            turning.append(e.y)
+    turning = turning_points(raw)
     out: list[OrbitEvent] = []
     for e in raw:
         kind = classify_event(e, an, system)
@@ -227,11 +239,8 @@ def report_events(raw: list[LocatedEvent], an: BranchAnalyser, system: OneImpact
         if typ in ("grazing", "extrema-change", "branch-point", "period-doubling", "neimark-sacker"):
             if not an.virtual and not (e.y[1] > 0.0):
                 continue
-        if typ == "branch-point":
-            # +1 at a fold or a coalescence is that fold itself
-            if any(np.linalg.norm((e.y - y) / np.array([1.0 + abs(y[0]), 1.0 + abs(y[1]), 1.0])) < 1e-6
-                   for y in turning):
-                continue
+        if typ == "branch-point" and at_turning_point(e.y, turning):
+            continue
         labels = set()
         for yy in (e.y_before, e.y_after):
             p = system.params_at(yy[2])

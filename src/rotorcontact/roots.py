@@ -286,6 +286,44 @@ def _surface(k, w0, dw0, s, gamma, omega):
 
 
 @njit(cache=True)
+def _nearest_root(f: float, fp: float, fpp: float) -> float:
+    """The root of f + fp h + fpp h^2 / 2 nearest to h = 0, for fp > 0 (nan if it has none)."""
+    disc = fp * fp - 2.0 * fpp * f
+    if disc < 0.0:
+        return math.nan
+    return -2.0 * f / (fp + math.sqrt(disc))
+
+
+@njit(cache=True)
+def _polish(k, w0, dw0, s, f, fp, fpp, gamma, omega):
+    """The crossing near s, where f is within rounding of 0 and f' > 0, to the rounding limit of f.
+
+    Iterates on the quadratic Taylor model of f (its nearest root), which
+    converges cubically at a transversal crossing and stays accurate at a
+    graze, where f' is small and Newton's linear model is not. Returns -1 when
+    the model has no root: the maximum of f stays below 0 by more than its
+    rounding error (a tangency, not an impact). The safe steps have shown
+    that no crossing lies before s, so a model root behind s (rounding) is
+    taken as s itself.
+    """
+    s_safe = s
+    for _ in range(8):
+        h = _nearest_root(f, fp, fpp)
+        if h != h:
+            return -1.0
+        s_new = max(s + h, s_safe)
+        if s_new == s:
+            break
+        s = s_new
+        _z, _dz, _w, _dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
+        if fp <= 0.0:
+            return -1.0
+        if abs(h) <= 4.0 * EPS * (1.0 + s):
+            break
+    return s
+
+
+@njit(cache=True)
 def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: float,
                   horizon: float, on_boundary: bool, liftoff: bool = False) -> tuple[int, float]:
     """First time s in (0, horizon] where |k + V(s)| reaches 1 while increasing.
@@ -346,23 +384,18 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
             return NO_CROSSING, horizon
         elif f >= -ftol:
             if fp > 0.0:
-                # converged onto a transversal crossing from below: polish by Newton
-                for _p in range(2):
-                    step = f / fp
-                    if abs(step) > 1e-9 * (1.0 + s):
-                        break
-                    s -= step
-                    z, dz, w, dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
-                    if fp <= 0.0:
-                        break
-                return CROSSING, s
-            # tangency at rounding level, not moving outward: walk past it
+                root = _polish(k, w0, dw0, s, f, fp, fpp, gamma, omega)
+                if root >= 0.0:
+                    return CROSSING, root
+            # a tangency within rounding of the wall that does not reach it: walk past
             f = -ftol
         h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon - s, window)
         if s + h == s:
-            # the step is below the resolution of s: we are on the crossing
+            # the step is below the resolution of s: a crossing here, or a tangency to walk past
             if fp > 0.0:
-                return CROSSING, s
+                root = _polish(k, w0, dw0, s, f, fp, fpp, gamma, omega)
+                if root >= 0.0:
+                    return CROSSING, root
             h = 4.0 * EPS * abs(s)
         if s + h >= horizon:
             return NO_CROSSING, horizon

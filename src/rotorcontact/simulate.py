@@ -52,6 +52,10 @@ RDOT_MIN = 1e-13  # normal velocities below this (relative) are touches, not imp
 MAX_STALLS = 50
 NO_MODE = -1
 K_MAX = 1e3  # largest |k| (in clearances) for which the closed form keeps its accuracy
+# the error estimate of the tail is used where successive impact velocities shrink by d to within
+# RATIO_TOL (1 - d): the sequence is in its asymptotic regime
+RATIO_TOL = 0.1
+MAX_RESOLVED = 1e4  # micro-bouncing that needs more impacts than this to accumulate is switched by chatter_dt
 
 NO_FAILURE = 0
 ROOT_LIMIT = 1
@@ -78,7 +82,7 @@ def _push_state(table, n, t, u, du):
 
 @njit(cache=True)
 def _push_linear_phase(contacts, n_ct, path, n_path, kind, t0, t1, theta0, thetadot):
-    """Record a phase on r = 1 where theta moves linearly (rolling, or an accumulation of impacts)."""
+    """Record a phase on r = 1 where theta moves linearly (rolling)."""
     p_start = n_path
     path, n_path = push_row(path, n_path, np.array([t0, theta0, thetadot, 0.0]))
     path, n_path = push_row(path, n_path, np.array([t1, theta0 + thetadot * (t1 - t0), thetadot, 0.0]))
@@ -87,8 +91,31 @@ def _push_linear_phase(contacts, n_ct, path, n_path, kind, t0, t1, theta0, theta
 
 
 @njit(cache=True)
-def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_rdot,
-                    chatter_height, chatter_dt, stop_on_chatter):
+def _first_order_tail(t, theta, rd, tdp, n_force, t_cap, gamma, rho, mu, d, phi, r_ratio):
+    """The accumulation point predicted from one impact to first order in its velocity rd.
+
+    Bounces of a rotor pressed outwards with force N last 2 d^j rd / N, so they
+    end after tau = 2 d rd / (N (1 - d)); over it the tangential motion takes
+    the smooth force F tau and the friction impulses mu (1 + d) rd d / (1 - d),
+    bounded so that v_rel does not reverse (docs/contact.md). The tail is cut
+    at t_cap. Returns (t_acc, theta_acc, thetadot_acc), each off by O(rd^2).
+    """
+    if d < 1.0:
+        t_tail = 2.0 * d * rd / (n_force * (1.0 - d))
+        p_tail = mu * (1.0 + d) * rd * d / (1.0 - d)
+    else:
+        t_tail = 0.0
+        p_tail = 0.0
+    tau = min(t_tail, max(t_cap - t, 0.0))
+    vrel_p = r_ratio + 1.0 + tdp
+    f_t = free_tangential(theta, tdp, gamma, rho, phi)
+    td_acc = tdp + f_t * tau - math.copysign(min(p_tail, abs(vrel_p)), vrel_p)
+    return t + tau, theta + 0.5 * (tdp + td_acc) * tau, td_acc
+
+
+@njit(cache=True)
+def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol,
+                    chatter_rdot, chatter_height, chatter_dt, stop_on_chatter):
     """Run the rotor from (u0, du0) at t = 0 to t_end through flights, impacts and contact.
 
     Returns
@@ -129,6 +156,9 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
     events = 0
     stalls = 0
     short_before = False
+    chain = False  # the previous event was an impact of an accumulating sequence (N > 0)
+    prev_rd = 0.0
+    prev_acc = np.zeros(3)
     next_mode = NO_MODE
     while True:
         events += 1
@@ -163,6 +193,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             t = t + tau
             if polar_velocity(ui, dv)[0] <= RDOT_MIN * (1.0 + abs(dv)):
                 # a touch at rounding level with no normal velocity: no impulse, flight goes on
+                chain = False
                 u = ui
                 du = dv
                 on_boundary = True
@@ -190,33 +221,51 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             du = du_plus
             on_boundary = True
             flights, n_fl = _push_state(flights, n_fl, t, u, du)
-            bounce = 2.0 * d * rd / n_force if n_force > 0.0 else math.inf
+            if n_force <= 0.0:
+                chain = False
+                short_before = False
+                continue
+            # Impacts accumulate (docs/contact.md): the first-order tail from this impact, A_n, is
+            # off by c rd^2 + O(rd^3); with the ratio q of successive impact velocities,
+            # E = (A_n - A_{n-1}) q^2 / (1 - q^2) estimates that error and A_n + E is off by O(rd^3).
+            t_a, th_a, td_a = _first_order_tail(t, theta, rd, tdp, n_force, math.inf, gamma, rho, mu, d,
+                                                phi, r_ratio)
+            ratio = rd / prev_rd if chain else math.inf
+            estimate = math.inf
+            e_t = e_th = e_td = 0.0
+            if d < 1.0 and 0.0 < ratio < 1.0 and abs(ratio - d) <= RATIO_TOL * (1.0 - d):
+                w = ratio * ratio / (1.0 - ratio * ratio)
+                e_t = (t_a - prev_acc[0]) * w
+                e_th = wrap_angle(th_a - prev_acc[1]) * w
+                e_td = (td_a - prev_acc[2]) * w
+                estimate = max(abs(e_t), abs(e_th), abs(e_td)) * rd
+            bounce = 2.0 * d * rd / n_force
             short = bounce < chatter_dt and short_before
             short_before = bounce < chatter_dt
-            if n_force > 0.0 and (rd < chatter_rdot or rdp * rdp < 2.0 * chatter_height * n_force or short):
-                # Impacts accumulate (MODEL.md §3): bounces of a rotor pressed outwards with
-                # force N last 2 d^j rdot / N, so they end after the geometric series
-                # tau = 2 d rdot / (N (1 - d)); over it the tangential motion takes the smooth
-                # force F tau and the friction impulses mu (1 + d) rdot d / (1 - d).
-                if d < 1.0:
-                    t_tail = 2.0 * d * rd / (n_force * (1.0 - d))
-                    p_tail = mu * (1.0 + d) * rd * d / (1.0 - d)
+            # micro-bouncing that does not contract towards chatter_rdot within MAX_RESOLVED impacts
+            # (elastic impacts, d = 1, never accumulate by themselves)
+            slow = chain and (ratio >= 1.0 or math.log(chatter_rdot / rd) < MAX_RESOLVED * math.log(ratio))
+            converged = estimate <= chatter_tol
+            if converged or rd < chatter_rdot or rdp * rdp < 2.0 * chatter_height * n_force or (short and slow):
+                # the corrected tail where the sequence has converged onto it, else the first order
+                # (as in the linearisation of `lyapunov.accumulation_saltation`)
+                if converged and t <= t_a + e_t <= t_end:
+                    t_acc, theta_acc, td_acc = t_a + e_t, th_a + e_th, td_a + e_td
                 else:
-                    t_tail = 0.0
-                    p_tail = 0.0
-                t_acc = min(t + t_tail, t_end)
-                tau_acc = t_acc - t
-                vrel_p = r_ratio + 1.0 + tdp
-                f_t = free_tangential(theta, tdp, gamma, rho, phi)
-                td_acc = tdp + f_t * tau_acc - math.copysign(min(p_tail, abs(vrel_p)), vrel_p)
-                td_mean = 0.5 * (tdp + td_acc)
-                if tau_acc > 0.0:
-                    contacts, n_ct, path, n_path = _push_linear_phase(
-                        contacts, n_ct, path, n_path, ACCUMULATION, t, t_acc, theta, td_mean
+                    t_acc, theta_acc, td_acc = _first_order_tail(t, theta, rd, tdp, n_force, t_end, gamma, rho,
+                                                                 mu, d, phi, r_ratio)
+                if t_acc > t:
+                    # the phase holds the states at its two ends (dense output interpolates between them)
+                    p_start = n_path
+                    path, n_path = push_row(path, n_path, np.array([t, theta, tdp, 0.0]))
+                    path, n_path = push_row(path, n_path, np.array([t_acc, theta_acc, td_acc, 0.0]))
+                    contacts, n_ct = push_row(
+                        contacts, n_ct, np.array([t, t_acc, float(ACCUMULATION), float(p_start), float(n_path - 1)])
                     )
-                theta_c = theta + td_mean * tau_acc
+                theta_c = theta_acc
                 thetadot_c = td_acc
                 t = t_acc
+                chain = False
                 if stop_on_chatter:
                     status = CHATTER
                     break
@@ -224,6 +273,12 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                     break
                 in_contact = True
                 next_mode = NO_MODE
+                continue
+            chain = True
+            prev_rd = rd
+            prev_acc[0] = t_a
+            prev_acc[1] = th_a
+            prev_acc[2] = td_a
             continue
         # continuous contact from (theta_c, thetadot_c) at t
         if next_mode != NO_MODE:
@@ -277,6 +332,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             on_boundary = True
             liftoff = True
             short_before = False
+            chain = False
             flights, n_fl = _push_state(flights, n_fl, t, u, du)
     t_stop = t_end if status == COMPLETED else min(t, t_end)
     return (impacts[:n_imp].copy(), flights[:n_fl].copy(), contacts[:n_ct].copy(), path[:n_path].copy(),
@@ -303,8 +359,9 @@ def simulate(
     *,
     on_chatter: str = "contact",
     max_events: int = 10_000_000,
+    chatter_tol: float = 1e-11,
     chatter_rdot: float = 1e-5,
-    chatter_height: float = 1e-9,
+    chatter_height: float = 0.0,
     chatter_dt: float = 1e-3,
     machine: Machine | None = None,
 ) -> Trajectory:
@@ -329,17 +386,21 @@ def simulate(
     max_events : int
         Stop with status ``"max-events"`` after this many flights and contact
         phases; it bounds the run time whatever the dynamics.
-    chatter_rdot, chatter_height, chatter_dt : float
-        With the rotor pressed outwards (N > 0), impacts are taken to
-        accumulate when the impact velocity falls below ``chatter_rdot``, when
-        the next bounce, of height (d rdot)^2 / (2 N), is lower than
-        ``chatter_height``, or when two bounces in a row last less than
-        ``chatter_dt`` (2 d rdot / N): sustained micro-bouncing, which with
-        d = 1 never accumulates by itself; the switch then neglects the bounce
-        energy (d rdot)^2 / 2. ``chatter_dt = 0`` resolves every bounce.
-        The switch to contact is made at the accumulation point, the sum of
-        the geometric series of the intervals. The rotor then stays within
-        about rdot^2 / (2 N) of the stator, which bounds the error of the switch.
+    chatter_tol, chatter_rdot, chatter_height, chatter_dt : float
+        With the rotor pressed outwards (N > 0) and d < 1, impacts accumulate
+        geometrically. The simulator follows them one by one and switches to
+        contact at the accumulation point, predicted from the last impact by a
+        tail that is corrected to second order in the impact velocity from the
+        last two impacts (docs/contact.md). It switches when the estimated
+        error of that tail is below ``chatter_tol`` (default 1e-11), when the
+        impact velocity falls below ``chatter_rdot`` (1e-5; below about 1e-7
+        the crossing times of double precision are too coarse to resolve the
+        bounces), or when the next bounce, of height (d rdot)^2 / (2 N), is
+        lower than ``chatter_height`` (0: off). Sustained micro-bouncing that
+        does not contract (d = 1, or needing more than 10^4 impacts to reach
+        ``chatter_rdot``) is switched when two bounces in a row last less than
+        ``chatter_dt`` (2 d rdot / N); the switch then neglects the bounce
+        energy (d rdot)^2 / 2. ``chatter_dt = 0`` resolves every such bounce.
     machine : Machine, optional
         The machine the parameters come from, for results in SI units.
 
@@ -362,6 +423,7 @@ def simulate(
         raise ParameterError(f"on_chatter = {on_chatter!r} is invalid; allowed: 'contact', 'stop'")
     if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) or max_events < 1:
         raise ParameterError(f"max_events = {max_events!r} is invalid; allowed: an integer >= 1")
+    chatter_tol = check_range("chatter_tol", chatter_tol, low=0.0)
     chatter_rdot = check_range("chatter_rdot", chatter_rdot, low=0.0, low_open=True)
     chatter_height = check_range("chatter_height", chatter_height, low=0.0)
     chatter_dt = check_range("chatter_dt", chatter_dt, low=0.0)
@@ -375,8 +437,8 @@ def simulate(
         )
     p = params
     impacts, flights, contacts, path, status, reason, t_stop = simulate_kernel(
-        p.gamma, p.omega, p.rho, p.mu, p.d, p.phi, p.r_ratio, u0, du0, t_end, int(max_events), chatter_rdot,
-        chatter_height, chatter_dt, on_chatter == "stop",
+        p.gamma, p.omega, p.rho, p.mu, p.d, p.phi, p.r_ratio, u0, du0, t_end, int(max_events), chatter_tol,
+        chatter_rdot, chatter_height, chatter_dt, on_chatter == "stop",
     )
     return Trajectory(
         params=params,

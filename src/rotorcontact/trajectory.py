@@ -202,10 +202,11 @@ class Trajectory:
         out = []
         for c in self.contacts:
             rows = self.path[int(c[3]) : int(c[4]) + 1]
-            if int(c[2]) in (ROLLING, ACCUMULATION) or rows.shape[0] < 2:
+            if int(c[2]) == ROLLING or rows.shape[0] < 2:
                 out.append(None)
                 continue
-            # quintic Hermite through theta, thetadot, thetadot' at the integrator's steps
+            # quintic Hermite through theta, thetadot, thetadot' at the integrator's steps (at the two
+            # ends of an accumulation of impacts, whose bounces it smooths over)
             t, keep = np.unique(rows[:, 0], return_index=True)
             out.append(BPoly.from_derivatives(t, rows[keep, 1:4]) if t.size >= 2 else None)
         return out
