@@ -390,3 +390,19 @@ def reference_params():
     from rotorcontact import Parameters
 
     return Parameters.reference()
+
+
+@pytest.fixture(scope="session", autouse=True)
+def compiled_kernels():
+    """Compile the simulator's and the batch kernels once, before any test.
+
+    numba caches them on disk, so the CLI tests' subprocesses and the study
+    workers load them instead of compiling inside their own time limits.
+    """
+    from rotorcontact import Parameters, simulate
+    from rotorcontact.batch import simulate_batch
+
+    p = Parameters.reference()
+    simulate(p, 0j, 0j, 10.0)
+    simulate_batch(p, np.array([0j, 0.1 + 0j]), 0j, n_transient=2, n_record=2)
+    simulate_batch(p, np.array([0j, 0.1 + 0j]), 0j, n_transient=2, n_record=2, parallel=False)
