@@ -164,3 +164,21 @@ def test_kick_directions_are_measured_from_the_radial():
     tangential = du0[1, 0] / (k / abs(k))
     assert abs(radial - 0.5) < 1e-15 and abs(tangential - 0.5j) < 1e-15
     assert np.all(u0 == k) and inside.all()
+
+
+def test_a_finished_basin_is_read_back_and_an_interrupted_one_resumes_with_its_chunk_size(tmp_path):
+    p = REF.replace(gamma=0.1)
+    grid = displacement_grid((-0.5, 0.5, 3), (-0.5, 0.5, 3))
+    kw = dict(n_transient=40, n_record=5, progress=False, out=tmp_path / "b.nc")
+    first = basins(p, grid, chunk_size=4, keep_chunks=True, **kw)
+    again = basins(p, grid, chunk_size=4, **kw)
+    assert again.reused_file and again.chunks_computed == 0 and again.chunks_reused == 3
+    assert again.fractions == first.fractions and again.classes == first.classes
+    assert np.array_equal(again.image, first.image) and again.impacts_simulated == first.impacts_simulated
+    # chunks kept from an interrupted run are resumed as they were cut, whatever --chunk-size says now
+    (tmp_path / "b.nc").unlink()
+    (tmp_path / "b.nc.chunks" / "basin-000002.npz").unlink()
+    resumed = basins(p, grid, chunk_size=2, **kw)
+    assert not resumed.reused_file and resumed.chunks_reused == 2 and resumed.chunks_computed == 1
+    assert int(resumed.dataset.attrs["chunk_size"]) == 4
+    assert np.array_equal(resumed.image, first.image)

@@ -308,3 +308,33 @@ def test_missing_file_and_directory(tmp_path):
 def test_from_mapping_rejects_non_tables():
     with pytest.raises(ParameterError):
         Machine.from_mapping([1, 2, 3])
+
+
+def test_a_folder_given_as_machine_file_is_called_a_folder(tmp_path):
+    with pytest.raises(ParameterError, match="is a folder, not a file") as exc:
+        load_machine(tmp_path)
+    assert "no such file" not in str(exc.value)
+
+
+@pytest.mark.parametrize("name", sorted(PARAMS))
+@pytest.mark.parametrize("flag", [True, False])
+def test_bools_are_refused_for_float_parameters(name, flag):
+    with pytest.raises(ParameterError, match=rf"{name} = {flag} is a bool, not a number"):
+        Parameters(**{**PARAMS, name: flag})
+
+
+def test_bools_are_refused_for_machine_values():
+    with pytest.raises(ParameterError, match="mass = True is a bool"):
+        Machine(**{**RIG, "mass": True})
+
+
+def test_machine_takes_strings_with_units_as_machine_files_do(tmp_path):
+    m = Machine(**{**RIG, "speed": "12000 rpm", "clearance": "0.7 mm", "damping": "1.4 kN*s/m"})
+    assert m.speed == pytest.approx(12000 * 2 * math.pi / 60, rel=1e-14)
+    assert m.clearance == pytest.approx(0.7e-3, rel=1e-14) and m.damping == pytest.approx(1400.0, rel=1e-14)
+    path = write(tmp_path, TOML_RIG.replace("speed = 184.2", 'speed = "12000 rpm"'))
+    assert load_machine(path) == Machine(**{**RIG, "speed": "12000 rpm"})
+    with pytest.raises(ParameterError, match="speed = '12000 bananas'.*unknown unit"):
+        Machine(**{**RIG, "speed": "12000 bananas"})
+    with pytest.raises(ParameterError, match="speed = '3 m'.*rad/s"):
+        Machine(**{**RIG, "speed": "3 m"})

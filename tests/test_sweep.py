@@ -191,13 +191,61 @@ def test_resume_reports_reused_chunks_and_refuses_a_different_study(tmp_path):
     kw = dict(mode="up", n_transient=50, n_record=5, chunk_size=1, progress=False, out=out, keep_chunks=True)
     first = sweep(REF, "gamma", values, **kw)
     assert first.chunks_computed == 4 and first.chunks_reused == 0
+    out.unlink()  # the chunk files are kept: a second run assembles them again
     again = sweep(REF, "gamma", values, **kw)
-    assert again.chunks_computed == 0 and again.chunks_reused == 4
+    assert again.chunks_computed == 0 and again.chunks_reused == 4 and not again.reused_file
     _assert_bitwise(first.dataset, again.dataset)
     with pytest.raises(ParameterError, match="different study"):
         sweep(REF, "gamma", values, **{**kw, "n_record": 6})
     fresh = sweep(REF, "gamma", values, **{**kw, "n_record": 6, "resume": False})
     assert fresh.chunks_computed == 4
+
+
+def test_a_finished_sweep_is_not_computed_again(tmp_path):
+    out = tmp_path / "s.nc"
+    values = sweep_values(0.1, 0.12, 4)
+    kw = dict(mode="up", n_transient=50, n_record=5, chunk_size=2, progress=False, out=out)
+    first = sweep(REF, "gamma", values, **kw)
+    assert first.chunks_computed == 2 and not first.reused_file and not chunk_folder(out).exists()
+    stamp = out.stat().st_mtime_ns
+    again = sweep(REF, "gamma", values, **kw)
+    assert again.reused_file and again.chunks_computed == 0 and again.chunks_reused == 2
+    assert out.stat().st_mtime_ns == stamp  # the file was read, not written
+    assert again.impacts_simulated == first.impacts_simulated
+    assert again.regimes("up") == first.regimes("up")
+    for name in ("theta", "rdot", "thetadot", "regime"):
+        assert again.dataset[name].values.tobytes() == first.dataset[name].values.tobytes()
+    # another study, or --no-resume, computes afresh
+    other = sweep(REF, "gamma", values, **{**kw, "n_record": 6})
+    assert not other.reused_file and other.chunks_computed == 2
+    fresh = sweep(REF, "gamma", values, **{**kw, "n_record": 6, "resume": False})
+    assert not fresh.reused_file and fresh.chunks_computed == 2
+
+
+def test_an_interrupted_sweep_resumes_with_its_own_chunk_size(tmp_path):
+    out = tmp_path / "s.nc"
+    values = sweep_values(0.1, 0.12, 4)
+    kw = dict(mode="up", n_transient=50, n_record=5, progress=False, out=out, keep_chunks=True)
+    first = sweep(REF, "gamma", values, chunk_size=1, **kw)
+    out.unlink()
+    (chunk_folder(out) / "up-000003.npz").unlink()  # as if interrupted before the last chunk
+    resumed = sweep(REF, "gamma", values, chunk_size=3, **kw)
+    assert resumed.chunks_reused == 3 and resumed.chunks_computed == 1
+    assert int(resumed.dataset.attrs["chunk_size"]) == 1
+    _assert_bitwise(first.dataset, resumed.dataset)
+
+
+def test_netcdf_files_get_the_permissions_of_ordinary_files(tmp_path):
+    import os
+
+    mask = os.umask(0o022)
+    try:
+        out = tmp_path / "s.nc"
+        sweep(REF, "gamma", sweep_values(0.1, 0.11, 2), mode="up", n_transient=20, n_record=5, progress=False,
+              out=out)
+        assert out.stat().st_mode & 0o777 == 0o644
+    finally:
+        os.umask(mask)
 
 
 def test_overlay_holds_the_fixed_points():

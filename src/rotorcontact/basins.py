@@ -62,7 +62,9 @@ from .scaleout import (
     chunk_folder,
     make_executor,
     progress_bar,
+    read_finished,
     run_waves,
+    study_digest,
     write_netcdf,
 )
 
@@ -303,9 +305,12 @@ class BasinResult:
     path : pathlib.Path or None
         The NetCDF file written, if any.
     chunks_computed, chunks_reused : int
-        Chunks computed by this call, and found from an interrupted one.
+        Chunks computed by this call, and found from an interrupted one (or
+        all chunks, when `reused_file`).
     impacts_simulated : int
         Impacts computed.
+    reused_file : bool
+        The output file already held this finished study and was returned as it is.
     """
 
     dataset: Any = field(repr=False)
@@ -315,6 +320,7 @@ class BasinResult:
     chunks_computed: int
     chunks_reused: int
     impacts_simulated: int
+    reused_file: bool = False
 
     @property
     def image(self) -> np.ndarray:
@@ -431,7 +437,9 @@ def basins(
         Largest difference in theta, rdot and thetadot between the last impact
         of a one-impact periodic window and the fixed point it is named after.
     chunk_size : int
-        Grid points per chunk.
+        Grid points per chunk (it sets where files are written, not the
+        results; an interrupted run is resumed with the chunk size it was
+        started with).
     n_jobs, scheduler, processes, out, resume, keep_chunks, progress, machine
         As for `rotorcontact.sweep.sweep`.
 
@@ -462,6 +470,25 @@ def basins(
     row = parameter_array(params)
     flat = np.flatnonzero(inside.ravel())
     n_valid = flat.size
+    manifest = {
+        "study": "basins",
+        "params": params.as_dict(),
+        "grid": {"kind": grid.kind, "axis0": grid.axis0, "axis1": grid.axis1},
+        "settings": settings.as_dict(),
+    }
+    # the finished file also depends on the naming of the orbits, the machine and the version
+    digest = study_digest({**manifest, "match_tol": match_tol, "version": __version__,
+                           "machine": None if machine is None else machine.as_dict()})
+    store = None
+    reused = 0
+    if out is not None:
+        out = check_output_path(out)
+        finished = read_finished(out, digest) if resume else None
+        if finished is not None:
+            return _result_from_file(finished, out, n_valid)
+        # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
+        store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
+        chunk_size = int(store.layout["chunk_size"])
     n_chunks = math.ceil(n_valid / chunk_size) if n_valid else 0
     keys = [f"basin-{c:06d}" for c in range(n_chunks)]
     u_flat, du_flat = u0.ravel(), du0.ravel()
@@ -481,18 +508,7 @@ def basins(
             ))
         yield tasks
 
-    manifest = {
-        "study": "basins",
-        "params": params.as_dict(),
-        "grid": {"kind": grid.kind, "axis0": grid.axis0, "axis1": grid.axis1},
-        "settings": settings.as_dict(),
-        "chunk_size": chunk_size,
-    }
-    store = None
-    reused = 0
-    if out is not None:
-        out = check_output_path(out)
-        store = ChunkStore(chunk_folder(out), manifest, resume=resume)
+    if store is not None:
         reused = sum(store.done(k) for k in keys)
     sink: dict[str, dict[str, np.ndarray]] = {}
     with make_executor(n_jobs, scheduler, processes=processes) as executor, \
@@ -525,6 +541,7 @@ def basins(
     fractions = counts / max(n_valid, 1)
     ds = _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol,
                   chunk_size, machine)
+    ds.attrs["study_digest"] = digest
     if out is not None:
         write_netcdf(ds, out)
         if not keep_chunks:
@@ -532,7 +549,7 @@ def basins(
     return BasinResult(
         dataset=ds,
         classes=names,
-        fractions={names[i]: float(fractions[i]) for i in range(len(names)) if counts[i] > 0 and i > 0},
+        fractions=_fractions(names, counts, fractions),
         path=out,
         chunks_computed=computed,
         chunks_reused=reused,
@@ -540,11 +557,32 @@ def basins(
     )
 
 
+def _fractions(names, counts, fractions) -> dict[str, float]:
+    """The fraction of each class that occurs among the simulated points (``"outside"`` left out)."""
+    return {str(names[i]): float(fractions[i]) for i in range(len(names)) if counts[i] > 0 and i > 0}
+
+
+def _result_from_file(ds, out: Path, n_valid: int) -> BasinResult:
+    """The result of a finished study read back from its file (`rotorcontact.scaleout.read_finished`)."""
+    names = tuple(str(n) for n in ds["class_name"].values)
+    chunk_size = int(ds.attrs["chunk_size"])
+    return BasinResult(
+        dataset=ds,
+        classes=names,
+        fractions=_fractions(names, ds["count"].values, ds["fraction"].values),
+        path=out,
+        chunks_computed=0,
+        chunks_reused=math.ceil(n_valid / chunk_size),
+        impacts_simulated=int(ds["n_impacts"].values.sum() + ds["transient_impacts"].values.sum()),
+        reused_file=True,
+    )
+
+
 def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol, chunk_size,
              machine=None):
     import xarray as xr
 
-    from .sweep import REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
+    from .sweep import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 
     a0, a1 = grid.names
     dims = (a1, a0)
@@ -559,7 +597,7 @@ def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fracti
         "theta": (dims, result.theta[..., -1], dict(long_name="angle of the last impact of the window", units="rad")),
         "rdot": (dims, result.rdot[..., -1], dict(long_name="rdot just before the last impact", units="1")),
         "thetadot": (dims, result.thetadot[..., -1],
-                     dict(long_name="thetadot just before the last impact", units="rad")),
+                     dict(long_name="thetadot just before the last impact", **RATE_UNITS)),
         "u0_re": (dims, u0.real.copy(), dict(long_name="initial U, real part", units="1")),
         "u0_im": (dims, u0.imag.copy(), dict(long_name="initial U, imaginary part", units="1")),
         "du0_re": (dims, du0.real.copy(), dict(long_name="initial U', real part", units="1")),
@@ -571,7 +609,7 @@ def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fracti
         "orbit_theta": (("orbit",), np.array([o.theta for o in orbits], dtype=float),
                         dict(long_name="impact angle", units="rad")),
         "orbit_rdot": (("orbit",), np.array([o.rdot for o in orbits], dtype=float), dict(units="1")),
-        "orbit_thetadot": (("orbit",), np.array([o.thetadot for o in orbits], dtype=float), dict(units="rad")),
+        "orbit_thetadot": (("orbit",), np.array([o.thetadot for o in orbits], dtype=float), dict(**RATE_UNITS)),
         "orbit_stable": (("orbit",), np.array([bool(o.stable) for o in orbits], dtype=np.int8), {}),
         "orbit_plausible": (("orbit",), np.array([o.plausible for o in orbits], dtype=np.int8), {}),
     }

@@ -348,22 +348,35 @@ def _check_grid(name: str, values: Sequence[float], positive: bool = True) -> np
     return arr
 
 
-def speed_map(machine: Machine, speeds_rpm: Sequence[float], *, shock: float | None = None,
-              t_max: float = 12.0) -> DesignMap:
-    """Classify ``machine`` at each speed (rpm); see `classify_machine` and `recovery_probability`."""
-    speeds = _check_grid("speeds_rpm", speeds_rpm)
+def _classify_all(machines: list[Machine], shock: float | None, t_max: float, progress: bool) -> tuple[MapPoint, ...]:
+    """Classify each setting (with its recovery probability), with a progress bar on stderr if asked."""
+    from .scaleout import progress_bar
+
     pts = []
-    for s in speeds:
-        m = machine.with_speed(rpm_to_rad_s(s))
-        pts.append(_with_recovery(classify_machine(m, t_max=t_max), m, shock))
-    return DesignMap(machine, ("speed_rpm",), (speeds,), tuple(pts), shock)
+    with progress_bar(len(machines), "design map", progress, unit="point") as bar:
+        for m in machines:
+            pts.append(_with_recovery(classify_machine(m, t_max=t_max), m, shock))
+            bar.update(1)
+    return tuple(pts)
+
+
+def speed_map(machine: Machine, speeds_rpm: Sequence[float], *, shock: float | None = None,
+              t_max: float = 12.0, progress: bool = False) -> DesignMap:
+    """Classify ``machine`` at each speed (rpm); see `classify_machine` and `recovery_probability`.
+
+    ``progress`` shows a progress bar over the speeds on stderr (worth it with ``shock``, whose
+    recovery probabilities are simulated).
+    """
+    speeds = _check_grid("speeds_rpm", speeds_rpm)
+    machines = [machine.with_speed(rpm_to_rad_s(s)) for s in speeds]
+    return DesignMap(machine, ("speed_rpm",), (speeds,), _classify_all(machines, shock, t_max, progress), shock)
 
 
 def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], second: Sequence[float], *,
-              shock: float | None = None, t_max: float = 12.0) -> DesignMap:
+              shock: float | None = None, t_max: float = 12.0, progress: bool = False) -> DesignMap:
     """Classify a plane of settings: ("speed_rpm", "stiffness") or ("stiffness", "damping").
 
-    The other fields of ``machine`` stay fixed.
+    The other fields of ``machine`` stay fixed. ``progress`` shows a progress bar over the points on stderr.
     """
     allowed = (("speed_rpm", "stiffness"), ("stiffness", "damping"), ("speed_rpm", "damping"))
     if tuple(axes) not in allowed:
@@ -372,7 +385,7 @@ def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], s
     b = _check_grid(axes[1], second, positive=axes[1] != "damping")
     if axes[1] == "damping" and np.any(b < 0.0):
         raise ParameterError(f"damping = {second!r} is invalid; allowed: values >= 0")
-    pts = []
+    machines = []
     for x in a:
         for y in b:
             changes = {}
@@ -381,6 +394,5 @@ def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], s
                     changes["speed"] = rpm_to_rad_s(val)
                 else:
                     changes[name] = val
-            m = replace(machine, **changes)
-            pts.append(_with_recovery(classify_machine(m, t_max=t_max), m, shock))
-    return DesignMap(machine, tuple(axes), (a, b), tuple(pts), shock)
+            machines.append(replace(machine, **changes))
+    return DesignMap(machine, tuple(axes), (a, b), _classify_all(machines, shock, t_max, progress), shock)

@@ -140,6 +140,8 @@ __all__ = [
     "rdot_roots",
     "fixed_point_residual",
     "flight_extrema",
+    "flight_growth",
+    "period_limit",
     "one_impact_orbits",
     "orbit_stability",
 ]
@@ -900,14 +902,33 @@ class F1Zero:
     double: bool = False
 
 
+#: Largest growth exponent, growth rate times period, of a flight over which F1 is evaluated.
+MAX_GROWTH = 300.0
+
+
+def flight_growth(params: Parameters) -> float:
+    """The rate at which a free flight can grow or decay: max(|gamma| / 2, sqrt(gamma^2 / 4 - omega^2)).
+
+    The terms of the flight behave like e^{growth T} (MODEL.md §3), so F1 is
+    evaluated for periods T up to ``MAX_GROWTH / growth`` (`period_limit`).
+    """
+    h2 = 0.25 * params.gamma**2 - params.omega**2
+    return max(abs(params.gamma) / 2.0, math.sqrt(h2) if h2 > 0 else 0.0)
+
+
+def period_limit(params: Parameters) -> float:
+    """The largest ``t_max`` that `f1_zeros` accepts at ``params`` (inf where the flight neither grows nor decays)."""
+    growth = flight_growth(params)
+    return math.inf if growth == 0.0 else MAX_GROWTH / growth
+
+
 def _check_t_max(params: Parameters, t_max) -> float:
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
-    h2 = 0.25 * params.gamma**2 - params.omega**2
-    growth = max(abs(params.gamma) / 2.0, math.sqrt(h2) if h2 > 0 else 0.0)
-    if growth * t_max > 300.0:
+    limit = period_limit(params)
+    if t_max > limit:
         raise ParameterError(
-            f"t_max = {t_max!r} is too large for these parameters (the flight grows like "
-            f"e^{{{growth:.3g} T}}); allowed: t_max <= {300.0 / growth:.6g}"
+            f"t_max = {t_max!r} is too large at gamma = {params.gamma:g}, omega = {params.omega:g} (the flight "
+            f"grows like e^{{{flight_growth(params):.3g} T}}); allowed: t_max <= {limit:.6g}"
         )
     return t_max
 

@@ -18,6 +18,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
+import numpy as np
+
 from .errors import ParameterError
 
 __all__ = [
@@ -31,8 +33,13 @@ __all__ = [
 
 
 def check_finite(name: str, value: Any) -> float:
-    """Return ``value`` as a float, or raise `ParameterError` if it is not a finite real number."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    """Return ``value`` as a float, or raise `ParameterError` if it is not a finite real number.
+
+    A bool is refused: ``True`` is not a value of a physical parameter, whatever ``float(True)`` says.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} = {value!r} is a bool, not a number; a finite real number is required")
+    if not isinstance(value, (int, float)):
         try:
             value = float(value)
         except (TypeError, ValueError):
@@ -176,6 +183,10 @@ def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
 class Machine:
     """A rotor in its touchdown bearing, in SI units (MODEL.md §1).
 
+    Each value may be given as a number in SI units or, as in machine files, as
+    a string with units parsed by pint (``Machine(..., speed="12000 rpm")``);
+    it is stored in SI units.
+
     Attributes
     ----------
     mass : float
@@ -214,7 +225,10 @@ class Machine:
     def __post_init__(self) -> None:
         for f in fields(self):
             rule = {k: v for k, v in _MACHINE_RULES[f.name].items() if k != "unit"}
-            object.__setattr__(self, f.name, check_range(f.name, getattr(self, f.name), **rule))
+            value = getattr(self, f.name)
+            if isinstance(value, str):  # a quantity with units, as in machine files: "12000 rpm"
+                value = to_si(f.name, value, _MACHINE_RULES[f.name]["unit"], source="Machine")
+            object.__setattr__(self, f.name, check_range(f.name, value, **rule))
 
     @staticmethod
     def units() -> dict[str, str]:
@@ -317,6 +331,10 @@ def load_machine(path: str | Path) -> Machine:
     if path_str == "reference":
         path = _machine_file("reference")
     path = Path(path)
+    if path.is_dir():
+        raise ParameterError(
+            f"machine = {path_str!r} is a folder, not a file; give a TOML file or the built-in name 'reference'"
+        )
     if not path.is_file():
         raise ParameterError(
             f"machine = {path_str!r}: no such file; give a TOML file or the built-in name 'reference'"

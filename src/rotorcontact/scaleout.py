@@ -40,9 +40,10 @@ import numpy as np
 from .batch import BatchSettings, run_lanes
 from .errors import ParameterError
 
-__all__ = ["ChunkTask", "ChunkStore", "make_executor", "progress_bar", "run_task", "write_netcdf"]
+__all__ = ["ChunkTask", "ChunkStore", "make_executor", "progress_bar", "run_task", "study_digest", "write_netcdf",
+           "read_finished"]
 
-STORE_FORMAT = 1
+STORE_FORMAT = 2
 
 
 @dataclass(frozen=True)
@@ -286,6 +287,12 @@ def _canonical(obj: Any) -> Any:
     return str(obj)
 
 
+def study_digest(manifest: dict[str, Any]) -> str:
+    """A fingerprint of everything that defines a study (its ``manifest``), exact in every float."""
+    text = json.dumps({"format": STORE_FORMAT, "study": _canonical(manifest)}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
 class ChunkStore:
     """Finished chunks of one study, one ``.npz`` file each, in a folder.
 
@@ -298,6 +305,20 @@ class ChunkStore:
         with another manifest is refused rather than mixed in.
     resume : bool
         Reuse the chunks found in the folder (default); False deletes them first.
+    layout : dict, optional
+        How the study is cut into chunks (for example ``{"chunk_size": 20}``).
+        It decides which files are written, not the results, so a folder
+        written with another layout is resumed with its own: `layout` is then
+        the layout found in the folder, and `layout_changed` is True.
+
+    Attributes
+    ----------
+    digest : str
+        `study_digest` of the manifest.
+    layout : dict
+        The layout to use.
+    layout_changed : bool
+        The folder's layout replaced the one asked for.
 
     Raises
     ------
@@ -305,11 +326,13 @@ class ChunkStore:
         If the folder holds chunks of a different study.
     """
 
-    def __init__(self, folder: str | Path, manifest: dict[str, Any], resume: bool = True) -> None:
+    def __init__(self, folder: str | Path, manifest: dict[str, Any], resume: bool = True,
+                 layout: dict[str, int] | None = None) -> None:
         self.folder = Path(folder)
-        data = {"format": STORE_FORMAT, "study": _canonical(manifest)}
-        text = json.dumps(data, sort_keys=True, indent=1)
-        self.digest = hashlib.sha256(text.encode()).hexdigest()
+        self.layout = dict(layout or {})
+        self.layout_changed = False
+        study = {"format": STORE_FORMAT, "study": _canonical(manifest)}
+        self.digest = study_digest(manifest)
         path = self.folder / "manifest.json"
         if self.folder.exists() and not resume:
             shutil.rmtree(self.folder)
@@ -318,18 +341,28 @@ class ChunkStore:
                 old = json.loads(path.read_text(encoding="utf-8"))
             except (OSError, ValueError):
                 old = None
-            if old != json.loads(text) and not any(self.folder.glob("*.npz")):
+            same = isinstance(old, dict) and {k: old.get(k) for k in study} == json.loads(json.dumps(study))
+            if not same and not any(self.folder.glob("*.npz")):
                 # a study that stopped before its first chunk (for example, no cluster to connect to)
                 # left nothing to resume: start this one afresh
-                _atomic_write_text(path, text)
-            elif old != json.loads(text):
+                self._write_manifest(path, study)
+            elif not same:
                 raise ParameterError(
                     f"{self.folder} holds partial results of a different study; delete it, "
                     "start afresh (resume=False, --no-resume) or write to another file"
                 )
+            elif isinstance(old.get("layout"), dict) and old["layout"] != self.layout:
+                if any(self.folder.glob("*.npz")):
+                    self.layout = dict(old["layout"])  # resume the chunks as they were cut
+                    self.layout_changed = True
+                else:
+                    self._write_manifest(path, study)
         else:
             self.folder.mkdir(parents=True, exist_ok=True)
-            _atomic_write_text(path, text)
+            self._write_manifest(path, study)
+
+    def _write_manifest(self, path: Path, study: dict[str, Any]) -> None:
+        _atomic_write_text(path, json.dumps({**study, "layout": self.layout}, sort_keys=True, indent=1))
 
     def _file(self, key: str) -> Path:
         return self.folder / f"{key}.npz"
@@ -346,6 +379,7 @@ class ChunkStore:
                 np.savez(fh, **arrays)
                 fh.flush()
                 os.fsync(fh.fileno())
+            _umask_permissions(tmp)
             os.replace(tmp, self._file(key))
         except BaseException:
             if os.path.exists(tmp):
@@ -366,10 +400,18 @@ class ChunkStore:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
+def _umask_permissions(path: str | Path) -> None:
+    """Give a file made by `tempfile.mkstemp` (mode 0600) the permissions of an ordinary new file (0666 & ~umask)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(path, 0o666 & ~mask)
+
+
 def _atomic_write_text(path: Path, text: str) -> None:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
     with os.fdopen(fd, "w", encoding="utf-8") as fh:
         fh.write(text)
+    _umask_permissions(tmp)
     os.replace(tmp, path)
 
 
@@ -380,19 +422,48 @@ def chunk_folder(out: str | Path) -> Path:
 
 
 def write_netcdf(ds, out: str | Path) -> Path:
-    """Write an xarray Dataset to NetCDF (netCDF3 64-bit offset through scipy), atomically."""
+    """Write an xarray Dataset to NetCDF (netCDF3 64-bit offset through scipy), atomically.
+
+    Missing parent folders are created. The file gets the permissions of an
+    ordinary new file (0666 less the umask, usually 0644).
+    """
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent)
     os.close(fd)
     try:
         ds.to_netcdf(tmp, engine="scipy", format="NETCDF3_64BIT")
+        _umask_permissions(tmp)
         os.replace(tmp, out)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
     return out
+
+
+def read_finished(out: str | Path, digest: str):
+    """The dataset in the NetCDF file ``out`` when it is the finished result of the study ``digest``.
+
+    A study writes its `study_digest` into its file as the attribute
+    ``study_digest``; running the same study again can then return the file
+    instead of computing it afresh.
+
+    Returns
+    -------
+    xarray.Dataset or None
+        None when the file is missing, unreadable or of another study.
+    """
+    out = Path(out)
+    if not out.is_file():
+        return None
+    import xarray as xr
+
+    try:
+        ds = xr.load_dataset(out, engine="scipy")
+    except (OSError, ValueError, TypeError):
+        return None
+    return ds if ds.attrs.get("study_digest") == digest else None
 
 
 def check_output_path(out: str | Path) -> Path:

@@ -54,7 +54,9 @@ from .scaleout import (
     chunk_folder,
     make_executor,
     progress_bar,
+    read_finished,
     run_waves,
+    study_digest,
     write_netcdf,
 )
 from .simulate import STATUS_NAMES
@@ -98,13 +100,16 @@ PARAMETER_LONG_NAMES = {
 DEFAULT_CHUNK_CARRY = 20
 DEFAULT_CHUNK_INDEPENDENT = 64
 
+#: Units of an angular velocity in dimensionless time (thetadot): a rate, not an angle.
+RATE_UNITS = dict(units="1", description="radians per unit of dimensionless time t = Omega tau")
+
 SECTION_ATTRS = {
     "t": dict(long_name="time of the impact since the start of the recorded window", units="1",
               description="dimensionless time t = Omega tau"),
     "theta": dict(long_name="impact angle in the co-rotating frame", units="rad"),
     "rdot": dict(long_name="radial velocity just before the impact", units="1",
                  description="clearances per unit of dimensionless time"),
-    "thetadot": dict(long_name="angular velocity just before the impact (co-rotating)", units="rad"),
+    "thetadot": dict(long_name="angular velocity just before the impact (co-rotating)", **RATE_UNITS),
 }
 
 
@@ -223,9 +228,11 @@ class SweepResult:
         The NetCDF file written, if any.
     chunks_computed, chunks_reused : int
         Chunks computed by this call, and finished chunks found from an
-        earlier, interrupted call.
+        earlier, interrupted call (or all chunks, when `reused_file`).
     impacts_simulated : int
         Impacts computed (transients and windows, including reused chunks).
+    reused_file : bool
+        The output file already held this finished study and was returned as it is.
     """
 
     dataset: Any = field(repr=False)
@@ -234,6 +241,7 @@ class SweepResult:
     chunks_computed: int
     chunks_reused: int
     impacts_simulated: int
+    reused_file: bool = False
 
     def regimes(self, direction: str) -> list[str]:
         """The regime at each value for one direction, as strings."""
@@ -293,7 +301,8 @@ def sweep(
         1000 events, time limits 5 per event).
     chunk_size : int, optional
         Values per chunk (default 20 with the state carried, 64 otherwise).
-        It sets where files are written, not the results.
+        It sets where files are written, not the results; an interrupted run
+        is resumed with the chunk size it was started with.
     n_jobs : int, optional
         Worker processes for joblib; None runs in this process over all
         cores; -1 uses one worker per core.
@@ -306,7 +315,8 @@ def sweep(
         NetCDF file to write; chunks go to ``out + ".chunks"`` meanwhile.
     resume : bool
         Continue from the chunks of an interrupted run with the same
-        arguments (default); False starts afresh.
+        arguments, and return ``out`` as it is when it already holds this
+        finished sweep (default); False computes afresh.
     keep_chunks : bool
         Keep the chunk folder after the merge.
     progress : bool
@@ -374,8 +384,23 @@ def sweep(
         "mode": mode,
         "starts": [list(s) for s in starts],
         "settings": settings.as_dict(),
-        "chunk_size": chunk_size,
     }
+    # the finished file also records how the start was given and the machine, and depends on the version
+    digest = study_digest({**manifest, "start": start_name, "version": __version__,
+                           "machine": None if machine is None else machine.as_dict()})
+    store = None
+    reused_before = 0
+    if out is not None:
+        out = check_output_path(out)
+        finished = read_finished(out, digest) if resume else None
+        if finished is not None:
+            n_chunks = math.ceil(n / int(finished.attrs["chunk_size"])) * len(directions)
+            return SweepResult(dataset=finished, param=param, path=out, chunks_computed=0, chunks_reused=n_chunks,
+                               impacts_simulated=int(finished["n_impacts"].sum() + finished["transient_impacts"].sum()),
+                               reused_file=True)
+        # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
+        store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
+        chunk_size = int(store.layout["chunk_size"])
 
     # chunks: (direction, block of consecutive steps)
     n_blocks = math.ceil(n / chunk_size)
@@ -425,11 +450,7 @@ def sweep(
                 ))
             yield tasks
 
-    store = None
-    reused_before = 0
-    if out is not None:
-        out = check_output_path(out)
-        store = ChunkStore(chunk_folder(out), manifest, resume=resume)
+    if store is not None:
         reused_before = sum(store.done(k) for ks in keys for k in ks)
     total = n * len(directions)
     with make_executor(n_jobs, scheduler, processes=processes) as executor, \
@@ -452,6 +473,7 @@ def sweep(
                 summary[li, steps] = res["summary"][:, 0]
     result = BatchResult.from_arrays(sections, summary, settings)
     ds = _dataset(result, params, param, vals, directions, mode, start_name, starts, chunk_size, machine)
+    ds.attrs["study_digest"] = digest
     if out is not None:
         write_netcdf(ds, out)
         if not keep_chunks:

@@ -7,7 +7,8 @@ import time
 
 from ..basins import GRID_SYNTAX
 from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json
-from .scale import add_scale_options, check_plot_path, parse_int, scale_kwargs
+from .outputs import check_output_file, check_plot_path, note_reuse
+from .scale import add_scale_options, parse_int, scale_kwargs
 
 DESCRIPTION = f"""\
 Basins of attraction: every initial state of a grid is simulated through a
@@ -76,13 +77,16 @@ def run(args: argparse.Namespace) -> int:
         n_keep=1,
     )
     match_tol = parse_float("match-tol", args.match_tol)
-    if args.plot:
+    if args.plot is not None:
         check_plot_path(args.plot)
+    check_output_file("--out", args.out, (".nc",))
+    execution = scale_kwargs(args)
     t0 = time.perf_counter()
     res = basins(params, grid, settings=settings, match_tol=match_tol, out=args.out, machine=machine,
-                 **scale_kwargs(args))
+                 **execution)
     elapsed = time.perf_counter() - t0
-    if args.plot:
+    note_reuse(res, execution.get("chunk_size"))
+    if args.plot is not None:
         from ..plotting.basins import save_basins_figure
 
         save_basins_figure(res.dataset, args.plot)

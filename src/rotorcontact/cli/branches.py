@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
 from ..branches import BRANCH_PARAMETERS, OrbitBranches, orbit_branches
 from ..errors import ParameterError
+from ..impactmap import MAX_GROWTH, flight_growth, period_limit
 from ..params import Machine
 from ..si import parameter_si, rate_scale, scaled_list, times_si, velocity_scale
+from .outputs import check_plot_path
 from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
 
 #: Default range of each parameter.
@@ -58,6 +59,31 @@ def _int(name: str, text: str, low: int) -> int:
     if value < low:
         raise ParameterError(f"--{name} = {value} is out of range; allowed: an integer >= {low}")
     return value
+
+
+def _check_reach(args: argparse.Namespace, params, start: float, stop: float, t_max: float) -> None:
+    """Refuse, naming the option that sets it, a range end where periods up to t_max cannot be computed.
+
+    The flight grows like e^{growth T} (`rotorcontact.impactmap.period_limit`); its rate is largest at
+    an end of the range (it is convex in gamma and decreases with omega).
+    """
+    for option, given, value in (("to", args.stop, stop), ("from", args.start, start)):
+        try:
+            at = params.replace(**{args.param: value})
+        except ParameterError as exc:
+            raise ParameterError(f"--{option} = {value!r} is not a valid {args.param}: {exc}") from None
+        limit = period_limit(at)
+        if t_max <= limit:
+            continue
+        fix = f"a smaller --t-max (at most {limit:.6g} there)"
+        if given is None:  # the default range end: only --t-max was given
+            raise ParameterError(f"--t-max = {t_max:g} is too large at {args.param} = {value:g}, the default "
+                                 f"--{option}; allowed: --t-max <= {limit:.6g}, or another --{option}")
+        raise ParameterError(
+            f"--{option} = {value:g} is out of reach: at {args.param} = {value:g} the free flight grows like "
+            f"e^{{{flight_growth(at):.3g} T}}, too fast to follow periods up to --t-max = {t_max:g}; allowed: "
+            f"a range where --t-max <= {MAX_GROWTH:g} / max(|gamma| / 2, sqrt(gamma^2 / 4 - omega^2)), or {fix}"
+        )
 
 
 def _event_si(machine: Machine, param: str, value: float, T: float, rdot: float) -> dict[str, Any]:
@@ -113,8 +139,9 @@ def run(args: argparse.Namespace) -> int:
     t_max = parse_float("t-max", args.t_max)
     rdot_max = parse_float("rdot-max", args.rdot_max)
     seeds = _int("seeds", args.seeds, 2)
-    if args.plot and Path(args.plot).suffix.lower() not in {".png", ".svg", ".pdf"}:
-        raise ParameterError(f"--plot = {args.plot!r} has an unsupported suffix; allowed: .png, .svg, .pdf")
+    _check_reach(args, params, start, stop, t_max)
+    if args.plot is not None:
+        check_plot_path(args.plot)
     try:
         branches = orbit_branches(params, args.param, start, stop, t_max=t_max, rdot_max=rdot_max,
                                   n_seeds=seeds)

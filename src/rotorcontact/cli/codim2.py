@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from ..codim2 import DEFAULT_RANGES, Codim2Diagram, codim2_diagram
 from ..errors import ParameterError
 from ..orbitsystem import BRANCH_PARAMETERS
+from .outputs import check_plot_path
 from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
 
 
@@ -89,8 +89,8 @@ def run(args: argparse.Namespace) -> int:
     folds = _folds(args.folds)
     grazing = ["B1,d"] if args.grazing is None else [g for g in args.grazing if g.lower() != "none"]
     t_max = parse_float("t-max", args.t_max)
-    if args.plot and Path(args.plot).suffix.lower() not in {".png", ".svg", ".pdf"}:
-        raise ParameterError(f"--plot = {args.plot!r} has an unsupported suffix; allowed: .png, .svg, .pdf")
+    if args.plot is not None:
+        check_plot_path(args.plot)
     try:
         diagram = codim2_diagram(params, plane, ranges, folds=folds, grazing=grazing, t_max=t_max)
     except ParameterError as exc:

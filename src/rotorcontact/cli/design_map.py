@@ -13,6 +13,7 @@ from ..errors import ParameterError
 from ..params import load_machine
 from ..units import quantity_in
 from .options import json_result, print_json
+from .outputs import check_output_folder
 
 _UNITS = {"speed": "rpm", "stiffness": "N/m", "damping": "N s/m"}
 
@@ -40,10 +41,13 @@ def register(sub) -> None:
         "--shock",
         default=None,
         metavar="V",
-        help="velocity disturbance (for example 5mm/s) for the recovery probability of bistable points",
+        help="velocity disturbance for the recovery probability of bistable points, with its unit "
+             "(for example 5mm/s or 0.005m/s; a number without a unit is refused)",
     )
     p.add_argument("--out", default=None, metavar="DIR", help="write map.png and map.nc here")
     p.add_argument("--json", action="store_true", help="print the map as JSON on stdout")
+    p.add_argument("--no-progress", dest="progress", action="store_false",
+                   help="no progress bar on stderr (shown with --shock, whose recovery probabilities are simulated)")
     p.set_defaults(func=run)
 
 
@@ -93,25 +97,43 @@ def _count(text: str) -> int:
     return n
 
 
+def _shock(text: str) -> float:
+    """The velocity disturbance of ``--shock`` in m/s; its unit must be written."""
+    try:
+        float(text)
+    except ValueError:
+        pass
+    else:
+        raise ParameterError(
+            f"--shock = {text!r} has no unit; allowed: a speed > 0 with its unit, such as 5mm/s or 0.005m/s "
+            "(a disturbance of the rotor's velocity)"
+        )
+    shock = quantity_in("--shock", text, "m/s")
+    if shock <= 0:
+        raise ParameterError(f"--shock = {text!r} is out of range; allowed: a speed > 0, such as 5mm/s")
+    return shock
+
+
 def build_map(args: argparse.Namespace) -> DesignMap:
     machine = _machine(args)
     n = _count(args.n)
-    shock = quantity_in("--shock", args.shock, "m/s") if args.shock is not None else None
-    if shock is not None and shock <= 0:
-        raise ParameterError(f"--shock = {args.shock!r} must be > 0")
+    shock = _shock(args.shock) if args.shock is not None else None
     ranges = {
         name: parse_range(name, getattr(args, name), _UNITS[name])
         for name in ("speed", "stiffness", "damping")
         if getattr(args, name) is not None
     }
     grids = {name: np.linspace(a, b, n if len(ranges) == 1 else min(n, 60)) for name, (a, b) in ranges.items()}
+    progress = bool(getattr(args, "progress", True)) and shock is not None
     if set(ranges) == {"speed"}:
-        return speed_map(machine, grids["speed"], shock=shock)
+        return speed_map(machine, grids["speed"], shock=shock, progress=progress)
     if set(ranges) in ({"speed", "stiffness"}, {"speed", "damping"}):
         other = "stiffness" if "stiffness" in ranges else "damping"
-        return plane_map(machine, ("speed_rpm", other), grids["speed"], grids[other], shock=shock)
+        return plane_map(machine, ("speed_rpm", other), grids["speed"], grids[other], shock=shock,
+                         progress=progress)
     if set(ranges) == {"stiffness", "damping"}:
-        return plane_map(machine, ("stiffness", "damping"), grids["stiffness"], grids["damping"], shock=shock)
+        return plane_map(machine, ("stiffness", "damping"), grids["stiffness"], grids["damping"], shock=shock,
+                         progress=progress)
     raise ParameterError(
         "choose the map: --speed A:B; or --speed with --stiffness or --damping; or --stiffness with --damping"
     )
@@ -135,6 +157,8 @@ def _table(dmap: DesignMap) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.out is not None:
+        check_output_folder("--out", args.out)
     dmap = build_map(args)
     if args.out is not None:
         from ..plotting.design import save_design_map

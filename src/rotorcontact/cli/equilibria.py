@@ -9,6 +9,7 @@ from ..equilibria import BRANCH_PARAMETERS, Equilibria, EquilibriumBranches, equ
 from ..errors import ParameterError
 from ..params import Machine
 from ..si import equilibria_si, parameter_si
+from .outputs import check_plot_path
 from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json
 
 
@@ -44,7 +45,7 @@ def _branches(args: argparse.Namespace, params) -> EquilibriumBranches | None:
             f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
         )
     if args.start is None and args.stop is None:
-        if args.plot:
+        if args.plot is not None:
             raise ParameterError("--plot needs a parameter range; give --from A --to B")
         return None
     if args.start is None or args.stop is None:
@@ -109,12 +110,9 @@ def _text(eq: Equilibria, branches: EquilibriumBranches | None, machine: Machine
 
 def run(args: argparse.Namespace) -> int:
     params, machine = parameters_from_args(args)
+    if args.plot is not None:
+        check_plot_path(args.plot)
     branches = _branches(args, params)
-    if args.plot:
-        from pathlib import Path
-
-        if Path(args.plot).suffix.lower() not in {".png", ".svg", ".pdf"}:
-            raise ParameterError(f"--plot = {args.plot!r} has an unsupported suffix; allowed: .png, .svg, .pdf")
     eq = equilibria(params)
     if args.plot:
         from ..plotting.equilibria import plot_equilibrium_branches

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 from typing import Any
 
 from ..errors import ParameterError
@@ -29,9 +28,11 @@ def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str) -> No
                    help="run on Dask: 'local' starts a LocalCluster (--n-jobs workers), or a scheduler address "
                         "such as tcp://10.0.0.1:8786 (its workers need rotorcontact installed)")
     g.add_argument("--chunk-size", dest="chunk_size", default=None, metavar="K",
-                   help=f"simulations per chunk written to disk (default {default_chunk}); results do not depend on it")
+                   help=f"simulations per chunk written to disk (default {default_chunk}); results do not depend on "
+                        "it, and an interrupted run resumes with the chunk size it was started with")
     g.add_argument("--no-resume", dest="resume", action="store_false",
-                   help="discard partial results of an interrupted run instead of continuing from them")
+                   help="discard partial results of an interrupted run instead of continuing from them, and "
+                        "compute afresh an output file that already holds the finished study")
     g.add_argument("--keep-chunks", dest="keep_chunks", action="store_true",
                    help="keep the folder of chunk files after writing the NetCDF file")
     g.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr")
@@ -50,8 +51,3 @@ def scale_kwargs(args: argparse.Namespace) -> dict[str, Any]:
         out["chunk_size"] = parse_int("chunk-size", args.chunk_size, 1)
     return out
 
-
-def check_plot_path(path: str) -> None:
-    """Refuse a figure file with an unsupported suffix before any work is done."""
-    if Path(path).suffix.lower() not in {".png", ".svg", ".pdf"}:
-        raise ParameterError(f"--plot = {path!r} has an unsupported suffix; allowed: .png, .svg, .pdf")

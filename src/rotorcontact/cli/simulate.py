@@ -6,6 +6,7 @@ import argparse
 
 from ..params import check_range
 from ..simulate import simulate
+from .outputs import check_plot_path
 from .options import add_parameter_options, json_result, parameters_from_args, parse_complex, parse_float, print_json
 
 
@@ -36,8 +37,10 @@ def run(args: argparse.Namespace) -> int:
     u0 = parse_complex("u0", args.u0)
     du0 = parse_complex("du0", args.du0)
     t_end = check_range("--t-end", parse_float("t-end", args.t_end), low=0.0, low_open=True)
+    if args.plot is not None:
+        check_plot_path(args.plot)
     traj = simulate(params, u0, du0, t_end, on_chatter=args.on_chatter, machine=machine)
-    if args.plot:
+    if args.plot is not None:
         from ..plotting.trajectory import save_trajectory_figure
 
         save_trajectory_figure(traj, args.plot)

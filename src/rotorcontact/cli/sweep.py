@@ -14,7 +14,8 @@ from .options import (
     parse_float,
     print_json,
 )
-from .scale import add_scale_options, check_plot_path, parse_int, scale_kwargs
+from .outputs import check_output_file, check_plot_path, note_reuse
+from .scale import add_scale_options, parse_int, scale_kwargs
 
 DESCRIPTION = """\
 Brute-force orbit diagram: for each value of one parameter the rotor runs through
@@ -95,19 +96,22 @@ def run(args: argparse.Namespace) -> int:
     )
     u0 = None if args.u0 is None else parse_complex("u0", args.u0)
     du0 = None if args.du0 is None else parse_complex("du0", args.du0)
-    if args.plot:
+    if args.plot is not None:
         check_plot_path(args.plot)
+    check_output_file("--out", args.out, (".nc",))
+    execution = scale_kwargs(args)
     t0 = time.perf_counter()
     res = sweep(params, args.param, values, mode=args.mode, start=args.start, u0=u0, du0=du0, settings=settings,
-                out=args.out, machine=machine, **scale_kwargs(args))
+                out=args.out, machine=machine, **execution)
     elapsed = time.perf_counter() - t0
+    note_reuse(res, execution.get("chunk_size"))
     ds = res.dataset
     regimes = {}
     for d in ds.direction.values:
         names = res.regimes(str(d))
         regimes[str(d)] = {name: names.count(name) for name in sorted(set(names))}
     overlay_kind = None
-    if args.plot:
+    if args.plot is not None:
         from ..plotting.sweep import save_sweep_figure
         from ..sweep import overlay_for
 

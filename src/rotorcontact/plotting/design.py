@@ -9,6 +9,7 @@ from matplotlib.patches import Patch
 
 from ..design import REGIMES, DesignMap, rpm_to_rad_s
 from ..equilibria import boundary_gamma
+from ..errors import ParameterError
 from .style import new_axes, save_figure
 
 REGIME_COLORS = {"safe": "#4daf4a", "bistable": "#ffbf00", "contact-certain": "#e41a1c"}
@@ -90,12 +91,62 @@ def plot_plane(dmap: DesignMap, ax=None):
     return fig, ax
 
 
+def _recovery(dmap: DesignMap) -> np.ndarray:
+    """Recovery probability of each point in percent (NaN where it was not computed), shaped like the grid."""
+    return np.array([np.nan if pt.recovery_probability is None else 100.0 * pt.recovery_probability
+                     for pt in dmap.points]).reshape(dmap.shape)
+
+
+def _shock_text(dmap: DesignMap) -> str:
+    return f"recovery after a {1e3 * dmap.shock:.3g} mm/s shock (%)"
+
+
+def plot_speed_recovery(dmap: DesignMap, ax=None):
+    """Recovery probabilities of the bistable speeds (%), as points against speed.
+
+    With ``ax`` (for example a twin of the axes of `plot_speed_regimes`) they are drawn there.
+    Returns (fig, ax).
+    """
+    if dmap.shock is None or len(dmap.axes) != 1:
+        raise ParameterError("plot_speed_recovery needs a speed map computed with a shock")
+    fig, ax = new_axes(ax, figsize=(8, 4))
+    ax.plot(dmap.values[0], _recovery(dmap), "o", color="#377eb8", ms=4, gid="recovery", label="recovery (%)")
+    ax.set_ylim(-5, 105)
+    ax.set_ylabel(_shock_text(dmap), color="#377eb8")
+    return fig, ax
+
+
+def plot_plane_recovery(dmap: DesignMap, ax=None):
+    """Recovery probabilities (%) of the bistable settings of a plane; blank elsewhere. Returns (fig, ax)."""
+    if dmap.shock is None or len(dmap.axes) != 2:
+        raise ParameterError("plot_plane_recovery needs a plane map computed with a shock")
+    fig, ax = new_axes(ax, figsize=(6, 4.5))
+    a, b = dmap.values
+    mesh = ax.pcolormesh(a, b, _recovery(dmap).T, cmap="viridis", vmin=0.0, vmax=100.0, shading="nearest")
+    mesh.set_gid("recovery")
+    fig.colorbar(mesh, ax=ax, label=_shock_text(dmap))
+    ax.set_xlabel(_LABELS[dmap.axes[0]])
+    ax.set_ylabel(_LABELS[dmap.axes[1]])
+    ax.set_title("recovery of the bistable settings")
+    return fig, ax
+
+
 def plot_design_map(dmap: DesignMap):
-    """The figure written by ``design-map``: regimes and operating line for speed maps, the plane otherwise."""
+    """The figure written by ``design-map``: regimes and operating line for speed maps, the plane otherwise.
+
+    With recovery probabilities (``--shock``) they are drawn too: on a second axis against speed,
+    or as a second panel beside the plane.
+    """
     if len(dmap.axes) == 1:
         fig, axes = plt.subplots(1, 2, figsize=(13, 4.5), gridspec_kw={"width_ratios": [1.7, 1]})
         plot_speed_regimes(dmap, axes[0])
         plot_operating_line(dmap, axes[1])
+        if dmap.shock is not None:
+            plot_speed_recovery(dmap, axes[0].twinx())
+    elif dmap.shock is not None:
+        fig, axes = plt.subplots(1, 2, figsize=(13, 5))
+        plot_plane(dmap, axes[0])
+        plot_plane_recovery(dmap, axes[1])
     else:
         fig, axes = plt.subplots(1, 1, figsize=(7, 5))
         plot_plane(dmap, axes)
