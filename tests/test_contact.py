@@ -93,7 +93,6 @@ def contact_phases(traj):
     return [c for c in traj.contact_intervals if c.kind in KINDS]
 
 
-@pytest.fixture(scope="module", autouse=True)
 # ---------------------------------------------------------------------------
 # independent contact dynamics on r = 1
 # ---------------------------------------------------------------------------
