@@ -165,3 +165,13 @@ def test_design_map_figure_shows_the_recovery_probabilities():
     fig, axes = plot_design_map(speed_map(m, [1800.0, 2200.0]))
     assert not [ln for ax in fig.axes for ln in ax.get_lines() if ln.get_gid() == "recovery"]
     plt.close(fig)
+
+
+def test_reproduce_checks_its_output_folder_before_computing(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr("rotorcontact.cli.reproduce.reproduce", _never)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("x")
+    assert main(["reproduce", "--out", str(blocker)]) == 2
+    assert "--out" in capsys.readouterr().err
+    assert main(["reproduce", "--out", str(blocker / "sub")]) == 2
+    assert "is a file, not a folder" in capsys.readouterr().err

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ..reproduce import paper_parameters, reproduce
+from .outputs import check_output_folder
 from .options import PARAM_NAMES, add_parameter_options, parameters_from_args, print_json
 
 
@@ -30,6 +31,7 @@ def run(args: argparse.Namespace) -> int:
         params = paper_parameters()
     else:
         params, _machine = parameters_from_args(args)
+    check_output_folder("--out", args.out)
     rep = reproduce(args.out, params, progress=True)
     if args.json:
         print_json(rep.report)
