@@ -120,9 +120,9 @@ def test_branches_range_too_far_names_the_range_not_t_max(capsys, monkeypatch):
     err = capsys.readouterr().err
     assert "--to = 100000 is out of reach" in err and "--t-max = 12" in err and "Traceback" not in err
     assert not err.split("error: ")[1].startswith("--t-max")
-    # --t-max is named where it is what was given
-    assert main(["branches", "--t-max", "1e4"]) == 2
-    assert "error: --t-max = 10000 is too large" in capsys.readouterr().err
+    # --t-max is named where it is what was given: at gamma = 10 flights grow like e^{5 T}
+    assert main(["branches", "--gamma", "10", "--param", "omega", "--t-max", "80"]) == 2
+    assert "error: --t-max = 80 is too large at omega = 1.25, the default --to" in capsys.readouterr().err
 
 
 def test_design_map_shock_needs_a_unit_and_shows_progress(capsys, tmp_path, monkeypatch):
