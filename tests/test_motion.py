@@ -125,3 +125,16 @@ def test_summary_undetermined_with_few_impacts(ref):
     tr = ref.run(Parameters(**REF, gamma=0.1), 0j, 0j, 1000.0, max_impacts=5)
     assert tr.summary.motion == "undetermined"
     assert classify(tr) == tr.summary
+
+
+def test_a_failed_run_claims_no_regime():
+    import dataclasses
+
+    from rotorcontact import simulate
+
+    tr = simulate(Parameters(**REF, gamma=0.1), 0j, 0j, 50.0)
+    failed = dataclasses.replace(tr, status="failed", failure="the impact search exceeded its step limit")
+    s = failed.summary
+    assert s.motion == "failed" and s.regime is None and s.contact_fraction is None
+    assert s.n_impacts == len(tr.impacts)
+    assert failed.to_dict()["summary"]["regime"] is None

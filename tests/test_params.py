@@ -156,13 +156,21 @@ def test_parameters_not_a_number(name):
 @pytest.mark.parametrize(
     "name,value,allowed",
     [
-        ("omega", 0.0, "(0, inf)"),
-        ("omega", -0.5, "(0, inf)"),
-        ("rho", -0.1, "[0, inf)"),
-        ("mu", -0.01, "[0, inf)"),
+        ("omega", 0.0, "(0, 1e+06]"),
+        ("omega", -0.5, "(0, 1e+06]"),
+        ("rho", -0.1, "[0, 1e+06]"),
+        ("mu", -0.01, "[0, 1e+06]"),
         ("d", -0.01, "[0, 1]"),
         ("d", 1.01, "[0, 1]"),
-        ("r_ratio", -1.0, "[0, inf)"),
+        ("r_ratio", -1.0, "[0, 1e+06]"),
+        # magnitudes: the dimensionless groups of a rotor are of order one
+        ("gamma", 1e308, "[-1e+06, 1e+06]"),
+        ("gamma", -2e6, "[-1e+06, 1e+06]"),
+        ("omega", 1e200, "(0, 1e+06]"),
+        ("rho", 1e7, "[0, 1e+06]"),
+        ("mu", 1e300, "[0, 1e+06]"),
+        ("phi", 1e300, "[-1e+06, 1e+06]"),
+        ("r_ratio", 1e10, "[0, 1e+06]"),
     ],
 )
 def test_parameters_out_of_range(name, value, allowed):
@@ -338,3 +346,36 @@ def test_machine_takes_strings_with_units_as_machine_files_do(tmp_path):
         Machine(**{**RIG, "speed": "12000 bananas"})
     with pytest.raises(ParameterError, match="speed = '3 m'.*rad/s"):
         Machine(**{**RIG, "speed": "3 m"})
+
+
+# ---------------------------------------------------------------------------
+# bounds of magnitude reach every entry point
+# ---------------------------------------------------------------------------
+
+
+def test_the_largest_allowed_magnitudes_are_accepted():
+    from rotorcontact.params import MAX_MAGNITUDE
+
+    p = Parameters(**dict(PARAMS, gamma=-MAX_MAGNITUDE, omega=MAX_MAGNITUDE, rho=MAX_MAGNITUDE, mu=MAX_MAGNITUDE,
+                          phi=-MAX_MAGNITUDE, r_ratio=MAX_MAGNITUDE))
+    assert p.omega == MAX_MAGNITUDE
+
+
+def test_simulate_refuses_absurd_parameters_and_initial_states():
+    from rotorcontact import simulate
+    from rotorcontact.params import MAX_VELOCITY
+
+    ref = Parameters(**PARAMS)
+    with pytest.raises(ParameterError, match=r"omega = 1e\+200 is out of range"):
+        simulate(ref.replace(omega=1e200), 0j, 0j, 10.0)
+    with pytest.raises(ParameterError, match=r"du0 = 1e\+308,0.0 is too fast.*allowed: \|du0\| <= 1e\+06"):
+        simulate(ref, 0j, 1e308 + 0j, 10.0)
+    with pytest.raises(ParameterError, match="du0"):
+        simulate(ref, 0j, (0.0, 2 * MAX_VELOCITY), 10.0)
+    traj = simulate(ref, 0j, complex(MAX_VELOCITY, 0.0), 1.0)  # the largest allowed shock still runs
+    assert traj.status in ("completed", "max-events")
+
+
+def test_a_machine_whose_groups_are_out_of_range_names_them():
+    with pytest.raises(ParameterError, match=r"gamma = .* is out of range; allowed: \[-1e\+06, 1e\+06\]"):
+        Machine(**dict(RIG, speed=1e-6)).parameters()

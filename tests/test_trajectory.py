@@ -214,3 +214,43 @@ def test_state_between_the_last_impact_of_a_chatter_stop_and_the_accumulation_po
     d, mu = traj.params.d, traj.params.mu
     tail = mu * imp.normal_impulse[-1] * d / (1 - d)
     assert np.all(np.abs(thetadot - imp.thetadot_plus[-1]) <= tail)
+
+
+def test_to_dict_keeps_the_first_and_last_impacts_past_max_rows():
+    from rotorcontact import simulate
+
+    tr = simulate(Parameters(**REF, gamma=0.1), 0j, 0j, 400.0)
+    n = len(tr.impacts)
+    assert n > 100
+    d = tr.to_dict(max_rows=11)
+    assert len(d["impacts"]) == 11
+    assert d["impacts_total"] == n and d["impacts_truncated"] is True
+    assert [row["t"] for row in d["impacts"]] == list(tr.impacts.t[:5]) + list(tr.impacts.t[-6:])
+    assert d["summary"]["n_impacts"] == n
+    json.dumps(d, allow_nan=False)
+    # no more impacts than the limit: the same keys as without it
+    full = tr.to_dict(max_rows=n)
+    assert full.keys() == tr.to_dict().keys()
+    assert "impacts_truncated" not in full and "impacts_total" not in full
+    assert len(full["impacts"]) == n
+
+
+def test_to_dict_keeps_the_first_and_last_contact_intervals_past_max_rows():
+    from rotorcontact import simulate
+
+    base = Parameters(**REF, gamma=0.15)
+    for changes in (dict(d=0.3, mu=0.6, omega=0.9), dict(d=0.3, mu=0.6, omega=1.1), dict(d=0.3, mu=0.6)):
+        tr = simulate(base.replace(**changes), 0.5, 1.5j, 500.0)
+        if len(tr.contact_intervals) >= 3:
+            break
+    intervals = tr.contact_intervals
+    assert len(intervals) >= 3
+    d = tr.to_dict(max_rows=2)
+    assert d["contact_intervals_total"] == len(intervals) and d["contact_intervals_truncated"] is True
+    assert d["contact_intervals"] == [intervals[0].to_dict(), intervals[-1].to_dict()]
+
+
+@pytest.mark.parametrize("bad", [0, 1, 2.5, True, "10"])
+def test_to_dict_refuses_a_bad_max_rows(traj, bad):
+    with pytest.raises(ParameterError, match="max_rows"):
+        traj.to_dict(max_rows=bad)

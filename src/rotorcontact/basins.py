@@ -54,7 +54,7 @@ from .batch import (
     parameter_array,
 )
 from .errors import ParameterError
-from .params import Machine, Parameters, check_finite
+from .params import MAX_VELOCITY, Machine, Parameters, check_finite
 from .scaleout import (
     ChunkStore,
     ChunkTask,
@@ -140,6 +140,11 @@ class BasinGrid:
             object.__setattr__(self, name, arr)
         if self.kind == "shock" and np.any(self.axis0 < 0):
             raise ParameterError("grid amplitude values must be >= 0")
+        if self.kind == "shock" and np.any(self.axis0 > MAX_VELOCITY):
+            raise ParameterError(
+                f"grid amplitude {float(self.axis0.max())!r} is too large; allowed: amplitudes <= {MAX_VELOCITY:g} "
+                "clearances per unit time (far beyond any touchdown shock)"
+            )
         points = self.axis0.size * self.axis1.size
         if points > MAX_GRID_POINTS:
             raise ParameterError(

@@ -54,26 +54,28 @@ class MotionSummary:
         ``"periodic-impacting"``, ``"irregular"`` (impacting with no period of
         up to `MAX_PERIOD_IMPACTS` impacts), ``"chatter"`` (impacts accumulate
         and the run stopped there), ``"contact"`` (continuous contact, no
-        impacts) or ``"undetermined"`` (too few impacts to tell).
-    regime : str
+        impacts), ``"undetermined"`` (too few impacts to tell) or ``"failed"``
+        (the simulation could not continue; nothing is said about the motion).
+    regime : str or None
         The contact regime, one of `REGIMES`: ``"forward-rub"`` is sliding
         forward only (settling onto a pseudo-equilibrium), ``"backward-whirl"``
         ends rolling round the stator, ``"mixed"`` has impacts and contact.
         For a run stopped at chatter it describes the run up to that point.
+        None for a failed run.
     n_impacts : int
         Number of impacts in the run.
     impacts_per_period, period : int or None, float or None
         Impacts per period and period of a periodic impacting motion.
-    contact_fraction : float
-        Fraction of the last third of the run spent in contact.
+    contact_fraction : float or None
+        Fraction of the last third of the run spent in contact (None for a failed run).
     """
 
     motion: str
-    regime: str
+    regime: str | None
     n_impacts: int
     impacts_per_period: int | None = None
     period: float | None = None
-    contact_fraction: float = 0.0
+    contact_fraction: float | None = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
@@ -112,6 +114,9 @@ def classify(traj: "Trajectory") -> MotionSummary:
     """Classify the long-run motion of ``traj`` (see `MotionSummary`)."""
     imp = traj.impacts
     n = len(imp)
+    if traj.status == "failed":
+        # the run broke off: what it did up to then says nothing about its long-run regime
+        return MotionSummary("failed", None, n, contact_fraction=None)
     t_win = traj.t_stop * (1.0 - WINDOW)
     stopped_at_chatter = traj.status == "chatter"
     late_impacts = int(np.count_nonzero(imp.t >= t_win))

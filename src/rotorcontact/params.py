@@ -29,7 +29,22 @@ __all__ = [
     "load_machine",
     "check_finite",
     "check_range",
+    "check_velocity",
+    "MAX_MAGNITUDE",
+    "MAX_VELOCITY",
 ]
+
+#: Largest magnitude of a dimensionless parameter (|gamma|, omega, rho, mu, |phi|, r_ratio).
+#: The groups of a real rotor are of order one (MODEL.md §2: the reference rig has gamma 0.15,
+#: omega 0.76, rho 0.43, r_ratio 57); 1e6 still covers a rig turning at 1e-4 rad/s or a clearance of
+#: a micrometre under a 1 m rotor. Beyond it the closed-form flight, whose fast time scale is 1/omega
+#: (or 1/gamma), cannot be resolved in double precision over a run, and its squares and exponentials
+#: approach overflow.
+MAX_MAGNITUDE = 1e6
+#: Largest magnitude of an initial velocity U'(0), in clearances per unit of dimensionless time
+#: (c_r Omega: about 0.13 m/s on the reference rig). A million of them is a shock far beyond any
+#: touchdown; beyond it the impact search, whose steps scale like 1/|U'|, cannot finish.
+MAX_VELOCITY = 1e6
 
 
 def check_finite(name: str, value: Any) -> float:
@@ -60,8 +75,35 @@ def check_range(
     high: float | None = None,
     low_open: bool = False,
     high_open: bool = False,
+    why: str | None = None,
 ) -> float:
-    """Check that ``value`` is finite and lies in the given interval; return it as a float."""
+    """Check that ``value`` is finite and lies in the given interval; return it as a float.
+
+    Parameters
+    ----------
+    name : str
+        Name of the value, as the user knows it (shown in the error).
+    value : Any
+        The value to check.
+    low, high : float, optional
+        Bounds of the interval (None: unbounded on that side).
+    low_open, high_open : bool
+        Whether the bound itself is excluded.
+    why : str, optional
+        Reason for the upper bound, appended in parentheses to the error of
+        a value above it.
+
+    Returns
+    -------
+    float
+        ``value`` as a float.
+
+    Raises
+    ------
+    ParameterError
+        If ``value`` is not a finite number or lies outside the interval; the
+        message names ``name``, the value and the allowed interval.
+    """
     v = check_finite(name, value)
     lo_bad = low is not None and (v <= low if low_open else v < low)
     hi_bad = high is not None and (v >= high if high_open else v > high)
@@ -74,8 +116,26 @@ def check_range(
             left = "("
         if high is None:
             right = ")"
-        raise ParameterError(f"{name} = {v!r} is out of range; allowed: {left}{lo}, {hi}{right}")
+        reason = f" ({why})" if why and hi_bad else ""
+        raise ParameterError(f"{name} = {v!r} is out of range; allowed: {left}{lo}, {hi}{right}{reason}")
     return v
+
+
+def check_velocity(name: str, value: complex) -> complex:
+    """Check that an initial velocity has magnitude at most `MAX_VELOCITY`; return it.
+
+    Raises
+    ------
+    ParameterError
+        If ``|value| > MAX_VELOCITY`` (or it is not finite).
+    """
+    speed = abs(complex(value))
+    if not speed <= MAX_VELOCITY:
+        raise ParameterError(
+            f"{name} = {value.real!r},{value.imag!r} is too fast (|{name}| = {speed:.3g}); allowed: "
+            f"|{name}| <= {MAX_VELOCITY:g} clearances per unit time (far beyond any touchdown shock)"
+        )
+    return complex(value)
 
 
 @dataclass(frozen=True)
@@ -85,20 +145,23 @@ class Parameters:
     Attributes
     ----------
     gamma : float
-        Damping c / (m Omega). Any finite value; negative values are allowed for
+        Damping c / (m Omega), in [-1e6, 1e6]; negative values are allowed for
         the analysis of orbits, not for a physical machine.
     omega : float
-        Stiffness ratio sqrt(k / (m Omega^2)), > 0.
+        Stiffness ratio sqrt(k / (m Omega^2)), in (0, 1e6].
     rho : float
-        Eccentricity over clearance e_c / c_r, >= 0.
+        Eccentricity over clearance e_c / c_r, in [0, 1e6].
     mu : float
-        Coulomb friction coefficient, >= 0.
+        Coulomb friction coefficient, in [0, 1e6].
     d : float
         Newton restitution coefficient, in [0, 1].
     phi : float
-        Unbalance phase in radians.
+        Unbalance phase in radians, in [-1e6, 1e6].
     r_ratio : float
-        Rotor radius over clearance R / c_r, >= 0; sets sgn(v_rel).
+        Rotor radius over clearance R / c_r, in [0, 1e6]; sets sgn(v_rel).
+
+    The bound 1e6 on magnitudes is `MAX_MAGNITUDE` (the groups of a real rotor
+    are of order one); a `ParameterError` names the parameter otherwise.
     """
 
     gamma: float
@@ -112,11 +175,15 @@ class Parameters:
     def __post_init__(self) -> None:
         for f in fields(self):
             object.__setattr__(self, f.name, check_finite(f.name, getattr(self, f.name)))
-        check_range("omega", self.omega, low=0.0, low_open=True)
-        check_range("rho", self.rho, low=0.0)
-        check_range("mu", self.mu, low=0.0)
+        big = MAX_MAGNITUDE
+        why = "dimensionless groups of a rotor are of order one; larger magnitudes are beyond the model's numerics"
+        check_range("gamma", self.gamma, low=-big, high=big, why=why)
+        check_range("omega", self.omega, low=0.0, high=big, low_open=True, why=why)
+        check_range("rho", self.rho, low=0.0, high=big, why=why)
+        check_range("mu", self.mu, low=0.0, high=big, why=why)
         check_range("d", self.d, low=0.0, high=1.0)
-        check_range("r_ratio", self.r_ratio, low=0.0)
+        check_range("phi", self.phi, low=-big, high=big, why=why)
+        check_range("r_ratio", self.r_ratio, low=0.0, high=big, why=why)
 
     @classmethod
     def reference(cls) -> "Parameters":

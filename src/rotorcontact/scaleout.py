@@ -14,6 +14,13 @@ executor runs them:
   or ``scheduler="tcp://host:port"`` (an existing Dask cluster, whose workers
   must have rotorcontact installed).
 
+Worker processes on this machine are at most as many as its cores
+(`available_cores`): more would only share the cores and multiply the memory.
+They are started with Ctrl-C (SIGINT) blocked, so that an interrupt, which a
+terminal sends to every process of the command, reaches this process alone;
+leaving an executor's ``with`` block by an exception (KeyboardInterrupt
+included) ends its workers at once instead of letting them finish.
+
 Chunks that depend on each other (a sweep with the state carried along) are
 run in *waves*: a wave holds the chunks whose inputs are known.
 
@@ -25,12 +32,17 @@ produces the same result.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
+import logging
 import os
 import shutil
+import signal
 import sys
 import tempfile
+import threading
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Iterator
@@ -40,8 +52,8 @@ import numpy as np
 from .batch import BatchSettings, run_lanes
 from .errors import ParameterError
 
-__all__ = ["ChunkTask", "ChunkStore", "make_executor", "progress_bar", "run_task", "study_digest", "write_netcdf",
-           "read_finished"]
+__all__ = ["ChunkTask", "ChunkStore", "available_cores", "local_workers", "make_executor", "progress_bar", "run_task",
+           "study_digest", "write_netcdf", "read_finished"]
 
 STORE_FORMAT = 2
 
@@ -93,20 +105,68 @@ def _indexed(index: int, task: ChunkTask) -> tuple[int, dict[str, np.ndarray]]:
 # ---------------------------------------------------------------------------
 
 
+def available_cores() -> int:
+    """The number of cores this process may run on (its CPU affinity where the system reports it)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - systems without sched_getaffinity
+        return max(1, os.cpu_count() or 1)
+
+
+@contextlib.contextmanager
+def _interrupts_blocked() -> Iterator[None]:
+    """Block SIGINT in this thread while worker processes are started, so that they inherit the block.
+
+    Ctrl-C in a terminal signals every process of the command; workers that
+    inherit the block never see it, and the parent, which does, ends them.
+    The resource trackers of multiprocessing and loky unblock SIGINT when they
+    start, so they are started first. A SIGINT that arrives meanwhile is
+    delivered when the block is lifted.
+    """
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    try:
+        from joblib.externals.loky.backend import resource_tracker as loky_tracker
+
+        loky_tracker.ensure_running()
+    except ImportError:  # pragma: no cover - joblib is a dependency
+        pass
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+def _kill(processes: list[Any]) -> None:
+    """Kill the given `psutil.Process` objects that still run (psutil checks the pid was not reused)."""
+    import psutil
+
+    for proc in processes:
+        with contextlib.suppress(psutil.Error):
+            proc.kill()
+    psutil.wait_procs(processes, timeout=5)
+
+
 class _Executor:
     name = "base"
 
     def run(self, tasks: list[ChunkTask]) -> Iterator[tuple[int, dict[str, np.ndarray]]]:  # pragma: no cover
         raise NotImplementedError
 
-    def close(self) -> None:
-        pass
+    def close(self, abort: bool = False) -> None:
+        """Release the executor's resources; with ``abort``, end running work at once."""
 
     def __enter__(self) -> "_Executor":
         return self
 
-    def __exit__(self, *exc) -> None:
-        self.close()
+    def __exit__(self, exc_type, exc, tb) -> None:
+        # an exception (an interrupt above all) ends the work at once instead of waiting for it
+        self.close(abort=exc_type is not None)
 
 
 class InProcessExecutor(_Executor):
@@ -161,24 +221,55 @@ def _stackable(a: ChunkTask, b: ChunkTask) -> bool:
 
 
 class JoblibExecutor(_Executor):
-    """Chunks in joblib worker processes (loky), one core each; the pool is kept across waves."""
+    """Chunks in joblib worker processes (loky), one core each.
+
+    The workers are started at once, with SIGINT blocked (`_interrupts_blocked`),
+    and reused from wave to wave (loky's reusable pool). `close` with ``abort``
+    kills them.
+    """
 
     name = "joblib"
 
     def __init__(self, n_jobs: int) -> None:
-        from joblib import Parallel
+        from joblib import Parallel, delayed
 
         self.n_jobs = n_jobs
-        self._parallel = Parallel(n_jobs=n_jobs, backend="loky", return_as="generator_unordered")
-        self._parallel.__enter__()
+        self._running = None
+        self._parallel = None
+        try:
+            with _interrupts_blocked():
+                # not a managed backend (no ``with Parallel``): joblib then ends the workers on an
+                # exception instead of starting a fresh pool
+                self._parallel = Parallel(n_jobs=n_jobs, backend="loky", return_as="generator_unordered")
+                for _ in self._parallel(delayed(os.getpid)() for _ in range(n_jobs)):
+                    pass
+        except BaseException:
+            self.close(abort=True)
+            raise
 
     def run(self, tasks):
         from joblib import delayed
 
-        yield from self._parallel(delayed(_indexed)(i, t) for i, t in enumerate(tasks))
+        self._running = self._parallel(delayed(_indexed)(i, t) for i, t in enumerate(tasks))
+        yield from self._running
+        self._running = None
 
-    def close(self) -> None:
-        self._parallel.__exit__(None, None, None)
+    def close(self, abort: bool = False) -> None:
+        running, self._running = self._running, None
+        if not abort:
+            return
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if running is not None:
+                with contextlib.suppress(Exception):
+                    running.close()  # joblib aborts: the pool's workers are killed
+            # whatever joblib left running (an interrupt between two waves, or during the start)
+            with contextlib.suppress(Exception):
+                from joblib.externals.loky import reusable_executor
+
+                pool = getattr(reusable_executor, "_executor", None)
+                if pool is not None:
+                    pool.shutdown(wait=False, kill_workers=True)
 
 
 class DaskExecutor(_Executor):
@@ -194,6 +285,13 @@ class DaskExecutor(_Executor):
         Workers of the local cluster (default: the number of cores).
     processes : bool
         Local workers as processes (True) or threads of this process.
+
+    Notes
+    -----
+    Local worker processes start with SIGINT blocked (`_interrupts_blocked`);
+    `close` with ``abort`` cancels the tasks, kills the local workers and
+    closes the cluster without its shutdown messages. Workers of a remote
+    cluster only lose their tasks.
     """
 
     name = "dask"
@@ -205,15 +303,28 @@ class DaskExecutor(_Executor):
             raise ParameterError("scheduler given but dask.distributed is not installed") from None
         self._cluster = None
         self._own_client = True
+        self._futures: list[Any] = []
+        self._workers: list[Any] = []
+        self.client = None
         if isinstance(scheduler, Client):
             self.client = scheduler
             self._own_client = False
         elif scheduler == "local":
-            n = n_workers or os.cpu_count() or 1
-            self._cluster = LocalCluster(
-                n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None
-            )
-            self.client = Client(self._cluster)
+            n = n_workers or available_cores()
+            try:
+                with _interrupts_blocked():
+                    self._cluster = LocalCluster(
+                        n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None
+                    )
+                    self.client = Client(self._cluster)
+                    if processes:
+                        import psutil
+
+                        pids = self.client.run(os.getpid).values()
+                        self._workers = [psutil.Process(pid) for pid in pids if pid != os.getpid()]
+            except BaseException:
+                self.close(abort=True)
+                raise
         elif isinstance(scheduler, str) and "://" in scheduler:
             try:
                 self.client = Client(scheduler, timeout="20s")
@@ -228,22 +339,66 @@ class DaskExecutor(_Executor):
         from distributed import as_completed
 
         futures = self.client.map(_indexed, range(len(tasks)), tasks, pure=False)
-        try:
-            for fut in as_completed(futures):
-                yield fut.result()
-        finally:
-            for fut in futures:
-                fut.release()
+        self._futures = futures
+        for fut in as_completed(futures):
+            yield fut.result()
+        for fut in futures:
+            fut.release()
+        self._futures = []
 
-    def close(self) -> None:
-        if self._own_client:
-            self.client.close()
-        if self._cluster is not None:
-            self._cluster.close()
+    def close(self, abort: bool = False) -> None:
+        if not abort:
+            if self.client is not None and self._own_client:
+                self.client.close()
+            if self._cluster is not None:
+                self._cluster.close()
+            return
+        # an interrupt or an error: no waiting for running tasks, and no shutdown chatter on stderr
+        quiet = logging.getLogger("distributed")
+        level = quiet.level
+        quiet.setLevel(logging.CRITICAL + 1)
+        try:
+            with warnings.catch_warnings(), contextlib.suppress(BaseException):
+                warnings.simplefilter("ignore")
+                if self.client is not None and self._futures:
+                    self.client.cancel(self._futures, force=True)
+                self._futures = []
+                _kill(self._workers)
+                if self.client is not None and self._own_client:
+                    self.client.close(timeout=5)
+                if self._cluster is not None:
+                    self._cluster.close(timeout=10)
+        finally:
+            quiet.setLevel(level)
+
+
+def local_workers(n_jobs: int) -> tuple[int, bool]:
+    """The number of local worker processes for ``n_jobs``: at most `available_cores`.
+
+    Parameters
+    ----------
+    n_jobs : int
+        Workers asked for; -1 means one per core.
+
+    Returns
+    -------
+    n : int
+        Workers to start.
+    capped : bool
+        True when ``n_jobs`` asked for more workers than there are cores.
+    """
+    cores = available_cores()
+    if n_jobs == -1:
+        return cores, False
+    return min(int(n_jobs), cores), int(n_jobs) > cores
 
 
 def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes: bool = True) -> _Executor:
     """The executor for ``n_jobs`` / ``scheduler`` (see the module docstring).
+
+    Local workers (joblib, or ``scheduler="local"``) are at most as many as
+    the cores (`local_workers`); asking for more gives that many, with a
+    `RuntimeWarning`.
 
     Raises
     ------
@@ -253,7 +408,18 @@ def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes
     if n_jobs is not None:
         if isinstance(n_jobs, bool) or not isinstance(n_jobs, (int, np.integer)) or n_jobs == 0 or n_jobs < -1:
             raise ParameterError(f"n_jobs = {n_jobs!r} is invalid; allowed: an integer >= 1, or -1 for all cores")
-        n_jobs = int(n_jobs) if n_jobs > 0 else (os.cpu_count() or 1)
+        local = scheduler is None or (isinstance(scheduler, str) and scheduler == "local")
+        if local:
+            n, capped = local_workers(int(n_jobs))
+            if capped:
+                warnings.warn(
+                    f"n_jobs = {int(n_jobs)} is more than the {n} cores available; using {n} workers",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
+            n_jobs = n
+        else:
+            n_jobs = int(n_jobs) if n_jobs > 0 else None
     if scheduler is not None:
         return DaskExecutor(scheduler, n_workers=n_jobs, processes=processes)
     if n_jobs is None:

@@ -14,7 +14,7 @@ from numba import njit
 
 from .errors import ParameterError
 from .flow import equilibrium_point, propagate
-from .params import Machine, Parameters, check_finite, check_range
+from .params import Machine, Parameters, check_finite, check_range, check_velocity
 from .reset import apply_reset, polar_velocity
 from .angles import wrap_angle
 from .tables import grow_rows, push_row
@@ -377,7 +377,8 @@ def simulate(
     params : Parameters
         Dimensionless parameters.
     u0, du0 : complex or (float, float)
-        Initial position (|u0| <= 1) and velocity in the co-rotating frame.
+        Initial position (|u0| <= 1) and velocity (|du0| <= `rotorcontact.params.MAX_VELOCITY`) in the
+        co-rotating frame.
     t_end : float
         Final dimensionless time, > 0.
     on_chatter : {"contact", "stop"}
@@ -413,7 +414,7 @@ def simulate(
     if not isinstance(params, Parameters):
         raise ParameterError(f"params = {params!r} is not a Parameters object")
     u0 = _as_complex("u0", u0)
-    du0 = _as_complex("du0", du0)
+    du0 = check_velocity("du0", _as_complex("du0", du0))
     if abs(u0) > 1.0 + BOUNDARY_TOL:
         raise ParameterError(
             f"u0 = {u0.real!r},{u0.imag!r} lies outside the clearance (|u0| = {abs(u0)!r}); allowed: |u0| <= 1"

@@ -46,7 +46,7 @@ from .batch import (
     parameter_array,
 )
 from .errors import ParameterError
-from .params import Machine, Parameters, check_finite
+from .params import Machine, Parameters, check_finite, check_velocity
 from .scaleout import (
     ChunkStore,
     ChunkTask,
@@ -360,7 +360,7 @@ def sweep(
         from .simulate import _as_complex
 
         z0 = _as_complex("u0", 0j if u0 is None else u0)
-        dz0 = _as_complex("du0", 0j if du0 is None else du0)
+        dz0 = check_velocity("du0", _as_complex("du0", 0j if du0 is None else du0))
         if abs(z0) > 1.0 + 1e-12:
             raise ParameterError(f"u0 = {z0.real:g},{z0.imag:g} lies outside the clearance; allowed: |u0| <= 1")
         starts = [(z0, dz0)] * (len(directions) if carry else n)

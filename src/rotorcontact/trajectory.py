@@ -344,11 +344,19 @@ class Trajectory:
         base = np.linspace(0.0, self.t_stop, n)
         return np.unique(np.concatenate((base, self.impacts.t)))
 
-    def contact_dicts(self, samples: int = 64) -> list[dict[str, Any]]:
-        """Contact intervals as plain dicts; with a machine, also their forces and friction power in SI."""
+    def contact_dicts(self, samples: int = 64, intervals: list[ContactInterval] | None = None) -> list[dict[str, Any]]:
+        """Contact intervals as plain dicts; with a machine, also their forces and friction power in SI.
+
+        Parameters
+        ----------
+        samples : int
+            Sample times per interval for the SI forces and power.
+        intervals : list of ContactInterval, optional
+            The intervals to describe (default: all of `contact_intervals`).
+        """
         out = []
         m = self.machine
-        for c in self.contact_intervals:
+        for c in self.contact_intervals if intervals is None else intervals:
             row = c.to_dict()
             if m is not None:
                 t = np.linspace(c.t_start, min(c.t_end, self.t_stop), samples)
@@ -371,8 +379,42 @@ class Trajectory:
 
         return classify(self)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The whole result as plain JSON-ready data (the ``simulate --json`` contract)."""
+    def to_dict(self, max_rows: int | None = None) -> dict[str, Any]:
+        """The whole result as plain JSON-ready data (the ``simulate --json`` contract).
+
+        Parameters
+        ----------
+        max_rows : int, optional
+            Largest number of impacts, and of contact intervals, listed (>= 2).
+            A longer list keeps its first ``max_rows // 2`` and its last
+            ``max_rows - max_rows // 2`` entries, and the result then also has
+            ``"impacts_total"`` (the number of impacts) and
+            ``"impacts_truncated": true`` (likewise ``"contact_intervals_total"``
+            and ``"contact_intervals_truncated"``). None (default) lists all.
+
+        Returns
+        -------
+        dict
+            ``parameters``, ``status``, ``message``, ``t_end``, ``t_stop``,
+            ``initial_state``, ``impacts``, ``contact_intervals``, ``summary``
+            (and ``machine`` with a machine).
+        """
+        if max_rows is not None and (
+            isinstance(max_rows, bool) or not isinstance(max_rows, (int, np.integer)) or max_rows < 2
+        ):
+            raise ParameterError(f"max_rows = {max_rows!r} is invalid; allowed: an integer >= 2, or None for all")
+        n_imp = len(self.impacts)
+        cut_impacts = max_rows is not None and n_imp > max_rows
+        records = self.records
+        if cut_impacts:
+            head = max_rows // 2
+            records = np.concatenate((records[:head], records[n_imp - (max_rows - head):]))
+        intervals = self.contact_intervals
+        n_int = len(intervals)
+        cut_intervals = max_rows is not None and n_int > max_rows
+        if cut_intervals:
+            head = max_rows // 2
+            intervals = intervals[:head] + intervals[n_int - (max_rows - head):]
         out: dict[str, Any] = {
             "parameters": self.params.as_dict(),
             "status": self.status,
@@ -380,10 +422,16 @@ class Trajectory:
             "t_end": self.t_end,
             "t_stop": self.t_stop,
             "initial_state": {"u0": [self.u0.real, self.u0.imag], "du0": [self.du0.real, self.du0.imag]},
-            "impacts": self.impacts.to_dicts(self.machine),
-            "contact_intervals": self.contact_dicts(),
+            "impacts": ImpactTable(records).to_dicts(self.machine),
+            "contact_intervals": self.contact_dicts(intervals=intervals),
             "summary": self.summary.to_dict(),
         }
+        if cut_impacts:
+            out["impacts_total"] = n_imp
+            out["impacts_truncated"] = True
+        if cut_intervals:
+            out["contact_intervals_total"] = n_int
+            out["contact_intervals_truncated"] = True
         if self.machine is not None:
             out["machine"] = self.machine.as_dict()
         return out

@@ -69,13 +69,13 @@ BAD_OPTIONS = [
     (["--gamma", "nan"], ["--gamma", "nan"]),
     (["--gamma=inf"], ["--gamma", "inf"]),
     (["--gamma", "abc"], ["--gamma", "abc"]),
-    (["--omega", "0"], ["omega", "0", "(0, inf)"]),
-    (["--omega=-0.5"], ["omega", "-0.5", "(0, inf)"]),
-    (["--rho=-0.1"], ["rho", "-0.1", "[0, inf)"]),
-    (["--mu=-0.2"], ["mu", "-0.2", "[0, inf)"]),
+    (["--omega", "0"], ["omega", "0", "(0, 1e+06]"]),
+    (["--omega=-0.5"], ["omega", "-0.5", "(0, 1e+06]"]),
+    (["--rho=-0.1"], ["rho", "-0.1", "[0, 1e+06]"]),
+    (["--mu=-0.2"], ["mu", "-0.2", "[0, 1e+06]"]),
     (["--d", "1.5"], ["d", "1.5", "[0, 1]"]),
     (["--d=-0.01"], ["d", "-0.01", "[0, 1]"]),
-    (["--r-ratio=-1"], ["r-ratio", "-1", "[0, inf)"]),
+    (["--r-ratio=-1"], ["r-ratio", "-1", "[0, 1e+06]"]),
     (["--phi=-inf"], ["--phi", "-inf"]),
     (["--u0", "1.5,0"], ["u0", "1.5", "|u0| <= 1"]),
     (["--u0=0.9,-0.9"], ["u0", "0.9", "-0.9"]),
@@ -312,3 +312,40 @@ def test_json_contract_through_the_installed_command(tmp_path):
     # theta is wrapped to (-pi, pi] over a long sequence
     th = np.array([row["theta"] for row in data["impacts"]])
     assert np.all(th > -math.pi) and np.all(th <= math.pi)
+
+
+SMALL_RUN_KEYS = {"parameters", "status", "message", "t_end", "t_stop", "initial_state", "impacts",
+                  "contact_intervals", "summary"}
+
+
+def test_json_of_a_small_run_keeps_its_keys(capsys):
+    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=200", "--json"], capsys)
+    assert code == 0, err
+    assert set(no_nan_loads(out)) == SMALL_RUN_KEYS
+
+
+def test_json_of_a_long_run_is_proportionate(capsys):
+    # about 1050 impacts: past the 1000 listed
+    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=3000", "--json"], capsys)
+    assert code == 0, err
+    data = no_nan_loads(out)
+    traj = simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, 3000.0)
+    n = len(traj.impacts)
+    assert n > 1000
+    assert set(data) == SMALL_RUN_KEYS | {"impacts_total", "impacts_truncated"}
+    assert data["impacts_truncated"] is True and data["impacts_total"] == n == data["summary"]["n_impacts"]
+    ts = [row["t"] for row in data["impacts"]]
+    assert ts == list(traj.impacts.t[:500]) + list(traj.impacts.t[-500:])
+    # --all-impacts: every impact, with the keys of a small run
+    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=3000", "--json", "--all-impacts"], capsys)
+    assert code == 0, err
+    data = no_nan_loads(out)
+    assert set(data) == SMALL_RUN_KEYS
+    check_contract(data, traj)
+
+
+def test_max_events_stops_the_run(capsys):
+    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=3000", "--max-events=50", "--json"], capsys)
+    assert code == 0, err
+    data = no_nan_loads(out)
+    assert data["status"] == "max-events" and len(data["impacts"]) <= 50

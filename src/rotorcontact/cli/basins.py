@@ -8,7 +8,7 @@ import time
 from ..basins import GRID_SYNTAX
 from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json
 from .outputs import check_output_file, check_plot_path, note_reuse
-from .scale import add_scale_options, parse_int, scale_kwargs
+from .scale import add_scale_options, batch_settings, check_study_size, scale_kwargs
 
 DESCRIPTION = f"""\
 Basins of attraction: every initial state of a grid is simulated through a
@@ -64,18 +64,12 @@ def register(sub) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ..basins import basins, parse_grid
-    from ..batch import BatchSettings
 
     params, machine = parameters_from_args(args)
     grid = parse_grid(args.grid)
-    settings = BatchSettings(
-        n_transient=parse_int("transient", args.transient, 0),
-        n_record=parse_int("record", args.record, 1),
-        t_transient=None if args.t_transient is None else parse_float("t-transient", args.t_transient),
-        t_record=None if args.t_record is None else parse_float("t-record", args.t_record),
-        settle=parse_int("settle", args.settle, 0),
-        n_keep=1,
-    )
+    settings = batch_settings(args, n_keep=1)
+    rows, cols = grid.shape
+    check_study_size(rows * cols, settings, f"--grid {cols} x {rows}")
     match_tol = parse_float("match-tol", args.match_tol)
     if args.plot is not None:
         check_plot_path(args.plot)

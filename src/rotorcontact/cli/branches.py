@@ -5,13 +5,26 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..branches import BRANCH_PARAMETERS, OrbitBranches, orbit_branches
+from ..branches import BRANCH_PARAMETERS, MAX_SEEDS, OrbitBranches, orbit_branches
 from ..errors import ParameterError
 from ..impactmap import MAX_GROWTH, flight_growth, period_limit
 from ..params import Machine
 from ..si import parameter_si, rate_scale, scaled_list, times_si, velocity_scale
 from .outputs import check_plot_path
-from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
+from .options import (
+    MAX_CONTINUATION_PERIOD,
+    add_parameter_options,
+    json_result,
+    parameters_from_args,
+    parse_float,
+    parse_int,
+    parse_t_max,
+    print_json,
+    renamed,
+)
+
+#: Largest --rdot-max: impact velocities of the model are of order one (clearances per unit time).
+MAX_RDOT = 1e3
 
 #: Default range of each parameter.
 DEFAULT_RANGES = {
@@ -49,16 +62,6 @@ def register(sub) -> None:
     p.add_argument("--plot", default=None, metavar="FILE.png",
                    help="write rdot- and thetadot- of B1,a..d against the parameter")
     p.set_defaults(func=run)
-
-
-def _int(name: str, text: str, low: int) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise ParameterError(f"--{name} = {text!r} is not an integer; allowed: an integer >= {low}") from None
-    if value < low:
-        raise ParameterError(f"--{name} = {value} is out of range; allowed: an integer >= {low}")
-    return value
 
 
 def _check_reach(args: argparse.Namespace, params, start: float, stop: float, t_max: float) -> None:
@@ -136,9 +139,10 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = DEFAULT_RANGES[args.param]
     start = lo if args.start is None else parse_float("from", args.start)
     stop = hi if args.stop is None else parse_float("to", args.stop)
-    t_max = parse_float("t-max", args.t_max)
-    rdot_max = parse_float("rdot-max", args.rdot_max)
-    seeds = _int("seeds", args.seeds, 2)
+    t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)
+    rdot_max = parse_float("rdot-max", args.rdot_max, low=0.0, high=MAX_RDOT, low_open=True,
+                           why="impact velocities of the model are of order one")
+    seeds = parse_int("seeds", args.seeds, 2, MAX_SEEDS, why="each seed value is a search for orbits")
     _check_reach(args, params, start, stop, t_max)
     if args.plot is not None:
         check_plot_path(args.plot)

@@ -8,7 +8,22 @@ from ..codim2 import DEFAULT_RANGES, Codim2Diagram, codim2_diagram
 from ..errors import ParameterError
 from ..orbitsystem import BRANCH_PARAMETERS
 from .outputs import check_plot_path
-from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
+from .options import (
+    MAX_CONTINUATION_PERIOD,
+    add_parameter_options,
+    json_result,
+    parameter_value,
+    parameters_from_args,
+    parse_float,
+    parse_int,
+    parse_t_max,
+    print_json,
+    renamed,
+)
+
+#: Largest fold index of --folds, and most curves of --folds and of --grazing: each is a continuation.
+MAX_FOLD = 100
+MAX_CURVES = 20
 
 
 def register(sub) -> None:
@@ -58,13 +73,15 @@ def _folds(text: str) -> tuple[int, ...]:
     out = []
     for part in text.split(","):
         try:
-            n = int(part)
-        except ValueError:
-            raise ParameterError(f"--folds = {text!r} is invalid; allowed: integers >= 1, e.g. 1,2") from None
-        if n < 1:
-            raise ParameterError(f"--folds = {text!r} is invalid; allowed: integers >= 1, e.g. 1,2")
-        out.append(n)
-    return tuple(dict.fromkeys(out))
+            out.append(parse_int("folds", part, 1, MAX_FOLD))
+        except ParameterError:
+            raise ParameterError(
+                f"--folds = {text!r} is invalid ({part!r}); allowed: integers from 1 to {MAX_FOLD}, e.g. 1,2"
+            ) from None
+    folds = tuple(dict.fromkeys(out))
+    if len(folds) > MAX_CURVES:
+        raise ParameterError(f"--folds = {text!r} names {len(folds)} fold curves; allowed: at most {MAX_CURVES}")
+    return folds
 
 
 def _text(d: Codim2Diagram) -> list[str]:
@@ -85,10 +102,15 @@ def run(args: argparse.Namespace) -> int:
     plane = _plane(args.params)
     lo = _pair("from", args.start) if args.start is not None else tuple(DEFAULT_RANGES[n][0] for n in plane)
     hi = _pair("to", args.stop) if args.stop is not None else tuple(DEFAULT_RANGES[n][1] for n in plane)
+    for option, corner in (("from", lo), ("to", hi)):
+        for name, value in zip(plane, corner):
+            parameter_value(option, params, name, value)
     ranges = ((lo[0], hi[0]), (lo[1], hi[1]))
     folds = _folds(args.folds)
     grazing = ["B1,d"] if args.grazing is None else [g for g in args.grazing if g.lower() != "none"]
-    t_max = parse_float("t-max", args.t_max)
+    if len(grazing) > MAX_CURVES:
+        raise ParameterError(f"--grazing is given {len(grazing)} times; allowed: at most {MAX_CURVES} orbits")
+    t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)
     if args.plot is not None:
         check_plot_path(args.plot)
     try:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import itertools
 import sys
 from pathlib import Path
 
@@ -12,7 +13,7 @@ from ..design import DesignMap, plane_map, speed_map
 from ..errors import ParameterError
 from ..params import load_machine
 from ..units import quantity_in
-from .options import json_result, print_json
+from .options import json_result, parse_int, print_json
 from .outputs import check_output_folder
 
 _UNITS = {"speed": "rpm", "stiffness": "N/m", "damping": "N s/m"}
@@ -87,14 +88,19 @@ def _machine(args: argparse.Namespace):
     return load_machine(source)
 
 
-def _count(text: str) -> int:
-    try:
-        n = int(text)
-    except ValueError:
-        raise ParameterError(f"--n = {text!r} is not an integer; allowed: an integer >= 2") from None
-    if n < 2 or n > 100_000:
-        raise ParameterError(f"--n = {n} is out of range; allowed: 2 to 100000")
-    return n
+#: Largest --shock, in m/s.
+MAX_SHOCK = 100.0
+#: Largest --n: about half a millisecond per setting; with --shock, each bistable setting also
+#: simulates 24 disturbances (about 20 ms), hence the smaller bound.
+MAX_POINTS = 100_000
+MAX_POINTS_SHOCK = 2_000
+
+
+def _count(text: str, shock: bool = False) -> int:
+    if shock:
+        return parse_int("n", text, 2, MAX_POINTS_SHOCK,
+                         why="with --shock every bistable setting runs 24 simulations")
+    return parse_int("n", text, 2, MAX_POINTS)
 
 
 def _shock(text: str) -> float:
@@ -109,20 +115,41 @@ def _shock(text: str) -> float:
             "(a disturbance of the rotor's velocity)"
         )
     shock = quantity_in("--shock", text, "m/s")
-    if shock <= 0:
-        raise ParameterError(f"--shock = {text!r} is out of range; allowed: a speed > 0, such as 5mm/s")
+    if shock <= 0 or shock > MAX_SHOCK:
+        raise ParameterError(
+            f"--shock = {text!r} is out of range; allowed: a speed > 0 and at most {MAX_SHOCK:g} m/s, such as 5mm/s "
+            "(touchdown disturbances are of mm/s to m/s)"
+        )
     return shock
+
+
+def _check_corners(machine, ranges: dict[str, tuple[float, float]], args: argparse.Namespace) -> None:
+    """Refuse, naming the option, a range whose ends give parameters outside the model's range."""
+    from dataclasses import replace
+
+    from ..design import rpm_to_rad_s
+
+    names = list(ranges)
+    for corner in itertools.product(*(ranges[name] for name in names)):
+        values = {name: rpm_to_rad_s(v) if name == "speed" else v for name, v in zip(names, corner)}
+        try:
+            replace(machine, **values).parameters()
+        except ParameterError as exc:
+            where = ", ".join(f"{v:g} {_UNITS[name]}" for name, v in zip(names, corner))
+            options = " and ".join(f"--{name} = {getattr(args, name)!r}" for name in names)
+            raise ParameterError(f"{options}: at {where}, {exc}") from None
 
 
 def build_map(args: argparse.Namespace) -> DesignMap:
     machine = _machine(args)
-    n = _count(args.n)
     shock = _shock(args.shock) if args.shock is not None else None
+    n = _count(args.n, shock is not None)
     ranges = {
         name: parse_range(name, getattr(args, name), _UNITS[name])
         for name in ("speed", "stiffness", "damping")
         if getattr(args, name) is not None
     }
+    _check_corners(machine, ranges, args)
     grids = {name: np.linspace(a, b, n if len(ranges) == 1 else min(n, 60)) for name, (a, b) in ranges.items()}
     progress = bool(getattr(args, "progress", True)) and shock is not None
     if set(ranges) == {"speed"}:

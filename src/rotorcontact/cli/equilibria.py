@@ -10,7 +10,18 @@ from ..errors import ParameterError
 from ..params import Machine
 from ..si import equilibria_si, parameter_si
 from .outputs import check_plot_path
-from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json
+from .options import (
+    add_parameter_options,
+    json_result,
+    parameter_value,
+    parameters_from_args,
+    parse_float,
+    parse_int,
+    print_json,
+)
+
+#: Largest --points: about a millisecond each, so 10000 take seconds (the default is 401).
+MAX_POINTS = 10_000
 
 
 def register(sub) -> None:
@@ -35,7 +46,8 @@ def register(sub) -> None:
     )
     p.add_argument("--from", dest="start", default=None, metavar="A", help="start of the parameter range")
     p.add_argument("--to", dest="stop", default=None, metavar="B", help="end of the parameter range")
-    p.add_argument("--points", default="401", metavar="N", help="grid points bracketing the events (default 401)")
+    p.add_argument("--points", default="401", metavar="N",
+                   help=f"grid points bracketing the events (default 401, at most {MAX_POINTS})")
     p.set_defaults(func=run)
 
 
@@ -50,14 +62,10 @@ def _branches(args: argparse.Namespace, params) -> EquilibriumBranches | None:
         return None
     if args.start is None or args.stop is None:
         raise ParameterError("--from and --to go together; give both")
-    start = parse_float("from", args.start)
-    stop = parse_float("to", args.stop)
-    try:
-        points = int(args.points)
-    except ValueError:
-        raise ParameterError(f"--points = {args.points!r} is not an integer; allowed: an integer >= 2") from None
-    if points < 2:
-        raise ParameterError(f"--points = {points} is out of range; allowed: an integer >= 2")
+    start = parameter_value("from", params, args.param, parse_float("from", args.start))
+    stop = parameter_value("to", params, args.param, parse_float("to", args.stop))
+    points = parse_int("points", args.points, 2, MAX_POINTS,
+                       why="events are located between grid points, so a finer grid mostly costs time")
     try:
         return equilibrium_branches(params, args.param, start, stop, points)
     except ParameterError as exc:

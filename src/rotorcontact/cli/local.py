@@ -8,9 +8,17 @@ from typing import Any
 from ..equilibria import boundary_gamma
 from ..errors import ParameterError
 from ..local import LinearImpactingSystem, LocalAnalysis, local_analysis
-from ..params import Machine, check_range
+from ..params import Machine
 from ..si import parameter_si, times_si
-from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
+from .options import (
+    MAX_PERIOD,
+    add_parameter_options,
+    json_result,
+    parameters_from_args,
+    parse_t_max,
+    print_json,
+    renamed,
+)
 
 
 def register(sub) -> None:
@@ -64,7 +72,7 @@ def _table(gamma_star: float, analysis: LocalAnalysis, machine: Machine | None =
 
 def run(args: argparse.Namespace) -> int:
     params, machine = parameters_from_args(args)
-    t_max = check_range("--t-max", parse_float("t-max", args.t_max), low=0.0, low_open=True)
+    t_max = parse_t_max(args.t_max, MAX_PERIOD)
     system = LinearImpactingSystem.from_parameters(params)
     gamma_star = boundary_gamma(params)
     try:

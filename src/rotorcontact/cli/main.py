@@ -38,13 +38,29 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    """Entry point; returns the exit status.
+
+    0: done; 1: a computation could not complete (a failed simulation, memory
+    exhausted), with one line on stderr; 2: bad input, with one line on stderr;
+    130: interrupted (Ctrl-C), with one line on stderr, after every worker
+    process has been ended.
+    """
+    command = "rotorcontact"
+    try:
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        command = f"rotorcontact {args.command}"
+        return _run(args, command)
+    except KeyboardInterrupt:
+        print(f"{command}: interrupted", file=sys.stderr)
+        return 130
+
+
+def _run(args: argparse.Namespace, command: str) -> int:
     try:
         return int(args.func(args) or 0)
     except ParameterError as exc:
-        print(f"rotorcontact {args.command}: error: {exc}", file=sys.stderr)
+        print(f"{command}: error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:
         if isinstance(exc, BrokenPipeError):  # output piped into a program that stopped reading
@@ -52,15 +68,15 @@ def main(argv: list[str] | None = None) -> int:
             return 1
         # an output path that cannot be written: bad input, reported as such
         where = f" {exc.filename!r}" if getattr(exc, "filename", None) else ""
-        print(f"rotorcontact {args.command}: error: cannot write{where}: {exc.strerror or exc}", file=sys.stderr)
+        print(f"{command}: error: cannot write{where}: {exc.strerror or exc}", file=sys.stderr)
         return 2
     except RuntimeError as exc:
         # a computation that could not complete (for example a simulation that failed)
-        print(f"rotorcontact {args.command}: failed: {exc}", file=sys.stderr)
+        print(f"{command}: failed: {exc}", file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print(f"rotorcontact {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except MemoryError:
+        print(f"{command}: failed: out of memory; use smaller sizes", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

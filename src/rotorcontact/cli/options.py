@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
-from ..params import Machine, Parameters, load_machine, reference_machine
+from ..params import Machine, Parameters, check_range, check_velocity, load_machine, reference_machine
 
 PARAM_NAMES = ("gamma", "omega", "rho", "mu", "d", "phi", "r_ratio")
 
@@ -34,15 +34,110 @@ def add_parameter_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def parse_float(name: str, text: str) -> float:
-    """Parse a finite float from a command-line string."""
+def parse_float(
+    name: str,
+    text: str,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    why: str | None = None,
+) -> float:
+    """Parse a finite float from a command-line string, optionally within bounds.
+
+    Parameters
+    ----------
+    name : str
+        Option name without the leading dashes (``"t-end"``).
+    text : str
+        The text given on the command line.
+    low, high : float, optional
+        Bounds of the allowed interval (None: unbounded on that side).
+    low_open, high_open : bool
+        Whether the bound itself is excluded.
+    why : str, optional
+        Reason for the upper bound, shown in the error of a value above it.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ParameterError
+        If ``text`` is not a finite number or lies outside the bounds; the
+        message names the option, the value and what is allowed.
+    """
+    option = f"--{name.replace('_', '-')}"
     try:
         value = float(text)
     except ValueError:
-        raise ParameterError(f"--{name.replace('_', '-')} = {text!r} is not a number") from None
+        raise ParameterError(f"{option} = {text!r} is not a number") from None
     if not math.isfinite(value):
-        raise ParameterError(f"--{name.replace('_', '-')} = {text!r} is not finite; a finite number is required")
+        raise ParameterError(f"{option} = {text!r} is not finite; a finite number is required")
+    if low is not None or high is not None:
+        check_range(option, value, low=low, high=high, low_open=low_open, high_open=high_open, why=why)
     return value
+
+
+def parse_int(name: str, text: str, low: int, high: int, *, why: str | None = None) -> int:
+    """Parse an integer in [low, high] from a command-line string.
+
+    Every count a subcommand takes (values, points, events, seeds, workers)
+    goes through here, so that each has an upper bound that keeps the
+    command's time and memory finite, and the error says what it is.
+
+    Parameters
+    ----------
+    name : str
+        Option name without the leading dashes (``"n-jobs"``).
+    text : str
+        The text given: an integer, or a float with an integer value (``1e5``).
+    low, high : int
+        Smallest and largest allowed values.
+    why : str, optional
+        Reason for the upper bound, shown in the error of a value above it.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ParameterError
+        If ``text`` is not an integer or lies outside [low, high].
+    """
+    option = f"--{name.replace('_', '-')}"
+    allowed = f"an integer from {low} to {high}"
+    try:
+        value = int(text)
+    except (TypeError, ValueError):
+        try:
+            number = float(text)
+        except (TypeError, ValueError):
+            number = math.nan
+        if not (math.isfinite(number) and number.is_integer()):
+            raise ParameterError(f"{option} = {text!r} is not an integer; allowed: {allowed}") from None
+        value = int(number)
+    if not low <= value <= high:
+        reason = f" ({why})" if why and value > high else ""
+        raise ParameterError(f"{option} = {value} is out of range; allowed: {allowed}{reason}")
+    return value
+
+
+#: Largest --t-max of ``orbits`` and ``local`` (about 160 forcing periods; the paper uses 12). The
+#: number of orbits grows like T_max, and at small damping their search takes minutes past it.
+MAX_PERIOD = 1000.0
+#: Largest --t-max of ``branches`` and ``codim2``: every orbit found is continued, at a cost that
+#: grows faster than T_max; 100 already takes minutes.
+MAX_CONTINUATION_PERIOD = 100.0
+
+
+def parse_t_max(text: str, high: float) -> float:
+    """Parse --t-max, the largest period searched: in (0, ``high``]."""
+    return parse_float("t-max", text, low=0.0, high=high, low_open=True,
+                       why="the number of orbits, and the time to find them, grows with it")
 
 
 def parse_complex(name: str, text: str) -> complex:
@@ -51,6 +146,42 @@ def parse_complex(name: str, text: str) -> complex:
     if len(parts) != 2:
         raise ParameterError(f"--{name} = {text!r} is malformed; expected RE,IM (for example --{name}=0.1,-0.2)")
     return complex(parse_float(name, parts[0]), parse_float(name, parts[1]))
+
+
+def parse_velocity(name: str, text: str) -> complex:
+    """Parse an initial velocity ``RE,IM``, at most `rotorcontact.params.MAX_VELOCITY` in magnitude."""
+    return check_velocity(f"--{name}", parse_complex(name, text))
+
+
+def parameter_value(option: str, params: Parameters, name: str, value: float) -> float:
+    """Check that ``value`` is allowed for the model parameter ``name`` (the end of a range, say).
+
+    Parameters
+    ----------
+    option : str
+        The option that gave the value, without dashes (``"to"``).
+    params : Parameters
+        The other parameters.
+    name : str
+        The model parameter the value is for.
+    value : float
+        The value.
+
+    Returns
+    -------
+    float
+        ``value``.
+
+    Raises
+    ------
+    ParameterError
+        Naming the option, the value and the parameter's allowed range.
+    """
+    try:
+        params.replace(**{name: value})
+    except ParameterError as exc:
+        raise ParameterError(f"--{option} = {value!r} is not a valid {name}: {exc}") from None
+    return value
 
 
 def parameters_from_args(args: argparse.Namespace) -> tuple[Parameters, Machine | None]:

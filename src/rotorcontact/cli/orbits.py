@@ -15,9 +15,19 @@ import argparse
 from ..errors import ParameterError
 from ..impactmap import ImpactOrbit, one_impact_orbits
 from ..multiimpact import MultiImpactOrbit, multi_impact_orbits
-from ..params import Machine, check_range
+from ..params import Machine
 from ..si import orbit_si, rate_scale, times_si, velocity_scale
-from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json, renamed
+from ..motion import MAX_PERIOD_IMPACTS
+from .options import (
+    MAX_PERIOD,
+    add_parameter_options,
+    json_result,
+    parameters_from_args,
+    parse_int,
+    parse_t_max,
+    print_json,
+    renamed,
+)
 
 
 def register(sub) -> None:
@@ -82,13 +92,8 @@ def _table(orbits: tuple[ImpactOrbit, ...], machine: Machine | None = None) -> l
 
 
 def _impacts(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise ParameterError(f"--impacts = {text!r} is not an integer; allowed: an integer >= 1") from None
-    if value < 1:
-        raise ParameterError(f"--impacts = {value} is out of range; allowed: an integer >= 1")
-    return value
+    return parse_int("impacts", text, 1, MAX_PERIOD_IMPACTS,
+                     why="the longest period, in impacts, that the simulations recognise")
 
 
 def _multi_table(orbits: tuple[MultiImpactOrbit, ...], p: int, machine: Machine | None = None) -> list[str]:
@@ -143,7 +148,7 @@ def _run_multi(args: argparse.Namespace, params, machine, t_max: float, p: int) 
 
 def run(args: argparse.Namespace) -> int:
     params, machine = parameters_from_args(args)
-    t_max = check_range("--t-max", parse_float("t-max", args.t_max), low=0.0, low_open=True)
+    t_max = parse_t_max(args.t_max, MAX_PERIOD)
     p = _impacts(args.impacts)
     if p >= 2:
         try:

@@ -3,20 +3,25 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from typing import Any
 
 from ..errors import ParameterError
+from .options import parse_float, parse_int
 
+__all__ = ["add_scale_options", "batch_settings", "check_study_size", "parse_int", "scale_kwargs"]
 
-def parse_int(name: str, text: str, low: int) -> int:
-    """Parse an integer >= ``low`` from a command-line string."""
-    try:
-        value = int(text)
-    except (TypeError, ValueError):
-        raise ParameterError(f"--{name} = {text!r} is not an integer") from None
-    if value < low:
-        raise ParameterError(f"--{name} = {value} is out of range; allowed: an integer >= {low}")
-    return value
+#: Limits of the options of the batch studies (sweep, basins). The batch kernel runs of the order
+#: of a million events per second per core; these keep each simulation within seconds and each
+#: study's arrays within a few GiB. The Python API (`rotorcontact.sweep`, `rotorcontact.basins`)
+#: takes larger values.
+MAX_TRANSIENT = 1_000_000  # --transient, --settle: events of transient per simulation
+MAX_RECORD = 100_000  # --record: events recorded per simulation
+MAX_TIME = 1e7  # --t-transient, --t-record: dimensionless time
+MAX_CHUNK = 1_000_000  # --chunk-size
+MAX_JOBS = 1_000_000  # --n-jobs as written; local workers are then capped at the cores
+MAX_STUDY_EVENTS = 10_000_000_000  # simulations x (transient + record): hours of work on one machine
+MAX_KEPT_EVENTS = 50_000_000  # simulations x kept events: 32 bytes each, 1.6 GB of sections
 
 
 def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str) -> None:
@@ -38,16 +43,85 @@ def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str) -> No
     g.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr")
 
 
+def batch_settings(args: argparse.Namespace, n_keep: int | None = None):
+    """The `BatchSettings` of --transient, --record, --t-transient, --t-record and --settle, within their limits."""
+    from ..batch import BatchSettings
+
+    n_transient = parse_int("transient", args.transient, 0, MAX_TRANSIENT,
+                            why="a transient of more events per simulation would take minutes each")
+    n_record = parse_int("record", args.record, 1, MAX_RECORD,
+                         why="every recorded event of every simulation is kept in memory")
+
+    def time_limit(name: str, text: str | None) -> float | None:
+        if text is None:
+            return None
+        return parse_float(name, text, low=0.0, high=MAX_TIME, low_open=True,
+                           why="beyond it double precision cannot resolve the impact times")
+
+    return BatchSettings(
+        n_transient=n_transient,
+        n_record=n_record,
+        t_transient=time_limit("t-transient", args.t_transient),
+        t_record=time_limit("t-record", args.t_record),
+        settle=parse_int("settle", args.settle, 0, MAX_TRANSIENT),
+        n_keep=n_keep,
+    )
+
+
+def check_study_size(simulations: int, settings, what: str) -> None:
+    """Refuse a study whose total work or kept data exceeds `MAX_STUDY_EVENTS` or `MAX_KEPT_EVENTS`.
+
+    Parameters
+    ----------
+    simulations : int
+        Number of simulations of the study.
+    settings : BatchSettings
+        Events per simulation.
+    what : str
+        How the simulations are counted, for the message (``"--n 200 values x 2 directions"``).
+
+    Raises
+    ------
+    ParameterError
+        Naming the options, their product and its limit.
+    """
+    events = simulations * (settings.n_transient + settings.n_record)
+    if events > MAX_STUDY_EVENTS:
+        raise ParameterError(
+            f"{what} = {simulations} simulations of --transient {settings.n_transient} + --record "
+            f"{settings.n_record} events make {events:.3g} events; allowed: at most {MAX_STUDY_EVENTS:.0e} "
+            "events per study (hours of computation on one machine); reduce them or split the study"
+        )
+    keep = settings.n_keep if settings.n_keep is not None else settings.n_record
+    if simulations * keep > MAX_KEPT_EVENTS:
+        raise ParameterError(
+            f"{what} = {simulations} simulations keeping --record {keep} events each make "
+            f"{simulations * keep:.3g} kept events; allowed: at most {MAX_KEPT_EVENTS:.0e} "
+            f"({MAX_KEPT_EVENTS * 32 / 2**30:.1f} GiB of sections); reduce them or split the study"
+        )
+
+
 def scale_kwargs(args: argparse.Namespace) -> dict[str, Any]:
-    """Keyword arguments of `sweep` / `basins` from the execution options."""
+    """Keyword arguments of `sweep` / `basins` from the execution options.
+
+    More local workers than cores (--n-jobs, for joblib or ``--scheduler local``)
+    are capped at the cores, with a note on stderr.
+    """
+    from ..scaleout import local_workers
+
     n_jobs = None
     if args.n_jobs is not None:
-        n_jobs = parse_int("n-jobs", args.n_jobs, -1)
+        n_jobs = parse_int("n-jobs", args.n_jobs, -1, MAX_JOBS)
         if n_jobs == 0:
             raise ParameterError("--n-jobs = 0 is invalid; allowed: an integer >= 1, or -1 for one per core")
+        if args.scheduler is None or args.scheduler == "local":
+            n, capped = local_workers(n_jobs)
+            if capped:
+                print(f"note: --n-jobs {n_jobs} is more than the {n} cores available; using {n} workers",
+                      file=sys.stderr)
+            n_jobs = n if n_jobs != -1 else -1
     out: dict[str, Any] = dict(n_jobs=n_jobs, scheduler=args.scheduler, resume=args.resume,
                                keep_chunks=args.keep_chunks, progress=args.progress)
     if args.chunk_size is not None:
-        out["chunk_size"] = parse_int("chunk-size", args.chunk_size, 1)
+        out["chunk_size"] = parse_int("chunk-size", args.chunk_size, 1, MAX_CHUNK)
     return out
-

@@ -3,11 +3,29 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
-from ..params import check_range
 from ..simulate import simulate
 from .outputs import check_plot_path
-from .options import add_parameter_options, json_result, parameters_from_args, parse_complex, parse_float, print_json
+from .options import (
+    add_parameter_options,
+    json_result,
+    parameters_from_args,
+    parse_complex,
+    parse_float,
+    parse_int,
+    parse_velocity,
+    print_json,
+)
+
+#: Largest --t-end: beyond it double precision cannot resolve impact times to 1e-9.
+MAX_T_END = 1e7
+#: Largest --max-events: each event keeps about 150 bytes, so 1e7 events need 1.5 GB.
+MAX_EVENTS = 10_000_000
+#: Default --max-events.
+DEFAULT_MAX_EVENTS = 1_000_000
+#: Impacts (and contact intervals) listed by --json without --all-impacts: the first and the last half.
+JSON_ROWS = 1000
 
 
 def register(sub) -> None:
@@ -19,7 +37,11 @@ def register(sub) -> None:
     add_parameter_options(p)
     p.add_argument("--u0", default="0,0", metavar="RE,IM", help="initial position U(0) (co-rotating, |U| <= 1)")
     p.add_argument("--du0", default="0,0", metavar="RE,IM", help="initial velocity U'(0) (co-rotating)")
-    p.add_argument("--t-end", dest="t_end", default="500", metavar="T", help="final dimensionless time (default 500)")
+    p.add_argument("--t-end", dest="t_end", default="500", metavar="T",
+                   help=f"final dimensionless time (default 500, at most {MAX_T_END:g})")
+    p.add_argument("--max-events", dest="max_events", default=str(DEFAULT_MAX_EVENTS), metavar="N",
+                   help=f"stop with status max-events after N flights and contact phases "
+                        f"(default {DEFAULT_MAX_EVENTS}, at most {MAX_EVENTS})")
     p.add_argument(
         "--on-chatter",
         dest="on_chatter",
@@ -27,7 +49,11 @@ def register(sub) -> None:
         default="contact",
         help="at an accumulation of impacts, continue in continuous contact (default) or stop",
     )
-    p.add_argument("--json", action="store_true", help="print the whole result as JSON on stdout")
+    p.add_argument("--json", action="store_true",
+                   help=f"print the result as JSON on stdout (past {JSON_ROWS} impacts, the first and last "
+                        f"{JSON_ROWS // 2}, flagged as truncated)")
+    p.add_argument("--all-impacts", dest="all_impacts", action="store_true",
+                   help="with --json, list every impact and contact interval however many there are")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="write a three-panel figure")
     p.set_defaults(func=run)
 
@@ -35,24 +61,33 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     params, machine = parameters_from_args(args)
     u0 = parse_complex("u0", args.u0)
-    du0 = parse_complex("du0", args.du0)
-    t_end = check_range("--t-end", parse_float("t-end", args.t_end), low=0.0, low_open=True)
+    du0 = parse_velocity("du0", args.du0)
+    t_end = parse_float("t-end", args.t_end, low=0.0, high=MAX_T_END, low_open=True,
+                        why="beyond it double precision cannot resolve the impact times")
+    max_events = parse_int("max-events", args.max_events, 1, MAX_EVENTS,
+                           why="each event is kept in memory, about 150 bytes each")
     if args.plot is not None:
         check_plot_path(args.plot)
-    traj = simulate(params, u0, du0, t_end, on_chatter=args.on_chatter, machine=machine)
+    traj = simulate(params, u0, du0, t_end, on_chatter=args.on_chatter, max_events=max_events, machine=machine)
     if args.plot is not None:
         from ..plotting.trajectory import save_trajectory_figure
 
         save_trajectory_figure(traj, args.plot)
     if args.json:
-        print_json(json_result(params, traj.to_dict(), machine))
+        print_json(json_result(params, traj.to_dict(None if args.all_impacts else JSON_ROWS), machine))
     else:
         s = traj.summary
         print(traj.message)
-        line = f"regime: {s.regime}, impacts: {s.motion}"
+        if traj.status == "failed":
+            line = f"regime: none (the run failed after {s.n_impacts} impacts)"
+        else:
+            line = f"regime: {s.regime}, impacts: {s.motion}"
         if s.period is not None:
             line += f" ({s.impacts_per_period} impact(s) per period, T = {s.period:.10g})"
         print(line)
         if args.plot:
             print(f"figure written to {args.plot}")
+    if traj.status == "failed":
+        print(f"rotorcontact simulate: failed: {traj.message}", file=sys.stderr)
+        return 1
     return 0

@@ -9,13 +9,20 @@ from ..errors import ParameterError
 from .options import (
     add_parameter_options,
     json_result,
+    parameter_value,
     parameters_from_args,
     parse_complex,
     parse_float,
+    parse_int,
+    parse_velocity,
     print_json,
 )
 from .outputs import check_output_file, check_plot_path, note_reuse
-from .scale import add_scale_options, parse_int, scale_kwargs
+from .scale import add_scale_options, batch_settings, check_study_size, scale_kwargs
+
+#: Largest --n: values of the swept parameter (a thousand take seconds at the default transient, a
+#: hundred thousand minutes).
+MAX_VALUES = 100_000
 
 DESCRIPTION = """\
 Brute-force orbit diagram: for each value of one parameter the rotor runs through
@@ -79,23 +86,20 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..batch import BatchSettings
-    from ..sweep import SWEEP_PARAMETERS, sweep, sweep_values
+    from ..sweep import MODES, SWEEP_PARAMETERS, sweep, sweep_values
 
     params, machine = parameters_from_args(args)
     if args.param not in SWEEP_PARAMETERS:
         raise ParameterError(f"--param = {args.param!r} is invalid; allowed: {', '.join(SWEEP_PARAMETERS)}")
-    values = sweep_values(parse_float("from", args.start_value), parse_float("to", args.stop_value),
-                          parse_int("n", args.n_values, 1))
-    settings = BatchSettings(
-        n_transient=parse_int("transient", args.transient, 0),
-        n_record=parse_int("record", args.record, 1),
-        t_transient=None if args.t_transient is None else parse_float("t-transient", args.t_transient),
-        t_record=None if args.t_record is None else parse_float("t-record", args.t_record),
-        settle=parse_int("settle", args.settle, 0),
-    )
+    start_value = parameter_value("from", params, args.param, parse_float("from", args.start_value))
+    stop_value = parameter_value("to", params, args.param, parse_float("to", args.stop_value))
+    n_values = parse_int("n", args.n_values, 1, MAX_VALUES, why="split a longer sweep into ranges")
+    values = sweep_values(start_value, stop_value, n_values)
+    settings = batch_settings(args)
+    directions = len(MODES[args.mode])
+    check_study_size(n_values * directions, settings, f"--n {n_values} values x {directions} direction(s)")
     u0 = None if args.u0 is None else parse_complex("u0", args.u0)
-    du0 = None if args.du0 is None else parse_complex("du0", args.du0)
+    du0 = None if args.du0 is None else parse_velocity("du0", args.du0)
     if args.plot is not None:
         check_plot_path(args.plot)
     check_output_file("--out", args.out, (".nc",))

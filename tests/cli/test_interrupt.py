@@ -1,0 +1,81 @@
+"""Ctrl-C during a study: the command ends every worker process and exits promptly with
+status 130 and one line on stderr, with joblib workers and with a local Dask cluster,
+whether the interrupt reaches every process of the command (a terminal) or the parent alone."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+psutil = pytest.importorskip("psutil")
+
+pytestmark = pytest.mark.skipif(not hasattr(os, "killpg"), reason="POSIX process groups")
+
+# far more work than the test waits for: minutes on any machine
+STUDY = ["sweep", "--gamma", "0.1", "--param", "omega", "--from", "0.74", "--to", "0.78", "--n", "2000",
+         "--transient", "100000", "--chunk-size", "2", "--no-progress"]
+
+
+def _session(sid: int) -> list:
+    """The processes of session ``sid`` (the command and everything it started)."""
+    out = []
+    for proc in psutil.process_iter():
+        try:
+            if os.getsid(proc.pid) == sid and proc.status() != psutil.STATUS_ZOMBIE:
+                out.append(proc)
+        except (ProcessLookupError, PermissionError, psutil.Error):
+            pass
+    return out
+
+
+def _wait_for(predicate, timeout: float) -> bool:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if predicate():
+            return True
+        time.sleep(0.2)
+    return False
+
+
+@pytest.mark.parametrize(
+    "execution, whole_group",
+    [
+        (["--n-jobs", "2"], True),
+        (["--n-jobs", "2"], False),
+        (["--scheduler", "local", "--n-jobs", "2"], True),
+    ],
+    ids=["joblib-terminal", "joblib-parent-only", "dask-terminal"],
+)
+def test_ctrl_c_ends_every_worker_and_exits_with_one_line(tmp_path, execution, whole_group):
+    out = tmp_path / "study.nc"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "rotorcontact.cli.main", *STUDY, *execution, "--out", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+    )
+    try:
+        # the study runs once its chunk folder exists and its workers are up
+        started = _wait_for(
+            lambda: (tmp_path / "study.nc.chunks").exists() and len(_session(proc.pid)) >= 3, timeout=240
+        )
+        assert started and proc.poll() is None, proc.communicate(timeout=60)
+        time.sleep(1.0)
+        if whole_group:
+            os.killpg(proc.pid, signal.SIGINT)
+        else:
+            os.kill(proc.pid, signal.SIGINT)
+        stdout, stderr = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 130, stderr
+    lines = [line for line in stderr.splitlines() if line.strip() and not line.startswith("note:")]
+    assert lines == ["rotorcontact sweep: interrupted"], stderr
+    assert stdout == ""
+    # no worker outlives the command
+    assert _wait_for(lambda: not _session(proc.pid), timeout=60), [p.cmdline() for p in _session(proc.pid)]
