@@ -129,7 +129,7 @@ CERTIFICATE_MARGIN = 1e-9
 
 
 @njit(cache=True)
-def _final_state(impacts, flights, contacts, path, t_stop, gamma, omega, rho, phi):
+def _final_state(flights, contacts, path, t_stop, gamma, omega, rho, phi):
     """State (U, U') where a run of `simulate_kernel` stopped, and what it was doing (-1 flight, else contact kind).
 
     The simulator records the state at the start of every flight (the start of
@@ -284,7 +284,7 @@ def _transient(p, u, du, n_transient, t_transient, settle, chatter):
         imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
             gamma, omega, rho, mu, d, phi, rr, u, du, t_transient, n_transient, *chatter, False
         )
-        u, du, kind = _final_state(imp, fl, ct, path, t_stop, gamma, omega, rho, phi)
+        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
         return u, du, status, t_stop, imp.shape[0]
     # in segments of ``settle`` events, ending early once the motion repeats
     # (periodic impacts) or provably never touches the stator again
@@ -300,7 +300,7 @@ def _transient(p, u, du, n_transient, t_transient, settle, chatter):
             gamma, omega, rho, mu, d, phi, rr, u, du, time_left, min(settle, events_left), *chatter,
             False
         )
-        u, du, kind = _final_state(imp, fl, ct, path, t_stop, gamma, omega, rho, phi)
+        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
         events_left -= max(1, fl.shape[0] + ct.shape[0])
         time_left -= t_stop
         t_total += t_stop
@@ -355,7 +355,7 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
         imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
             gamma, omega, rho, mu, d, phi, rr, u, du, t_record, n_record, *chatter, False
         )
-        u, du, kind = _final_state(imp, fl, ct, path, t_stop, gamma, omega, rho, phi)
+        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
         regime, per_p, period = _classify_window(imp, ct, t_stop, status, WINDOW, MAX_PERIOD_IMPACTS, REPEAT_TOL,
                                                  MIN_IRREGULAR)
         n_imp = imp.shape[0]
@@ -869,7 +869,6 @@ def final_state(traj) -> tuple[complex, complex, str]:
     p = traj.params
     fl = traj.flights if traj.flights.size else np.empty((0, 5))
     u, du, kind = _final_state(
-        np.ascontiguousarray(traj.records, dtype=float),
         np.ascontiguousarray(fl, dtype=float).reshape(-1, 5),
         np.ascontiguousarray(traj.contacts, dtype=float).reshape(-1, 5),
         np.ascontiguousarray(traj.path, dtype=float).reshape(-1, 4),
