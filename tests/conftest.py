@@ -257,32 +257,41 @@ def np_reset(u, du, d, mu, r_ratio):
     return e, e * complex(rdot_plus, thetadot_plus), rdot, thetadot, rdot_plus, thetadot_plus
 
 
-def ivp_simulate(p, u0, du0, n_impacts, t_end, rtol=1e-12, atol=1e-12, method="DOP853"):
-    """Impacts by solve_ivp with a terminal event |U|^2 - 1 (direction +1), restarted at each impact."""
-    rhs = cartesian_rhs(p)
-
+def ivp_next_impact(p, t0, u, du, t_end, rtol=1e-12, atol=1e-12, method="DOP853"):
+    """The first impact after (t0, U, U') by solve_ivp with a terminal event |U|^2 - 1
+    (direction +1): a row (t, theta, rdot, thetadot, rdot_plus, thetadot_plus) and the
+    post-impact state (U, U'), or None if the flight reaches t_end."""
     def hit(t, y):
         return y[0] * y[0] + y[1] * y[1] - 1.0
 
     hit.terminal = True
     hit.direction = 1.0
+    sol = solve_ivp(cartesian_rhs(p), (t0, t_end), [u.real, u.imag, du.real, du.imag], method=method,
+                    rtol=rtol, atol=atol, events=hit)
+    assert sol.status in (0, 1), sol.message
+    if sol.status == 0:
+        return None
+    te = float(sol.t_events[0][0])
+    ye = sol.y_events[0][0]
+    e, du_plus, rd, td, rdp, tdp = np_reset(complex(ye[0], ye[1]), complex(ye[2], ye[3]),
+                                            p.d, p.mu, p.r_ratio)
+    return (te, math.atan2(e.imag, e.real), rd, td, rdp, tdp), e, du_plus
+
+
+def ivp_simulate(p, u0, du0, n_impacts, t_end, rtol=1e-12, atol=1e-12, method="DOP853"):
+    """Impacts by solve_ivp, restarted at each impact from its own post-impact state."""
     t0 = 0.0
     u, du = complex(u0), complex(du0)
     rows = []
     segments = []  # (t_start, u_start, du_start) of each flight segment
     while len(rows) < n_impacts and t0 < t_end:
         segments.append((t0, u, du))
-        sol = solve_ivp(rhs, (t0, t_end), [u.real, u.imag, du.real, du.imag], method=method,
-                        rtol=rtol, atol=atol, events=hit)
-        assert sol.status in (0, 1), sol.message
-        if sol.status == 0:
+        step = ivp_next_impact(p, t0, u, du, t_end, rtol, atol, method)
+        if step is None:
             break
-        te = float(sol.t_events[0][0])
-        ye = sol.y_events[0][0]
-        e, du_plus, rd, td, rdp, tdp = np_reset(complex(ye[0], ye[1]), complex(ye[2], ye[3]),
-                                                p.d, p.mu, p.r_ratio)
-        rows.append((te, math.atan2(e.imag, e.real), rd, td, rdp, tdp))
-        t0, u, du = te, e, du_plus
+        row, u, du = step
+        rows.append(row)
+        t0 = row[0]
     return np.array(rows).reshape(-1, 6), segments
 
 
@@ -372,6 +381,7 @@ def ref():
         cartesian_rhs=cartesian_rhs,
         np_reset=np_reset,
         ivp_simulate=ivp_simulate,
+        ivp_next_impact=ivp_next_impact,
         ivp_state=ivp_state,
         matrix_A=matrix_A,
         a_matrix=a_matrix,
