@@ -16,7 +16,6 @@ from __future__ import annotations
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +30,6 @@ from rotorcontact.scaleout import chunk_folder
 from rotorcontact.sweep import one_impact_overlay, start_state, sweep, sweep_values
 
 REF = Parameters.reference()
-EXE = Path(sys.executable).parent / "rotorcontact"
 
 
 def _assert_bitwise(a: xr.Dataset, b: xr.Dataset) -> None:
@@ -147,41 +145,49 @@ def test_dask_local_cluster_equals_joblib_bit_for_bit(tmp_path):
 
 
 def _sweep_command(out: Path) -> list[str]:
-    # a sweep of 60 chunks of one value each, slow enough to be stopped part-way
+    # a sweep of 12 chunks of one value each
     return [
-        str(EXE), "sweep", "--param", "gamma", "--from", "0.09", "--to", "0.13", "--n", "60", "--mode", "up",
-        "--transient", "20000", "--record", "20", "--chunk-size", "1", "--out", str(out), "--no-progress",
+        "sweep", "--param", "gamma", "--from", "0.09", "--to", "0.13", "--n", "12", "--mode", "up",
+        "--transient", "2000", "--record", "20", "--chunk-size", "1", "--out", str(out), "--no-progress",
     ]
+
+
+# the CLI in a process that kills itself (SIGKILL: no clean-up runs) right after its
+# third chunk file is saved, wherever the scheduler is at that moment
+_KILLED_AFTER_THREE_CHUNKS = """
+import os, signal, sys
+from rotorcontact import scaleout
+from rotorcontact.cli.main import main
+
+save = scaleout.ChunkStore.save
+saved = []
+
+def save_then_die(self, key, arrays):
+    save(self, key, arrays)
+    saved.append(key)
+    if len(saved) == 3:
+        os.kill(os.getpid(), signal.SIGKILL)
+
+scaleout.ChunkStore.save = save_then_die
+sys.exit(main(sys.argv[1:]))
+"""
 
 
 def test_an_interrupted_sweep_resumes_and_writes_the_same_file(tmp_path):
     out = tmp_path / "resumed.nc"
     folder = chunk_folder(out)
-    proc = subprocess.Popen(_sweep_command(out), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    deadline = time.monotonic() + 90
-    try:
-        while time.monotonic() < deadline:
-            if folder.exists() and len(list(folder.glob("*.npz"))) >= 3:
-                break
-            if proc.poll() is not None:
-                pytest.fail(f"the sweep ended before it could be interrupted: {proc.stderr.read().decode()}")
-            time.sleep(0.005)
-        else:
-            pytest.fail("no chunk was written in time")
-        proc.send_signal(signal.SIGKILL)
-    finally:
-        proc.wait()
-    assert proc.returncode == -signal.SIGKILL
-    done = len(list(folder.glob("*.npz")))
-    assert 3 <= done < 60 and not out.exists()
+    proc = subprocess.run([sys.executable, "-c", _KILLED_AFTER_THREE_CHUNKS, *_sweep_command(out)],
+                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=300)
+    assert proc.returncode == -signal.SIGKILL, proc.stderr.decode()
+    assert len(list(folder.glob("*.npz"))) == 3 and not out.exists()
     # run again: it continues from the chunk files
     from rotorcontact.cli.main import main
 
-    assert main(_sweep_command(out)[1:]) == 0
+    assert main(_sweep_command(out)) == 0
     assert out.exists() and not folder.exists()
     # the same sweep uninterrupted
     fresh = tmp_path / "fresh.nc"
-    assert main(_sweep_command(fresh)[1:]) == 0
+    assert main(_sweep_command(fresh)) == 0
     assert out.read_bytes() == fresh.read_bytes()
 
 
