@@ -113,6 +113,10 @@ def available_cores() -> int:
         return max(1, os.cpu_count() or 1)
 
 
+#: -W option that silences the loky resource tracker's reports of resources it cleans up itself.
+_TRACKER_QUIET = "ignore:resource_tracker:UserWarning"
+
+
 @contextlib.contextmanager
 def _interrupts_blocked() -> Iterator[None]:
     """Block SIGINT in this thread while worker processes are started, so that they inherit the block.
@@ -131,10 +135,17 @@ def _interrupts_blocked() -> Iterator[None]:
     resource_tracker.ensure_running()
     try:
         from joblib.externals.loky.backend import resource_tracker as loky_tracker
-
-        loky_tracker.ensure_running()
     except ImportError:  # pragma: no cover - joblib is a dependency
         pass
+    else:
+        # workers killed on an interrupt leave their registrations of the pool's semaphores behind;
+        # the tracker unlinks them when the command ends but would warn on stderr about each: it
+        # is started with those warnings off (it passes sys.warnoptions on as -W options)
+        sys.warnoptions.append(_TRACKER_QUIET)
+        try:
+            loky_tracker.ensure_running()
+        finally:
+            sys.warnoptions.remove(_TRACKER_QUIET)
     previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
@@ -590,11 +601,10 @@ def chunk_folder(out: str | Path) -> Path:
 def write_netcdf(ds, out: str | Path) -> Path:
     """Write an xarray Dataset to NetCDF (netCDF3 64-bit offset through scipy), atomically.
 
-    Missing parent folders are created. The file gets the permissions of an
-    ordinary new file (0666 less the umask, usually 0644).
+    The folder must exist (`ParameterError` otherwise). The file gets the
+    permissions of an ordinary new file (0666 less the umask, usually 0644).
     """
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out = check_output_path(out)
     fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent)
     os.close(fd)
     try:
@@ -633,16 +643,31 @@ def read_finished(out: str | Path, digest: str):
 
 
 def check_output_path(out: str | Path) -> Path:
-    """Check that ``out`` is a writable ``.nc`` path."""
+    """Check that ``out`` is a ``.nc`` path in an existing folder.
+
+    Raises
+    ------
+    ParameterError
+        For another suffix, a folder in its place, or a folder that is missing
+        or is a file (folders are not created: make them first).
+    """
     out = Path(out)
     if out.suffix.lower() != ".nc":
         raise ParameterError(f"output file {str(out)!r} must end in .nc (NetCDF)")
     if out.exists() and out.is_dir():
         raise ParameterError(f"output file {str(out)!r} is a folder")
-    parent = out.parent if str(out.parent) else Path(".")
-    if parent.exists() and not parent.is_dir():
-        raise ParameterError(f"output folder {str(parent)!r} is not a folder")
+    check_output_folder(out)
     return out
+
+
+def check_output_folder(path: str | Path) -> None:
+    """Check that the folder of the output file ``path`` exists (`ParameterError` otherwise)."""
+    parent = Path(path).parent
+    if not parent.exists():
+        raise ParameterError(f"the folder {str(parent)!r} of the output file {str(path)!r} does not exist; "
+                             "create it first")
+    if not parent.is_dir():
+        raise ParameterError(f"output folder {str(parent)!r} is not a folder")
 
 
 # ---------------------------------------------------------------------------

@@ -12,6 +12,8 @@ import time
 
 import pytest
 
+from rotorcontact.scaleout import available_cores
+
 psutil = pytest.importorskip("psutil")
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "killpg"), reason="POSIX process groups")
@@ -48,8 +50,9 @@ def _wait_for(predicate, timeout: float) -> bool:
         (["--n-jobs", "2"], True),
         (["--n-jobs", "2"], False),
         (["--scheduler", "local", "--n-jobs", "2"], True),
+        (["--n-jobs", "1000"], False),
     ],
-    ids=["joblib-terminal", "joblib-parent-only", "dask-terminal"],
+    ids=["joblib-terminal", "joblib-parent-only", "dask-terminal", "joblib-more-jobs-than-cores"],
 )
 def test_ctrl_c_ends_every_worker_and_exits_with_one_line(tmp_path, execution, whole_group):
     out = tmp_path / "study.nc"
@@ -64,6 +67,10 @@ def test_ctrl_c_ends_every_worker_and_exits_with_one_line(tmp_path, execution, w
         )
         assert started and proc.poll() is None, proc.communicate(timeout=60)
         time.sleep(1.0)
+        # at most one worker per core, besides the command and the resource trackers
+        workers = [p for p in _session(proc.pid) if p.pid != proc.pid and "resource_tracker" not in " ".join(p.cmdline())]
+        assert len(workers) <= min(int(execution[-1]), available_cores()), \
+            [p.cmdline() for p in workers]
         if whole_group:
             os.killpg(proc.pid, signal.SIGINT)
         else:

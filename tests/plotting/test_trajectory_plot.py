@@ -14,7 +14,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib.colors import to_rgba  # noqa: E402
 
-from rotorcontact import Parameters, simulate  # noqa: E402
+from rotorcontact import ParameterError, Parameters, simulate  # noqa: E402
 from rotorcontact.cli.main import main  # noqa: E402
 from rotorcontact.plotting.trajectory import plot_radius, plot_trajectory  # noqa: E402
 
@@ -133,3 +133,33 @@ def test_corotating_panel_names_x_R_and_zooms_on_a_small_orbit():
     main = ax2.get_xlim()
     assert factor.get_text() == f"×{(main[1] - main[0]) / (x1 - x0):.0f}"
     plt.close("all")
+
+
+def test_plot_trajectory_draws_into_given_axes_and_refuses_a_wrong_number():
+    traj = simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, t_end=60.0)
+    fig, grid = plt.subplots(2, 3)
+    back_fig, axes = plot_trajectory(traj, grid[1])
+    assert back_fig is fig and list(axes) == list(grid[1])
+    # the three panels are drawn where they were asked for, the other row untouched
+    assert [ax.get_title() for ax in grid[1]] == ["inertial frame", "co-rotating frame", "radius"]
+    assert all(not ax.lines for ax in grid[0])
+    assert fig.get_suptitle() == ""  # the caller's figure keeps its own title
+    with pytest.raises(ParameterError, match="axes holds 2 axes"):
+        plot_trajectory(traj, grid[0, :2])
+    plt.close(fig)
+
+
+def test_figures_refuse_a_missing_folder_in_the_python_api(tmp_path):
+    from rotorcontact.plotting.style import save_figure
+    from rotorcontact.scaleout import write_netcdf
+
+    fig, _ = plt.subplots()
+    with pytest.raises(ParameterError, match="does not exist"):
+        save_figure(fig, tmp_path / "missing" / "f.png")
+    assert not (tmp_path / "missing").exists()
+    import xarray as xr
+
+    with pytest.raises(ParameterError, match="does not exist"):
+        write_netcdf(xr.Dataset({"a": ("x", [1.0])}), tmp_path / "missing" / "f.nc")
+    assert not (tmp_path / "missing").exists()
+    plt.close(fig)

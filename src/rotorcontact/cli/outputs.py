@@ -2,8 +2,8 @@
 
 A figure, a NetCDF file or an output folder that cannot be written is bad
 input: it is refused at once (`ParameterError`, exit status 2) rather than
-after a long computation. Folders that do not exist yet are created when the
-output is written, and a note on stderr says so.
+after a long computation. Folders that do not exist yet are created at once,
+and a note on stderr says so (the Python API refuses a missing folder).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 
 
 def _check_parent(option: str, folder: Path, what: str) -> None:
-    """The nearest existing ancestor of ``folder`` must be a writable folder; note the folders to create."""
+    """The nearest existing ancestor of ``folder`` must be a writable folder; create the rest, with a note."""
     existing = folder
     while not existing.exists():
         if existing.parent == existing:  # pragma: no cover - the root always exists
@@ -32,7 +32,8 @@ def _check_parent(option: str, folder: Path, what: str) -> None:
     if not os.access(existing, os.W_OK | os.X_OK):
         raise ParameterError(f"{option} = {what!r}: the folder {str(existing)!r} is not writable")
     if existing != folder:
-        print(f"note: {option}: the folder {str(folder)!r} does not exist; it will be created", file=sys.stderr)
+        folder.mkdir(parents=True, exist_ok=True)
+        print(f"note: {option}: created the folder {str(folder)!r}", file=sys.stderr)
 
 
 def check_output_file(option: str, path: str | os.PathLike, suffixes: tuple[str, ...]) -> Path:

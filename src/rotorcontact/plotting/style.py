@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..errors import ParameterError  # noqa: E402
+from ..scaleout import check_output_folder  # noqa: E402
 
 CLEARANCE_COLOR = "0.6"
 
@@ -50,11 +51,11 @@ def draw_clearance(ax, radius: float = 1.0) -> None:
 
 
 def save_figure(fig, path) -> Path:
-    """Save ``fig`` to ``path`` (format from its suffix), creating folders; close it."""
+    """Save ``fig`` to ``path`` (format from its suffix) in an existing folder; close it."""
     path = Path(path)
     if path.suffix.lower() not in {".png", ".svg", ".pdf"}:
         raise ParameterError(f"plot file {str(path)!r} has an unsupported suffix; allowed: .png, .svg, .pdf")
-    path.parent.mkdir(parents=True, exist_ok=True)
+    check_output_folder(path)
     fig.savefig(path, dpi=150, bbox_inches="tight")
     plt.close(fig)
     return path

@@ -5,6 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..errors import ParameterError
 from ..trajectory import Trajectory
 from .style import draw_clearance, new_axes, save_figure
 
@@ -133,19 +134,43 @@ def plot_radius(traj: Trajectory, ax=None, *, t_from: float | None = None, n: in
     return fig, ax
 
 
-def plot_trajectory(traj: Trajectory, *, t_from: float | None = None, n: int = 4000):
-    """Three panels: inertial frame, co-rotating frame and r(t). Returns (fig, axes)."""
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), gridspec_kw={"width_ratios": [1, 1, 1.6]})
+def plot_trajectory(traj: Trajectory, axes=None, *, t_from: float | None = None, n: int = 4000):
+    """Three panels: inertial frame, co-rotating frame and r(t).
+
+    Parameters
+    ----------
+    traj : Trajectory
+    axes : sequence of three matplotlib.axes.Axes, optional
+        Where to draw the three panels. Without it a figure of its own is
+        made, with the parameters and the motion in its title.
+    t_from : float, optional
+        Draw from this time on.
+    n : int
+        Number of uniform plot times (impacts and contact phases are added).
+
+    Returns
+    -------
+    (fig, axes)
+    """
+    own = axes is None
+    if own:
+        fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), gridspec_kw={"width_ratios": [1, 1, 1.6]})
+    else:
+        axes = list(np.ravel(np.asarray(axes, dtype=object)))
+        if len(axes) != 3:
+            raise ParameterError(f"axes holds {len(axes)} axes; allowed: three (inertial, co-rotating, radius)")
+        fig = axes[0].figure
     plot_inertial(traj, axes[0], t_from=t_from, n=n)
     plot_corotating(traj, axes[1], t_from=t_from, n=n)
     plot_radius(traj, axes[2], t_from=t_from, n=n)
-    p = traj.params
-    fig.suptitle(
-        f"gamma={p.gamma:.4g}, omega={p.omega:.4g}, rho={p.rho:.4g}, mu={p.mu:.4g}, d={p.d:.4g}  "
-        f"({traj.summary.regime or traj.summary.motion})",
-        fontsize=10,
-    )
-    fig.tight_layout()
+    if own:
+        p = traj.params
+        fig.suptitle(
+            f"gamma={p.gamma:.4g}, omega={p.omega:.4g}, rho={p.rho:.4g}, mu={p.mu:.4g}, d={p.d:.4g}  "
+            f"({traj.summary.regime or traj.summary.motion})",
+            fontsize=10,
+        )
+        fig.tight_layout()
     return fig, axes
 
 
