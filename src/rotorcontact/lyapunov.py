@@ -36,7 +36,14 @@ Tangent vectors are propagated exactly along a trajectory of
   its state on Sigma determines the contact state y_c and the length of the
   accumulation tail, and the contact state at the nominal switching time is
   y_c + dy_c - g(y_c) (dt + dt_tail), with g the contact field
-  (`accumulation_saltation`, a 2x4 matrix of rank 2). A flight that starts
+  (`accumulation_saltation`, a 2x4 matrix of rank 2). It linearises the
+  first-order tail 2 d rdot / (N (1 - d)); where the simulator summed the
+  tail with its second-order correction (the default, docs/contact.md), the
+  two tails differ by O(rdot^2) in time and their derivatives by O(rdot),
+  rdot the last resolved normal speed (about 1e-4 at the default switch): a
+  relative error of that size in the tangent map at each accumulation,
+  which moves an exponent by at most about that much over the window per
+  accumulation in it. A flight that starts
   on the stator with no normal velocity while pressed outwards enters
   contact directly; there the polar variations (dtheta, dthetadot) are kept
   and (dr, drdot) dropped (`contact_projection`). In both cases two
