@@ -341,7 +341,7 @@ STATUSES = {"completed", "chatter"} | MAX_STATUSES
 
 def run_simulation(params, u0=0j, du0=0j, t_end=500.0, *, max_impacts=None, stop_on_chatter=True,
                    impacts_only=False, **kw):
-    """Call `rotorcontact.simulate` with a cap on the number of impacts.
+    """Call `rotorcontact.simulation.simulator` with a cap on the number of impacts.
 
     Where the simulator can continue through continuous contact, it is asked to
     stop at an accumulation of impacts (status "chatter"), the behaviour these
@@ -410,7 +410,7 @@ def compiled_kernels():
     workers load them instead of compiling inside their own time limits.
     """
     from rotorcontact import Parameters, simulate
-    from rotorcontact.batch import simulate_batch
+    from rotorcontact.studies.batch import simulate_batch
 
     p = Parameters.reference()
     simulate(p, 0j, 0j, 10.0)

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from rotorcontact import Parameters, free_flight
-from rotorcontact.reset import apply_reset
+from rotorcontact.model.impact_law import apply_reset
 
 MOTIONS = {"no-contact", "periodic-impacting", "irregular", "chatter", "undetermined", "contact"}
 

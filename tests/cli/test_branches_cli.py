@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from rotorcontact import Parameters
-from rotorcontact.branches import EVENT_TYPES, orbit_branches
+from rotorcontact.continuation.branches import EVENT_TYPES, orbit_branches
 from rotorcontact.cli.main import main
 
 EXE = Path(sys.executable).parent / "rotorcontact"

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from rotorcontact import Parameters
-from rotorcontact import impactmap as im
+from rotorcontact.maps import impact_map as im
 from rotorcontact.cli.main import main
 
 EXE = Path(sys.executable).parent / "rotorcontact"

@@ -12,7 +12,7 @@ import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.cli.main import main
-from rotorcontact.equilibria import equilibria
+from rotorcontact.analysis.equilibria import equilibria
 
 EXE = Path(sys.executable).parent / "rotorcontact"
 

@@ -126,7 +126,7 @@ def test_every_size_option_names_its_limit(capsys):
 def test_too_many_local_workers_are_capped_with_a_note(capsys):
     from rotorcontact.cli.main import build_parser
     from rotorcontact.cli.scale import scale_kwargs
-    from rotorcontact.scaleout import available_cores
+    from rotorcontact.studies.execution import available_cores
 
     args = build_parser().parse_args([*SWEEP, "--n", "3", "--n-jobs", "1000000"])
     kw = scale_kwargs(args)

@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from rotorcontact.scaleout import available_cores
+from rotorcontact.studies.execution import available_cores
 
 psutil = pytest.importorskip("psutil")
 

@@ -9,8 +9,8 @@ import pytest
 
 from rotorcontact import Parameters, reference_machine
 from rotorcontact.cli.main import main
-from rotorcontact.equilibria import equilibria
-from rotorcontact.lyapunov import lyapunov_spectrum
+from rotorcontact.analysis.equilibria import equilibria
+from rotorcontact.analysis.lyapunov import lyapunov_spectrum
 
 REF = Parameters.reference()
 MACHINE = reference_machine()

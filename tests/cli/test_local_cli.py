@@ -11,9 +11,9 @@ import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.cli.main import main
-from rotorcontact.equilibria import boundary_gamma
-from rotorcontact.impactmap import f1_zeros
-from rotorcontact.local import local_analysis
+from rotorcontact.analysis.equilibria import boundary_gamma
+from rotorcontact.maps.impact_map import f1_zeros
+from rotorcontact.analysis.local import local_analysis
 
 EXE = Path(sys.executable).parent / "rotorcontact"
 ORBIT_KEYS = {"label", "T", "rdot_slope", "thetadot_slope", "theta_slope"}

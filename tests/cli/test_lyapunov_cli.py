@@ -12,7 +12,7 @@ import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.cli.main import main
-from rotorcontact.lyapunov import lyapunov_spectrum
+from rotorcontact.analysis.lyapunov import lyapunov_spectrum
 
 EXE = Path(sys.executable).parent / "rotorcontact"
 

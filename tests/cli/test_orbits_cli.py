@@ -12,7 +12,7 @@ import pytest
 
 from rotorcontact import Parameters, reference_machine
 from rotorcontact.cli.main import main
-from rotorcontact.impactmap import one_impact_orbits
+from rotorcontact.maps.impact_map import one_impact_orbits
 
 EXE = Path(sys.executable).parent / "rotorcontact"
 

@@ -12,8 +12,8 @@ import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.cli.main import main
-from rotorcontact.impactmap import impact_map
-from rotorcontact.multiimpact import multi_impact_orbits
+from rotorcontact.maps.impact_map import impact_map
+from rotorcontact.maps.multi_impact import multi_impact_orbits
 
 EXE = Path(sys.executable).parent / "rotorcontact"
 KEYS = {"label", "impacts", "period", "points", "multipliers", "stable", "plausible"}

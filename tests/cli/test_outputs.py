@@ -27,8 +27,8 @@ COMPUTE = {
     "equilibria": "rotorcontact.cli.equilibria.equilibrium_branches",
     "branches": "rotorcontact.cli.branches.orbit_branches",
     "codim2": "rotorcontact.cli.codim2.codim2_diagram",
-    "sweep": "rotorcontact.sweep.sweep",
-    "basins": "rotorcontact.basins.basins",
+    "sweep": "rotorcontact.studies.sweep.sweep",
+    "basins": "rotorcontact.studies.basins.basins",
 }
 
 
@@ -146,7 +146,7 @@ def test_design_map_figure_shows_the_recovery_probabilities():
     import matplotlib.pyplot as plt
 
     from rotorcontact import reference_machine
-    from rotorcontact.design import plane_map, speed_map
+    from rotorcontact.studies.design_map import plane_map, speed_map
     from rotorcontact.plotting.design import plot_design_map
 
     m = reference_machine()

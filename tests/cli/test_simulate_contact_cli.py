@@ -173,7 +173,7 @@ def test_json_with_a_machine_file_has_finite_si_values(tmp_path, capsys):
 
 def test_json_with_the_reference_machine(capsys):
     """--machine reference: a rub started on the stator near x_P2, and an impacting run."""
-    from rotorcontact.equilibria import pseudo_equilibria
+    from rotorcontact.analysis.equilibria import pseudo_equilibria
 
     machine = load_machine("reference")
     th = pseudo_equilibria(machine.parameters())[1].theta + 0.1

@@ -11,7 +11,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from rotorcontact import ParameterError, Parameters  # noqa: E402
-from rotorcontact.equilibria import boundary_gamma, equilibrium_branches  # noqa: E402
+from rotorcontact.analysis.equilibria import boundary_gamma, equilibrium_branches  # noqa: E402
 from rotorcontact.plotting.equilibria import (  # noqa: E402
     plot_equilibria,
     plot_equilibrium_branches,
@@ -103,5 +103,5 @@ def test_bad_choices_raise(fold_params, tmp_path):
 
 
 def test_save_writes_a_png(fold_params, tmp_path):
-    path = save_equilibria_figure(fold_params, tmp_path / "sub" / "fig3a.png", "gamma", 0.0, 0.2, n=51)
+    path = save_equilibria_figure(fold_params, tmp_path / "fig3a.png", "gamma", 0.0, 0.2, n=51)
     assert path.is_file() and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

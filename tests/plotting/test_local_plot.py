@@ -11,8 +11,8 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from rotorcontact import ParameterError, Parameters  # noqa: E402
-from rotorcontact.equilibria import boundary_gamma  # noqa: E402
-from rotorcontact.local import LinearImpactingSystem, local_analysis  # noqa: E402
+from rotorcontact.analysis.equilibria import boundary_gamma  # noqa: E402
+from rotorcontact.analysis.local import LinearImpactingSystem, local_analysis  # noqa: E402
 from rotorcontact.plotting.local import plot_local_estimate, plot_local_figure  # noqa: E402
 
 

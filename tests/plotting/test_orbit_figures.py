@@ -11,11 +11,11 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from rotorcontact import ParameterError, Parameters  # noqa: E402
-from rotorcontact import impactmap as im  # noqa: E402
-from rotorcontact.branches import orbit_branches  # noqa: E402
-from rotorcontact.codim2 import codim2_diagram  # noqa: E402
-from rotorcontact.equilibria import boundary_gamma  # noqa: E402
-from rotorcontact.codim2 import region  # noqa: E402
+from rotorcontact.maps import impact_map as im  # noqa: E402
+from rotorcontact.continuation.branches import orbit_branches  # noqa: E402
+from rotorcontact.continuation.codim2 import codim2_diagram  # noqa: E402
+from rotorcontact.analysis.equilibria import boundary_gamma  # noqa: E402
+from rotorcontact.continuation.codim2 import region  # noqa: E402
 from rotorcontact.plotting.branches import (  # noqa: E402
     BRANCH_COLORS,
     EVENT_NAMES,
@@ -28,7 +28,7 @@ from rotorcontact.plotting.branches import (  # noqa: E402
 from rotorcontact.plotting.codim2 import OTHER, plot_codim2, region_label_cells  # noqa: E402
 from rotorcontact.plotting.f1 import plot_f1, plot_f1_zeros, plot_nsfh_schematic  # noqa: E402
 from rotorcontact.plotting.style import orbit_tex, save_figure  # noqa: E402
-from rotorcontact.zerocurves import f1_zero_curves  # noqa: E402
+from rotorcontact.continuation.zero_curves import f1_zero_curves  # noqa: E402
 
 REF = Parameters.reference()
 

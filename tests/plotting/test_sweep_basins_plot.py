@@ -11,10 +11,10 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from rotorcontact import ParameterError, Parameters  # noqa: E402
-from rotorcontact.basins import basins, displacement_grid  # noqa: E402
+from rotorcontact.studies.basins import basins, displacement_grid  # noqa: E402
 from rotorcontact.plotting.basins import plot_basins, save_basins_figure  # noqa: E402
 from rotorcontact.plotting.sweep import plot_regimes, plot_sweep, save_sweep_figure  # noqa: E402
-from rotorcontact.sweep import one_impact_overlay, sweep, sweep_values  # noqa: E402
+from rotorcontact.studies.sweep import one_impact_overlay, sweep, sweep_values  # noqa: E402
 
 REF = Parameters.reference()
 
@@ -66,8 +66,8 @@ def test_basin_image_legend_holds_the_fractions(tmp_path):
 
 
 def test_continued_branches_are_overlaid_with_their_bifurcations(diagram):
-    pytest.importorskip("rotorcontact.branches")
-    from rotorcontact.sweep import overlay_for
+    pytest.importorskip("rotorcontact.continuation.branches")
+    from rotorcontact.studies.sweep import overlay_for
 
     ds, _ = diagram
     values = ds.gamma.values

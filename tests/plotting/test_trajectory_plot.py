@@ -112,7 +112,7 @@ def test_three_panels_with_a_rub_and_the_regime_in_the_title():
 
 def test_corotating_panel_names_x_R_and_zooms_on_a_small_orbit():
     """B1,a at gamma = 0.1 stays within 1e-3 of the clearance: the inset shows it at a scale it fills."""
-    from rotorcontact.impactmap import one_impact_orbits
+    from rotorcontact.maps.impact_map import one_impact_orbits
     from rotorcontact.plotting.trajectory import plot_corotating
 
     p = Parameters.reference().replace(gamma=0.1)
@@ -151,7 +151,7 @@ def test_plot_trajectory_draws_into_given_axes_and_refuses_a_wrong_number():
 
 def test_figures_refuse_a_missing_folder_in_the_python_api(tmp_path):
     from rotorcontact.plotting.style import save_figure
-    from rotorcontact.scaleout import write_netcdf
+    from rotorcontact.studies.execution import write_netcdf
 
     fig, _ = plt.subplots()
     with pytest.raises(ParameterError, match="does not exist"):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from ..basins import GRID_SYNTAX
+from ..studies.basins import GRID_SYNTAX
 from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json
 from .outputs import check_output_file, check_plot_path, note_reuse
 from .scale import add_scale_options, batch_settings, check_study_size, scale_kwargs
@@ -63,7 +63,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..basins import basins, parse_grid
+    from ..studies.basins import basins, parse_grid
 
     params, machine = parameters_from_args(args)
     grid = parse_grid(args.grid)

@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..branches import BRANCH_PARAMETERS, MAX_SEEDS, OrbitBranches, orbit_branches
+from ..continuation.branches import BRANCH_PARAMETERS, MAX_SEEDS, OrbitBranches, orbit_branches
 from ..errors import ParameterError
-from ..impactmap import MAX_GROWTH, flight_growth, period_limit
-from ..params import Machine
-from ..si import parameter_si, rate_scale, scaled_list, times_si, velocity_scale
+from ..maps.impact_map import MAX_GROWTH, flight_growth, period_limit
+from ..model.params import Machine
+from ..model.si import parameter_si, rate_scale, scaled_list, times_si, velocity_scale
 from .outputs import check_plot_path
 from .options import (
     MAX_CONTINUATION_PERIOD,
@@ -67,7 +67,7 @@ def register(sub) -> None:
 def _check_reach(args: argparse.Namespace, params, start: float, stop: float, t_max: float) -> None:
     """Refuse, naming the option that sets it, a range end where periods up to t_max cannot be computed.
 
-    The flight grows like e^{growth T} (`rotorcontact.impactmap.period_limit`); its rate is largest at
+    The flight grows like e^{growth T} (`rotorcontact.maps.impact_map.period_limit`); its rate is largest at
     an end of the range (it is convex in gamma and decreases with omega).
     """
     for option, given, value in (("to", args.stop, stop), ("from", args.start, start)):

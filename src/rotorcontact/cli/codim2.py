@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..codim2 import DEFAULT_RANGES, Codim2Diagram, codim2_diagram
+from ..continuation.codim2 import DEFAULT_RANGES, Codim2Diagram, codim2_diagram
 from ..errors import ParameterError
-from ..orbitsystem import BRANCH_PARAMETERS
+from ..maps.orbit_system import BRANCH_PARAMETERS
 from .outputs import check_plot_path
 from .options import (
     MAX_CONTINUATION_PERIOD,

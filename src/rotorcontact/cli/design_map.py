@@ -9,10 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..design import DesignMap, plane_map, speed_map
+from ..studies.design_map import DesignMap, plane_map, speed_map
 from ..errors import ParameterError
-from ..params import load_machine
-from ..units import quantity_in
+from ..model.params import load_machine
+from ..model.units import quantity_in
 from .options import json_result, parse_int, print_json
 from .outputs import check_output_folder
 
@@ -127,7 +127,7 @@ def _check_corners(machine, ranges: dict[str, tuple[float, float]], args: argpar
     """Refuse, naming the option, a range whose ends give parameters outside the model's range."""
     from dataclasses import replace
 
-    from ..design import rpm_to_rad_s
+    from ..studies.design_map import rpm_to_rad_s
 
     names = list(ranges)
     for corner in itertools.product(*(ranges[name] for name in names)):

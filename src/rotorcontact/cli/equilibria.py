@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..equilibria import BRANCH_PARAMETERS, Equilibria, EquilibriumBranches, equilibria, equilibrium_branches
+from ..analysis.equilibria import BRANCH_PARAMETERS, Equilibria, EquilibriumBranches, equilibria, equilibrium_branches
 from ..errors import ParameterError
-from ..params import Machine
-from ..si import equilibria_si, parameter_si
+from ..model.params import Machine
+from ..model.si import equilibria_si, parameter_si
 from .outputs import check_plot_path
 from .options import (
     add_parameter_options,

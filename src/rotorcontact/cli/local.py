@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..equilibria import boundary_gamma
+from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
-from ..local import LinearImpactingSystem, LocalAnalysis, local_analysis
-from ..params import Machine
-from ..si import parameter_si, times_si
+from ..analysis.local import LinearImpactingSystem, LocalAnalysis, local_analysis
+from ..model.params import Machine
+from ..model.si import parameter_si, times_si
 from .options import (
     MAX_PERIOD,
     add_parameter_options,

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..lyapunov import COORDINATES, lyapunov_spectrum
-from ..params import check_range
-from ..si import rate_scale, scaled_list, times_si
+from ..analysis.lyapunov import COORDINATES, lyapunov_spectrum
+from ..model.params import check_range
+from ..model.si import rate_scale, scaled_list, times_si
 from .options import (
     add_parameter_options,
     json_result,

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
-from ..params import Machine, Parameters, check_range, check_velocity, load_machine, reference_machine
+from ..model.params import Machine, Parameters, check_range, check_velocity, load_machine, reference_machine
 
 PARAM_NAMES = ("gamma", "omega", "rho", "mu", "d", "phi", "r_ratio")
 
@@ -149,7 +149,7 @@ def parse_complex(name: str, text: str) -> complex:
 
 
 def parse_velocity(name: str, text: str) -> complex:
-    """Parse an initial velocity ``RE,IM``, at most `rotorcontact.params.MAX_VELOCITY` in magnitude."""
+    """Parse an initial velocity ``RE,IM``, at most `rotorcontact.model.params.MAX_VELOCITY` in magnitude."""
     return check_velocity(f"--{name}", parse_complex(name, text))
 
 

@@ -2,7 +2,7 @@
 
 Without ``--impacts`` (or with ``--impacts 1``) it lists the orbits with one
 impact per period (MODEL.md §5). With ``--impacts p`` (p >= 2) it lists the
-orbits with p impacts per period of `rotorcontact.multiimpact.multi_impact_orbits`:
+orbits with p impacts per period of `rotorcontact.maps.multi_impact.multi_impact_orbits`:
 each as {"label", "impacts", "period", "points", "multipliers", "stable",
 "plausible"}, the points as {"theta", "rdot", "thetadot", "dt"} with dt the
 time to the next impact.
@@ -13,11 +13,11 @@ from __future__ import annotations
 import argparse
 
 from ..errors import ParameterError
-from ..impactmap import ImpactOrbit, one_impact_orbits
-from ..multiimpact import MultiImpactOrbit, multi_impact_orbits
-from ..params import Machine
-from ..si import orbit_si, rate_scale, times_si, velocity_scale
-from ..motion import MAX_PERIOD_IMPACTS
+from ..maps.impact_map import ImpactOrbit, one_impact_orbits
+from ..maps.multi_impact import MultiImpactOrbit, multi_impact_orbits
+from ..model.params import Machine
+from ..model.si import orbit_si, rate_scale, times_si, velocity_scale
+from ..simulation.motion import MAX_PERIOD_IMPACTS
 from .options import (
     MAX_PERIOD,
     add_parameter_options,

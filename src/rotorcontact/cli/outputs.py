@@ -102,7 +102,7 @@ def note_reuse(result, chunk_size: int | None) -> None:
     Parameters
     ----------
     result : SweepResult or BasinResult
-        The result of `rotorcontact.sweep.sweep` or `rotorcontact.basins.basins`.
+        The result of `rotorcontact.studies.sweep.sweep` or `rotorcontact.studies.basins.basins`.
     chunk_size : int or None
         The chunk size asked for with ``--chunk-size`` (None: the default).
     """

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..reproduce import paper_parameters, reproduce
+from ..report.reproduce import paper_parameters, reproduce
 from .outputs import check_output_folder
 from .options import PARAM_NAMES, add_parameter_options, parameters_from_args, print_json
 

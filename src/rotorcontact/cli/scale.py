@@ -13,7 +13,7 @@ __all__ = ["add_scale_options", "batch_settings", "check_study_size", "parse_int
 
 #: Limits of the options of the batch studies (sweep, basins). The batch kernel runs of the order
 #: of a million events per second per core; these keep each simulation within seconds and each
-#: study's arrays within a few GiB. The Python API (`rotorcontact.sweep`, `rotorcontact.basins`)
+#: study's arrays within a few GiB. The Python API (`rotorcontact.studies.sweep`, `rotorcontact.studies.basins`)
 #: takes larger values.
 MAX_TRANSIENT = 1_000_000  # --transient, --settle: events of transient per simulation
 MAX_RECORD = 100_000  # --record: events recorded per simulation
@@ -45,7 +45,7 @@ def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str) -> No
 
 def batch_settings(args: argparse.Namespace, n_keep: int | None = None):
     """The `BatchSettings` of --transient, --record, --t-transient, --t-record and --settle, within their limits."""
-    from ..batch import BatchSettings
+    from ..studies.batch import BatchSettings
 
     n_transient = parse_int("transient", args.transient, 0, MAX_TRANSIENT,
                             why="a transient of more events per simulation would take minutes each")
@@ -107,7 +107,7 @@ def scale_kwargs(args: argparse.Namespace) -> dict[str, Any]:
     More local workers than cores (--n-jobs, for joblib or ``--scheduler local``)
     are capped at the cores, with a note on stderr.
     """
-    from ..scaleout import local_workers
+    from ..studies.execution import local_workers
 
     n_jobs = None
     if args.n_jobs is not None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..simulate import simulate
+from ..simulation.simulator import simulate
 from .outputs import check_plot_path
 from .options import (
     add_parameter_options,

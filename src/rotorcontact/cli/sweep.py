@@ -86,7 +86,7 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..sweep import MODES, SWEEP_PARAMETERS, sweep, sweep_values
+    from ..studies.sweep import MODES, SWEEP_PARAMETERS, sweep, sweep_values
 
     params, machine = parameters_from_args(args)
     if args.param not in SWEEP_PARAMETERS:
@@ -117,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
     overlay_kind = None
     if args.plot is not None:
         from ..plotting.sweep import save_sweep_figure
-        from ..sweep import overlay_for
+        from ..studies.sweep import overlay_for
 
         overlay, overlay_kind = overlay_for(params, args.param, values) if args.overlay else (None, None)
         save_sweep_figure(ds, args.plot, args.section, overlay=overlay)

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ..motion import canonical_regime
+from ..simulation.motion import canonical_regime
 from .style import draw_clearance, new_axes, save_figure
 
 __all__ = ["plot_basins", "save_basins_figure", "CLASS_COLORS"]
@@ -51,7 +51,7 @@ def plot_basins(ds, ax=None, *, legend: bool = True):
     Parameters
     ----------
     ds : xarray.Dataset
-        Basins (`rotorcontact.basins.basins`).
+        Basins (`rotorcontact.studies.basins.basins`).
     ax : matplotlib Axes, optional
     legend : bool
         Add a legend with the fraction of each class that occurs.

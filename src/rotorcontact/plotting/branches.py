@@ -22,10 +22,10 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..branches import LabelBranch, OrbitBranches, orbit_branches
-from ..equilibria import boundary_gamma
+from ..continuation.branches import LabelBranch, OrbitBranches, orbit_branches
+from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
-from ..params import Parameters
+from ..model.params import Parameters
 from .equilibria import PARAM_LABELS
 from .style import CLEARANCE_COLOR, new_axes, orbit_tex
 
@@ -73,7 +73,7 @@ LocalEstimate = Callable[[str, np.ndarray], "np.ndarray | None"] | Mapping[str, 
 
 def compute_branches(params: Parameters, param: str = "gamma", start: float = -0.6, stop: float = 0.25,
                      **kwargs) -> OrbitBranches:
-    """`rotorcontact.branches.orbit_branches` (a shorthand for the figures)."""
+    """`rotorcontact.continuation.branches.orbit_branches` (a shorthand for the figures)."""
     return orbit_branches(params, param, start, stop, **kwargs)
 
 
@@ -129,7 +129,7 @@ def plot_branch_quantity(
     Parameters
     ----------
     branches : OrbitBranches
-        From `rotorcontact.branches.orbit_branches`.
+        From `rotorcontact.continuation.branches.orbit_branches`.
     quantity : str
         ``"rdot"``, ``"thetadot"``, ``"T"``, ``"theta"``, ``"max_multiplier"`` or
         ``"r_max_interior"``.

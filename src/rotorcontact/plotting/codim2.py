@@ -1,14 +1,14 @@
 """The two-parameter diagram (the paper's Fig. 6a).
 
 The plane (by default (gamma, omega)) is shaded by region R1-R4 (MODEL.md §5,
-from `rotorcontact.codim2.classify_plane`; grey and "other" where a point fits
+from `rotorcontact.continuation.codim2.classify_plane`; grey and "other" where a point fits
 none of them), each part of a region labelled inside it, with the fold curve gamma_F,1, the
 DIB curve gamma_DIB and, optionally, grazing curves drawn over it, and the
 intersection points marked. Along the DIB curve, the part where the one-impact
 orbits of the first pair exist is labelled NSFH (they are born there); where
 they do not, the boundary equilibrium bifurcation of the equilibria is
 labelled NSF (non-smooth fold) or Pers (persistence), as classified by
-`rotorcontact.equilibria.classify_beb_analytic`.
+`rotorcontact.analysis.equilibria.classify_beb_analytic`.
 """
 
 from __future__ import annotations
@@ -17,17 +17,17 @@ from typing import Sequence
 
 import numpy as np
 
-from ..codim2 import REGIONS, Codim2Diagram, classify_plane, codim2_diagram
-from ..equilibria import classify_beb_analytic
+from ..continuation.codim2 import REGIONS, Codim2Diagram, classify_plane, codim2_diagram
+from ..analysis.equilibria import classify_beb_analytic
 from ..errors import ParameterError
-from ..impactmap import f1_zeros
-from ..params import Parameters
+from ..maps.impact_map import f1_zeros
+from ..model.params import Parameters
 from .equilibria import PARAM_LABELS
 from .style import new_axes
 
 __all__ = ["plot_codim2", "region_label_cells", "REGION_COLORS", "CURVE_STYLES", "OTHER"]
 
-#: The label of the points that fit none of R1-R4 (`rotorcontact.codim2.region` gives None).
+#: The label of the points that fit none of R1-R4 (`rotorcontact.continuation.codim2.region` gives None).
 OTHER = "other"
 #: Shading of the regions.
 REGION_COLORS = {"R1": "#dbe9f6", "R2": "#fde2c8", "R3": "#e5f5e0", "R4": "#f2dcef", OTHER: "#ececec"}
@@ -133,7 +133,7 @@ def plot_codim2(
     params2 : (str, str)
         The plane; p1 on the horizontal axis.
     ranges : ((float, float), (float, float)), optional
-        The box (`rotorcontact.codim2.DEFAULT_RANGES` when omitted).
+        The box (`rotorcontact.continuation.codim2.DEFAULT_RANGES` when omitted).
     ax : matplotlib.axes.Axes, optional
     diagram : Codim2Diagram, optional
         Precomputed curves (else `codim2_diagram` with fold_1 and the given grazing curves).

@@ -7,8 +7,8 @@ import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from ..design import REGIMES, DesignMap, rpm_to_rad_s
-from ..equilibria import boundary_gamma
+from ..studies.design_map import REGIMES, DesignMap, rpm_to_rad_s
+from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
 from .style import new_axes, save_figure
 

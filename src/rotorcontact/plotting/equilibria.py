@@ -19,9 +19,9 @@ from typing import Sequence
 
 import numpy as np
 
-from ..equilibria import PSEUDO_NAMES, EquilibriumBranches, equilibrium_branches, pseudo_equilibria, regular_equilibrium
+from ..analysis.equilibria import PSEUDO_NAMES, EquilibriumBranches, equilibrium_branches, pseudo_equilibria, regular_equilibrium
 from ..errors import ParameterError
-from ..params import Parameters
+from ..model.params import Parameters
 from .style import new_axes, save_figure
 
 __all__ = ["plot_equilibrium_branches", "plot_equilibria", "save_equilibria_figure", "PARAM_LABELS"]
@@ -87,7 +87,7 @@ def plot_equilibrium_branches(
     Parameters
     ----------
     branches : EquilibriumBranches
-        From `rotorcontact.equilibria.equilibrium_branches`.
+        From `rotorcontact.analysis.equilibria.equilibrium_branches`.
     ax : matplotlib.axes.Axes, optional
         Axes to draw into; a new figure is made when None.
     pseudo : {"partner", "both", "P1", "P2", "none"}

@@ -17,12 +17,12 @@ import math
 
 import numpy as np
 
-from ..equilibria import boundary_gamma
+from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
-from ..flow import free_flight
-from ..impactmap import f1, f1_zeros, one_impact_orbits
-from ..params import Parameters, check_range
-from ..zerocurves import F1ZeroCurves, f1_zero_curves
+from ..model.flow import free_flight
+from ..maps.impact_map import f1, f1_zeros, one_impact_orbits
+from ..model.params import Parameters, check_range
+from ..continuation.zero_curves import F1ZeroCurves, f1_zero_curves
 from .equilibria import PARAM_LABELS
 from .style import CLEARANCE_COLOR, new_axes, orbit_tex
 
@@ -121,7 +121,7 @@ def plot_f1_zeros(
         Largest T shown.
     ax : matplotlib.axes.Axes, optional
     curves : F1ZeroCurves, optional
-        Precomputed `rotorcontact.zerocurves.f1_zero_curves` (else computed).
+        Precomputed `rotorcontact.continuation.zero_curves.f1_zero_curves` (else computed).
     legend : bool
 
     Returns

@@ -3,7 +3,7 @@
 rdot- (Fig. 5(b)) or thetadot- (Fig. 5(d)) of the small orbits B1,a and B1,b
 against the bifurcation parameter near the boundary equilibrium: the global fixed
 points (solid where admissible, dashed where virtual) and the first-order local
-estimate eps * slope (dotted) of `rotorcontact.local`, which is tangent to them
+estimate eps * slope (dotted) of `rotorcontact.analysis.local`, which is tangent to them
 at the boundary equilibrium. For the rotor the parameter is gamma (eps = gamma -
 gamma*); for a general `LinearImpactingSystem` it is eps.
 
@@ -17,10 +17,10 @@ from typing import Sequence
 
 import numpy as np
 
-from ..equilibria import boundary_gamma
+from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
-from ..local import LinearImpactingSystem, global_fixed_points, local_analysis
-from ..params import Parameters, check_range
+from ..analysis.local import LinearImpactingSystem, global_fixed_points, local_analysis
+from ..model.params import Parameters, check_range
 from .style import new_axes
 
 __all__ = ["plot_local_estimate", "plot_local_figure"]

@@ -3,8 +3,8 @@
 Each recorded impact is a dot at (parameter value, section variable), one
 colour per direction (up, down), so hysteresis shows where the colours part.
 The one-impact orbits can be overlaid, either as continued branches
-(`rotorcontact.branches.OrbitBranches`, with their bifurcations marked) or
-as the fixed points computed at each value (`rotorcontact.sweep.one_impact_overlay`):
+(`rotorcontact.continuation.branches.OrbitBranches`, with their bifurcations marked) or
+as the fixed points computed at each value (`rotorcontact.studies.sweep.one_impact_overlay`):
 solid where stable, dashed where unstable, admissible orbits only. A strip
 under the diagram shows the regime of each direction at each value (forward rub
 and backward whirl have no impacts to plot).
@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ..batch import REGIME_NAMES
+from ..studies.batch import REGIME_NAMES
 from ..errors import ParameterError
 from .style import new_axes, save_figure
 
@@ -57,13 +57,13 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
     Parameters
     ----------
     ds : xarray.Dataset
-        A sweep (`rotorcontact.sweep.sweep`).
+        A sweep (`rotorcontact.studies.sweep.sweep`).
     variable : {"theta", "rdot", "thetadot"}
         Section variable.
     ax : matplotlib Axes, optional
     overlay : OrbitBranches or xarray.Dataset, optional
-        Continued branches (`rotorcontact.sweep.continued_branches`) or fixed
-        points (`rotorcontact.sweep.one_impact_overlay`).
+        Continued branches (`rotorcontact.studies.sweep.continued_branches`) or fixed
+        points (`rotorcontact.studies.sweep.one_impact_overlay`).
     markersize : float
 
     Returns

@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..errors import ParameterError
-from ..trajectory import Trajectory
+from ..simulation.trajectory import Trajectory
 from .style import draw_clearance, new_axes, save_figure
 
 

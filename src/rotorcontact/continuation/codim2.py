@@ -1,0 +1,805 @@
+"""Two-parameter diagrams: fold, NSFH/DIB and grazing curves, their intersections, regions R1-R4.
+
+Three kinds of curve in a plane of two parameters (p1, p2), any two of gamma,
+omega, rho, mu, d, each continued by pseudo-arclength
+(`rotorcontact.continuation.engine`) of its defining equations:
+
+* **fold_n**, the smooth fold gamma_F,n of the pair n of one-impact orbits
+  (B_n,a meets B_n,b, B_n,c meets B_n,d): F1 has a double zero. Unknowns
+  (T, p1, p2), equations R1 = 0 and dR1/dT = 0 with R1 the regularised F1 of
+  `rotorcontact.maps.orbit_system` (same zeros, no pole at the undamped
+  resonances).
+* **dib**, the boundary equilibrium (discontinuity-induced bifurcation, where
+  the NSFH happens): |k|^2 = 1, written rho^2 - gamma^2 - (1 - omega^2)^2 = 0
+  (no pole at the undamped resonance), unknowns (p1, p2). In the (gamma,
+  omega) plane this is gamma_DIB(omega) = sqrt(rho^2 - (1 - omega^2)^2).
+* **grazing_<orbit>**, where the largest interior maximum of r of a chosen
+  orbit (for example B1,d) reaches 1. Unknowns (T, rdot, t_g, p1, p2):
+  R1 = R2 = 0 (the orbit), |U(t_g)|^2 = 1 and Re(conj(U) U')(t_g) = 0 (a
+  maximum of r touching the clearance at the time t_g after the impact), with
+  U(t) the exact free flight from the post-impact state. The curve ends where
+  the orbit changes label (at a fold of F1 or a coalescence of roots), where
+  it turns virtual, or where t_g leaves (0, T).
+
+Seeds are found at ``n_seeds`` values of p2 by scanning p1 (existence of the
+pair n for folds, sign of |k|^2 - 1, sign of r_max - 1 of the orbit) and
+locating the crossing exactly; every seed not met by an already computed curve
+starts a continuation in both directions inside the box.
+
+Intersections are located as events along the curves, to ``location_tol``:
+``fold-dib`` (the DIB function changes sign along a fold curve), ``grazing-dib``
+(along a grazing curve) and ``fold-grazing`` (the grazing orbit reaches the
+fold where it ceases to exist).
+
+Regions (MODEL.md §5, pseudo-equilibria aside), from the orbits of the pair
+n = 1 and the regular equilibrium at a point:
+
+* R1: x_R virtual (|k| > 1), B1,a and B1,b virtual, B1,c and B1,d admissible;
+* R2: no one-impact orbit of the pair 1, x_R virtual;
+* R3: no one-impact orbit of the pair 1, x_R admissible;
+* R4: x_R and every B1,m admissible.
+
+Points fitting none of these (for example |k| < 1 with virtual B1 orbits) get
+None.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from typing import Any, Callable, Sequence
+
+import numpy as np
+from scipy.optimize import brentq
+
+from .engine import (
+    ContinuationResult,
+    ContinuationSettings,
+    CorrectionError,
+    EventFunction,
+    continue_curve,
+    correct_fixed,
+)
+from ..errors import ParameterError
+from ..model.flow import propagate
+from ..maps.impact_map import IDEAL, f1_zeros, flight_extrema, one_impact_orbits, post_impact_state, rdot_roots
+from ..maps.orbit_system import BRANCH_PARAMETERS, orbit_angles, regularised_residual, with_parameters
+from ..model.params import Parameters, check_range
+
+__all__ = [
+    "DEFAULT_RANGES",
+    "POINT_TYPES",
+    "REGIONS",
+    "Codim2Curve",
+    "Codim2Point",
+    "Codim2Diagram",
+    "fold_curve",
+    "dib_curve",
+    "grazing_curve",
+    "codim2_diagram",
+    "region",
+    "classify_plane",
+    "dib_function",
+]
+
+#: Default ranges of the parameters in two-parameter diagrams.
+DEFAULT_RANGES = {
+    "gamma": (0.0, 0.5),
+    "omega": (0.6, 1.25),
+    "rho": (0.05, 1.0),
+    "mu": (0.0, 0.5),
+    "d": (0.5, 1.0),
+}
+
+#: Types of the intersection points.
+POINT_TYPES = ("fold-dib", "grazing-dib", "fold-grazing")
+
+#: Region names (MODEL.md §5).
+REGIONS = ("R1", "R2", "R3", "R4")
+
+
+def _settings() -> ContinuationSettings:
+    return ContinuationSettings(step=0.01, min_step=1e-9, max_step=0.04, max_points=4000, location_tol=1e-10)
+
+
+# ---------------------------------------------------------------------------
+# Results
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Codim2Point:
+    """An intersection of two curves.
+
+    Attributes
+    ----------
+    type : str
+        One of `POINT_TYPES`.
+    params : tuple of str
+        (p1, p2).
+    values : tuple of float
+        (p1, p2) at the point.
+    T : float or None
+        Period of the orbit involved (None for points without one).
+    """
+
+    type: str
+    params: tuple[str, str]
+    values: tuple[float, float]
+    T: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{"type": ..., p1: ..., p2: ...}`` (the ``codim2 --json`` contract)."""
+        return {"type": self.type, self.params[0]: self.values[0], self.params[1]: self.values[1]}
+
+
+@dataclass(frozen=True)
+class Codim2Curve:
+    """A curve in the (p1, p2) plane, in connected pieces.
+
+    Attributes
+    ----------
+    name : str
+        ``"fold_1"``, ``"dib"``, ``"grazing_B1d"``, ...
+    kind : str
+        ``"fold"``, ``"dib"`` or ``"grazing"``.
+    params : tuple of str
+        (p1, p2).
+    pieces : tuple of numpy.ndarray
+        Each an (m, k) array of the unknowns along one piece; the last two
+        columns are (p1, p2) (before them: T for folds; T, rdot, t_g for grazing).
+    ends : tuple of str
+        Why each piece ended (both directions).
+    """
+
+    name: str
+    kind: str
+    params: tuple[str, str]
+    pieces: tuple[np.ndarray, ...] = field(repr=False)
+    ends: tuple[str, ...] = ()
+
+    def xy(self) -> np.ndarray:
+        """All (p1, p2) points, pieces separated by a row of NaN."""
+        rows = []
+        for i, piece in enumerate(self.pieces):
+            if i:
+                rows.append(np.full((1, 2), np.nan))
+            rows.append(piece[:, -2:])
+        return np.vstack(rows) if rows else np.empty((0, 2))
+
+    def to_list(self) -> list:
+        """[[p1, p2], ...] with null between pieces (the ``codim2 --json`` contract)."""
+        out: list = []
+        for i, piece in enumerate(self.pieces):
+            if i:
+                out.append(None)
+            out.extend([[float(a), float(b)] for a, b in piece[:, -2:]])
+        return out
+
+
+@dataclass(frozen=True)
+class Codim2Diagram:
+    """Curves and their intersections in a plane of two parameters.
+
+    Attributes
+    ----------
+    params : tuple of str
+    ranges : tuple of (float, float)
+        The box.
+    base : Parameters
+        The other parameters.
+    curves : dict of str -> Codim2Curve
+    points : tuple of Codim2Point
+    """
+
+    params: tuple[str, str]
+    ranges: tuple[tuple[float, float], tuple[float, float]]
+    base: Parameters
+    curves: dict[str, Codim2Curve] = field(repr=False)
+    points: tuple[Codim2Point, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``codim2 --json`` contract."""
+        return {
+            "curves": {name: c.to_list() for name, c in self.curves.items()},
+            "points": [p.to_dict() for p in self.points],
+        }
+
+
+# ---------------------------------------------------------------------------
+# Shared machinery
+# ---------------------------------------------------------------------------
+
+
+def dib_function(p: Parameters) -> float:
+    """rho^2 - gamma^2 - (1 - omega^2)^2: zero on the DIB curve |k| = 1, positive where |k| > 1.
+
+    It equals (|k|^2 - 1)(gamma^2 + (1 - omega^2)^2), without the pole of |k| at the
+    undamped resonance.
+    """
+    return p.rho**2 - p.gamma**2 - (1.0 - p.omega**2) ** 2
+
+
+class _Plane:
+    """Parameters at (p1, p2) for a plane of two parameters (extended beyond physical bounds)."""
+
+    def __init__(self, base: Parameters, params: Sequence[str], ranges):
+        if not isinstance(base, Parameters):
+            raise ParameterError(f"params = {base!r} is not a Parameters object")
+        params = tuple(params)
+        if len(params) != 2 or params[0] == params[1]:
+            raise ParameterError(f"params = {params!r} is invalid; allowed: two different parameters")
+        for p in params:
+            if p not in BRANCH_PARAMETERS:
+                raise ParameterError(
+                    f"parameter {p!r} is not a diagram parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
+                )
+        if ranges is None:
+            ranges = (DEFAULT_RANGES[params[0]], DEFAULT_RANGES[params[1]])
+        checked = []
+        for name, rng in zip(params, ranges):
+            try:
+                lo, hi = (float(v) for v in rng)
+            except (TypeError, ValueError):
+                raise ParameterError(f"range of {name} = {rng!r} is invalid; allowed: (low, high)") from None
+            if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+                raise ParameterError(f"range of {name} = {rng!r} is invalid; allowed: finite low < high")
+            base.replace(**{name: lo})
+            base.replace(**{name: hi})
+            checked.append((lo, hi))
+        self.base = base
+        self.params = params
+        self.ranges = tuple(checked)
+        self._cache: dict[tuple[float, float], Parameters] = {}
+
+    def at(self, v1: float, v2: float) -> Parameters:
+        key = (float(v1), float(v2))
+        p = self._cache.get(key)
+        if p is None:
+            p = with_parameters(self.base, {self.params[0]: key[0], self.params[1]: key[1]}, extend=True)
+            if len(self._cache) > 8192:
+                self._cache.clear()
+            self._cache[key] = p
+        return p
+
+    def span(self, i: int) -> float:
+        lo, hi = self.ranges[i]
+        return hi - lo
+
+    def box_events(self) -> list[EventFunction]:
+        (a1, b1), (a2, b2) = self.ranges
+        return [
+            EventFunction("p1-low", lambda y: y[-2] - a1, terminal=True),
+            EventFunction("p1-high", lambda y: b1 - y[-2], terminal=True),
+            EventFunction("p2-low", lambda y: y[-1] - a2, terminal=True),
+            EventFunction("p2-high", lambda y: b2 - y[-1], terminal=True),
+        ]
+
+    def dib_value(self, y) -> float:
+        return dib_function(self.at(y[-2], y[-1]))
+
+
+def _trace(
+    residual: Callable[[np.ndarray], np.ndarray],
+    seeds: list[tuple[np.ndarray, int]],
+    events: list[EventFunction],
+    weights: np.ndarray,
+    settings: ContinuationSettings,
+) -> tuple[list[np.ndarray], list[str], list]:
+    """Continue from every seed not met by an earlier curve; returns pieces, end messages, events.
+
+    A seed is (y, index): a point of a curve found with the component ``y[index]``
+    (p1 or p2) held at a scan value.
+    """
+    covered = [False] * len(seeds)
+    pieces: list[np.ndarray] = []
+    ends: list[str] = []
+    found = []
+    for i, (seed, _) in enumerate(seeds):
+        if covered[i]:
+            continue
+        covered[i] = True
+        runs: list[ContinuationResult] = []
+        for direction in (1.0, -1.0):
+            try:
+                res = continue_curve(residual, seed, direction=direction, events=events, settings=settings,
+                                     weights=weights, param_index=-1, correct_start=False)
+            except CorrectionError:
+                continue
+            runs.append(res)
+            if res.status == "closed":
+                break
+        if not runs:
+            continue
+        if len(runs) == 2:
+            pts = np.vstack([runs[1].points[::-1], runs[0].points[1:]])
+        else:
+            pts = runs[0].points
+        pieces.append(pts)
+        ends.extend(r.message for r in runs)
+        for r in runs:
+            found.extend(r.events)
+        _cover(residual, pts, seeds, covered, settings)
+    return pieces, ends, found
+
+
+def _cover(residual, pts: np.ndarray, seeds: list[tuple[np.ndarray, int]], covered: list[bool], settings) -> None:
+    """Mark seeds met by a computed curve (its crossings of the seed's scan value, corrected there)."""
+    for i, (seed, index) in enumerate(seeds):
+        if covered[i]:
+            continue
+        lam = pts[:, index]
+        v = seed[index]
+        near = np.abs(lam - v) <= 1e-9 * (1.0 + abs(v))
+        side = np.where(near, 0.0, np.sign(lam - v))
+        guesses = [pts[j].copy() for j in np.flatnonzero(near)]
+        for j in np.flatnonzero(side[:-1] * side[1:] < 0):
+            a, b = pts[j], pts[j + 1]
+            guesses.append(a + (v - a[index]) / (b[index] - a[index]) * (b - a))
+        for g in guesses:
+            g[index] = v
+            try:
+                g = correct_fixed(residual, g, index % len(g), settings=settings)
+            except CorrectionError:
+                pass
+            if np.all(np.abs(g - seed) <= 1e-6 * (1.0 + np.abs(seed))):
+                covered[i] = True
+                break
+
+
+def _scan_lines(plane: "_Plane", n_seeds: int, n_scan: int):
+    """Scan lines (fixed value, grid, axis): p1 scanned at fixed p2 values and p2 at fixed p1 values.
+
+    ``axis`` is the component scanned (0: p1, 1: p2).
+    """
+    (a1, b1), (a2, b2) = plane.ranges
+    g1 = np.linspace(a1, b1, n_scan)
+    g2 = np.linspace(a2, b2, n_scan)
+    for v2 in np.linspace(a2, b2, n_seeds):
+        yield float(v2), g1, 0
+    for v1 in np.linspace(a1, b1, n_seeds):
+        yield float(v1), g2, 1
+
+
+def _held(y: np.ndarray, axis: int) -> int:
+    """Index in y of the parameter held fixed on a scan line along ``axis`` (0: p1 scanned, p2 held)."""
+    return len(y) - 1 if axis == 0 else len(y) - 2
+
+
+def _brackets(func: Callable[[float], float | None], grid: np.ndarray) -> list[tuple[float, float]]:
+    vals = [func(v) for v in grid]
+    out = []
+    for (a, fa), (b, fb) in zip(zip(grid, vals), zip(grid[1:], vals[1:])):
+        if fa is not None and fb is not None and (fa < 0) != (fb < 0):
+            out.append((float(a), float(b)))
+    return out
+
+
+# ---------------------------------------------------------------------------
+# Fold curves
+# ---------------------------------------------------------------------------
+
+
+def _pair_exists(p: Parameters, n: int, t_max: float) -> bool:
+    try:
+        zeros = f1_zeros(p, t_max)
+    except (ParameterError, RuntimeError):
+        return False
+    return sum(1 for z in zeros if z.n == n) >= 2
+
+
+def _fold_seed(plane: _Plane, n: int, fixed: float, axis: int, a: float, b: float, t_max: float,
+               settings: ContinuationSettings) -> tuple[np.ndarray, int] | None:
+    """The fold of pair n on a scan line between a and b of the scanned parameter (pair n exists at one end).
+
+    The zero T0,n,a is followed along the scan line (fixed other parameter) by
+    continuation of R1 = 0 in (T, scanned parameter) until dR1/dT = 0.
+    """
+
+    def at(v: float) -> Parameters:
+        return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
+
+    exists_a = _pair_exists(at(a), n, t_max)
+    v_exist = a if exists_a else b
+    zeros = [z for z in f1_zeros(at(v_exist), t_max) if z.n == n]
+    if not zeros:
+        return None
+
+    def res1(y):
+        return np.array([regularised_residual(at(y[1]), float(y[0]), 0.0)[0][0]])
+
+    def slope(y):
+        return float(regularised_residual(at(y[1]), float(y[0]), 0.0)[1][0, 0])
+
+    lo, hi = min(a, b), max(a, b)
+    events = [
+        EventFunction("fold", slope, terminal=True),
+        EventFunction("lo", lambda y: y[1] - lo, terminal=True),
+        EventFunction("hi", lambda y: hi - y[1], terminal=True),
+        EventFunction("t", lambda y: t_max - y[0], terminal=True),
+    ]
+    direction = 1.0 if v_exist == a else -1.0
+    try:
+        res = continue_curve(res1, [zeros[0].T, v_exist], direction=direction, events=events, settings=settings,
+                             weights=[1.0, 1.0 / (hi - lo)], param_index=1)
+    except CorrectionError:
+        return None
+    folds = [e for e in res.events if e.name == "fold" and e.continuous]
+    if not folds:
+        return None
+    T, v = folds[-1].y
+    y = np.array([T, v, fixed]) if axis == 0 else np.array([T, fixed, v])
+    return y, _held(y, axis)
+
+
+def fold_curve(
+    params: Parameters,
+    params2: Sequence[str] = ("gamma", "omega"),
+    ranges=None,
+    *,
+    n: int = 1,
+    t_max: float = 12.0,
+    n_seeds: int = 7,
+    n_scan: int = 41,
+    settings: ContinuationSettings | None = None,
+) -> tuple[Codim2Curve, tuple[Codim2Point, ...]]:
+    """The fold curve of the pair n (gamma_F,n in the (gamma, omega) plane), and where it meets the DIB curve.
+
+    Parameters
+    ----------
+    params : Parameters
+        The other parameters.
+    params2 : (str, str)
+        The plane (p1, p2).
+    ranges : ((float, float), (float, float)), optional
+        The box; `DEFAULT_RANGES` when omitted.
+    n : int
+        Index of the pair of zeros of F1.
+    t_max : float
+        Largest period considered.
+    n_seeds : int
+        Number of p2 values at which folds are searched along p1.
+    n_scan : int
+        Grid of p1 values scanned for the existence of the pair.
+    settings : ContinuationSettings, optional
+
+    Returns
+    -------
+    curve : Codim2Curve
+    points : tuple of Codim2Point
+        The ``fold-dib`` points.
+    """
+    plane = _Plane(params, params2, ranges)
+    n = _check_int("n", n, 1)
+    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+    settings = settings or _settings()
+    seeds = []
+    for fixed, grid, axis in _scan_lines(plane, _check_int("n_seeds", n_seeds, 1), _check_int("n_scan", n_scan, 2)):
+        ex = [_pair_exists(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v), n, t_max) for v in grid]
+        for i in range(len(grid) - 1):
+            if ex[i] != ex[i + 1]:
+                s = _fold_seed(plane, n, fixed, axis, float(grid[i]), float(grid[i + 1]), t_max, settings)
+                if s is not None:
+                    seeds.append(s)
+
+    def residual(y):
+        r, j = regularised_residual(plane.at(y[1], y[2]), float(y[0]), 0.0)
+        return np.array([r[0], j[0, 0]])
+
+    events = plane.box_events() + [
+        EventFunction("t-max", lambda y: t_max - y[0], terminal=True),
+        EventFunction("t-min", lambda y: y[0] - 1e-3, terminal=True),
+        EventFunction("dib", plane.dib_value),
+    ]
+    weights = np.array([1.0, 1.0 / plane.span(0), 1.0 / plane.span(1)])
+    pieces, ends, found = _trace(residual, seeds, events, weights, settings)
+    points = tuple(
+        Codim2Point("fold-dib", plane.params, (float(e.y[1]), float(e.y[2])), float(e.y[0]))
+        for e in found
+        if e.name == "dib" and e.continuous and not e.terminal
+    )
+    curve = Codim2Curve(name=f"fold_{n}", kind="fold", params=plane.params, pieces=tuple(pieces), ends=tuple(ends))
+    return curve, _unique(points)
+
+
+# ---------------------------------------------------------------------------
+# The DIB curve
+# ---------------------------------------------------------------------------
+
+
+def dib_curve(
+    params: Parameters,
+    params2: Sequence[str] = ("gamma", "omega"),
+    ranges=None,
+    *,
+    n_seeds: int = 7,
+    n_scan: int = 41,
+    settings: ContinuationSettings | None = None,
+) -> Codim2Curve:
+    """The boundary-equilibrium (NSFH/DIB) curve |k|^2 = 1 in the plane (p1, p2).
+
+    In the (gamma, omega) plane it is gamma_DIB(omega) = sqrt(rho^2 - (1 - omega^2)^2).
+    Parameters as in `fold_curve`.
+    """
+    plane = _Plane(params, params2, ranges)
+    settings = settings or _settings()
+    seeds = []
+    for fixed, grid, axis in _scan_lines(plane, _check_int("n_seeds", n_seeds, 1), _check_int("n_scan", n_scan, 2)):
+        def g(v, fixed=fixed, axis=axis):
+            return dib_function(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v))
+
+        for lo, hi in _brackets(g, grid):
+            v = brentq(g, lo, hi, xtol=1e-14, rtol=4 * np.finfo(float).eps)
+            y = np.array([v, fixed] if axis == 0 else [fixed, v])
+            seeds.append((y, _held(y, axis)))
+
+    def residual(y):
+        return np.array([dib_function(plane.at(y[0], y[1]))])
+
+    weights = np.array([1.0 / plane.span(0), 1.0 / plane.span(1)])
+    pieces, ends, _ = _trace(residual, seeds, plane.box_events(), weights, settings)
+    return Codim2Curve(name="dib", kind="dib", params=plane.params, pieces=tuple(pieces), ends=tuple(ends))
+
+
+# ---------------------------------------------------------------------------
+# Grazing curves
+# ---------------------------------------------------------------------------
+
+
+def _orbit_of(p: Parameters, label: str, t_max: float):
+    for o in one_impact_orbits(p, t_max):
+        if o.label == label:
+            return o
+    return None
+
+
+def _grazing_residual(plane: _Plane):
+    def residual(y):
+        T, r, tg, v1, v2 = (float(x) for x in y)
+        p = plane.at(v1, v2)
+        res, _ = regularised_residual(p, T, r)
+        theta, thetadot = orbit_angles(p, T, r)
+        u0, du0 = post_impact_state(p, (theta, r, thetadot), law=IDEAL)
+        k = p.k
+        v, dv = propagate(u0 - k, du0, tg, p.gamma, p.omega)
+        u = k + v
+        return np.array([res[0], res[1], abs(u) ** 2 - 1.0, (u.conjugate() * dv).real])
+
+    return residual
+
+
+def grazing_curve(
+    params: Parameters,
+    params2: Sequence[str] = ("gamma", "omega"),
+    ranges=None,
+    *,
+    orbit: str = "B1,d",
+    t_max: float = 12.0,
+    n_seeds: int = 7,
+    n_scan: int = 41,
+    settings: ContinuationSettings | None = None,
+) -> tuple[Codim2Curve, tuple[Codim2Point, ...]]:
+    """The grazing curve of one orbit: its largest interior maximum of r equals 1.
+
+    Parameters as in `fold_curve`, and
+
+    orbit : str
+        The orbit label, ``"B1,d"`` etc.
+
+    Returns
+    -------
+    curve : Codim2Curve
+        Named ``"grazing_B1d"`` (the label without its comma).
+    points : tuple of Codim2Point
+        ``grazing-dib`` and ``fold-grazing`` points.
+    """
+    plane = _Plane(params, params2, ranges)
+    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+    settings = settings or _settings()
+    _check_label(orbit)
+    seeds = []
+    for fixed, grid, axis in _scan_lines(plane, _check_int("n_seeds", n_seeds, 1), _check_int("n_scan", n_scan, 2)):
+        def at(v, fixed=fixed, axis=axis):
+            return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
+
+        def g(v, at=at):
+            o = _orbit_of(at(v), orbit, t_max)
+            if o is None or not o.admissible or o.r_max_interior is None:
+                return None
+            return o.r_max_interior - 1.0
+
+        def g_nan(v, g=g):
+            val = g(v)
+            return math.nan if val is None else val
+
+        for lo, hi in _brackets(g, grid):
+            try:
+                v = brentq(g_nan, lo, hi, xtol=1e-13)
+            except (ValueError, RuntimeError):
+                continue
+            p = at(v)
+            o = _orbit_of(p, orbit, t_max)
+            if o is None:
+                continue
+            ext = flight_extrema(p, o.state, o.T, law=IDEAL)
+            if not np.any(ext.maxima):
+                continue
+            i = int(np.argmax(np.where(ext.maxima, ext.radii, -np.inf)))
+            pv = (v, fixed) if axis == 0 else (fixed, v)
+            y = np.array([o.T, o.rdot, float(ext.times[i]), pv[0], pv[1]])
+            seeds.append((y, _held(y, axis)))
+
+    residual = _grazing_residual(plane)
+
+    def slope(y):
+        return float(regularised_residual(plane.at(y[3], y[4]), float(y[0]), float(y[1]))[1][0, 0])
+
+    def root_side(y):
+        return float(regularised_residual(plane.at(y[3], y[4]), float(y[0]), float(y[1]))[1][1, 1])
+
+    events = plane.box_events() + [
+        EventFunction("t-max", lambda y: t_max - y[0], terminal=True),
+        EventFunction("virtual", lambda y: y[1], terminal=True),
+        EventFunction("tg-low", lambda y: y[2], terminal=True),
+        EventFunction("tg-high", lambda y: y[0] - y[2], terminal=True),
+        EventFunction("fold", slope, terminal=True),
+        EventFunction("coalescence", root_side, terminal=True),
+        EventFunction("dib", plane.dib_value),
+    ]
+    weights = np.array([1.0, 1.0, 1.0, 1.0 / plane.span(0), 1.0 / plane.span(1)])
+    pieces, ends, found = _trace(residual, seeds, events, weights, settings)
+    points = []
+    for e in found:
+        if not e.continuous:
+            continue
+        if e.name == "dib":
+            points.append(Codim2Point("grazing-dib", plane.params, (float(e.y[3]), float(e.y[4])), float(e.y[0])))
+        elif e.name == "fold":
+            points.append(Codim2Point("fold-grazing", plane.params, (float(e.y[3]), float(e.y[4])), float(e.y[0])))
+    name = "grazing_" + orbit.replace(",", "")
+    curve = Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=tuple(pieces), ends=tuple(ends))
+    return curve, _unique(tuple(points))
+
+
+# ---------------------------------------------------------------------------
+# The diagram
+# ---------------------------------------------------------------------------
+
+
+def codim2_diagram(
+    params: Parameters,
+    params2: Sequence[str] = ("gamma", "omega"),
+    ranges=None,
+    *,
+    folds: Sequence[int] = (1,),
+    grazing: Sequence[str] = ("B1,d",),
+    t_max: float = 12.0,
+    n_seeds: int = 7,
+    n_scan: int = 41,
+    settings: ContinuationSettings | None = None,
+) -> Codim2Diagram:
+    """Fold curves of the pairs ``folds``, the DIB curve and the grazing curves of ``grazing``, with intersections.
+
+    Parameters
+    ----------
+    params : Parameters
+        The other parameters.
+    params2 : (str, str)
+        The plane, default (gamma, omega).
+    ranges : ((float, float), (float, float)), optional
+        The box; `DEFAULT_RANGES` when omitted.
+    folds : sequence of int
+        Pairs n whose fold curves are computed.
+    grazing : sequence of str
+        Orbits whose grazing curves are computed.
+    t_max, n_seeds, n_scan, settings
+        As in `fold_curve`.
+
+    Returns
+    -------
+    Codim2Diagram
+    """
+    plane = _Plane(params, params2, ranges)
+    for label in grazing:
+        _check_label(label)
+    for n in folds:
+        _check_int("folds", n, 1)
+    curves: dict[str, Codim2Curve] = {}
+    points: list[Codim2Point] = []
+    kw = dict(t_max=t_max, n_seeds=n_seeds, n_scan=n_scan, settings=settings)
+    for n in folds:
+        c, pts = fold_curve(params, plane.params, plane.ranges, n=n, **kw)
+        curves[c.name] = c
+        points.extend(pts)
+    curves["dib"] = dib_curve(params, plane.params, plane.ranges, n_seeds=n_seeds, n_scan=n_scan,
+                              settings=settings)
+    for label in grazing:
+        c, pts = grazing_curve(params, plane.params, plane.ranges, orbit=label, **kw)
+        curves[c.name] = c
+        points.extend(pts)
+    pts = sorted(_unique(tuple(points)), key=lambda q: (q.type, q.values))
+    return Codim2Diagram(params=plane.params, ranges=plane.ranges, base=params, curves=curves, points=tuple(pts))
+
+
+# ---------------------------------------------------------------------------
+# Regions
+# ---------------------------------------------------------------------------
+
+
+def region(params: Parameters, t_max: float = 12.0) -> str | None:
+    """The region R1-R4 (module docstring) of the point ``params``, or None if it fits none."""
+    if not isinstance(params, Parameters):
+        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    xr_admissible = dib_function(params) < 0.0  # |k| < 1
+    orbits = []  # (small root?, rdot) of the orbits of the pair 1
+    try:
+        zeros = f1_zeros(params, t_max)
+    except ParameterError:
+        return None  # the undamped resonance (gamma = 0, omega = 1): no regular equilibrium at all
+    for z in zeros:
+        if z.n == 1:
+            roots = rdot_roots(params, z.T)[1]
+            if roots:
+                orbits.extend([(True, roots[0]), (False, roots[1])])
+    if not orbits:
+        return "R3" if xr_admissible else "R2"
+    if not xr_admissible and all((r < 0.0) == small for small, r in orbits):
+        return "R1"
+    if xr_admissible and all(r > 0.0 for _, r in orbits):
+        return "R4"
+    return None
+
+
+def classify_plane(
+    params: Parameters,
+    params2: Sequence[str] = ("gamma", "omega"),
+    ranges=None,
+    shape: tuple[int, int] = (81, 81),
+    t_max: float = 12.0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Regions R1-R4 on a grid of the plane.
+
+    Returns
+    -------
+    v1, v2 : numpy.ndarray
+        The grid values of p1 and p2.
+    labels : numpy.ndarray of object, shape (len(v2), len(v1))
+        ``"R1"`` .. ``"R4"`` or None.
+    """
+    plane = _Plane(params, params2, ranges)
+    n1, n2 = (_check_int("shape", s, 2) for s in shape)
+    v1 = np.linspace(*plane.ranges[0], n1)
+    v2 = np.linspace(*plane.ranges[1], n2)
+    labels = np.empty((n2, n1), dtype=object)
+    for j, b in enumerate(v2):
+        for i, a in enumerate(v1):
+            labels[j, i] = region(params.replace(**{plane.params[0]: a, plane.params[1]: b}), t_max)
+    return v1, v2, labels
+
+
+# ---------------------------------------------------------------------------
+# Helpers
+# ---------------------------------------------------------------------------
+
+
+def _check_label(orbit) -> str:
+    if not isinstance(orbit, str) or re.fullmatch(r"B[1-9][0-9]*,[abcd]", orbit) is None:
+        raise ParameterError(f"orbit = {orbit!r} is not an orbit label; allowed: 'B<n>,<a|b|c|d>', e.g. 'B1,d'")
+    return orbit
+
+
+def _check_int(name: str, value, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: an integer >= {low}")
+    return int(value)
+
+
+def _unique(points: tuple[Codim2Point, ...]) -> tuple[Codim2Point, ...]:
+    out: list[Codim2Point] = []
+    for p in points:
+        if any(q.type == p.type and abs(q.values[0] - p.values[0]) <= 1e-8 * (1 + abs(p.values[0]))
+               and abs(q.values[1] - p.values[1]) <= 1e-8 * (1 + abs(p.values[1])) for q in out):
+            continue
+        out.append(p)
+    return tuple(out)

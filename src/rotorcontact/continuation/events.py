@@ -1,0 +1,260 @@
+"""Event test functions along branches of one-impact orbits, and the typing of located events.
+
+Test functions (all smooth where the orbit is, except the integer count of
+extrema), evaluated at a point y = (T, rdot, lambda) of a branch:
+
+* ``fold``: dR1/dT of the regularised equations (`rotorcontact.maps.orbit_system`);
+  it has the sign of F1' and vanishes where F1 has a double zero;
+* ``ac-coalescence``: dR2/drdot, with the sign of the quadratic's derivative
+  at the root; it vanishes at a double root (zero discriminant);
+* ``nsfh``: rdot itself;
+* ``grazing``: r_max - 1, the largest interior maximum of r less 1;
+* ``extrema-change``: the number of interior extrema of r (discrete);
+* ``plus-one``, ``minus-one``, ``torus``: det(J - I), det(J + I) and
+  prod_{i<j} (z_i z_j - 1) from the multipliers z of the Jacobian J of P_I.
+
+The last five are evaluated on admissible orbits only (None on virtual ones)
+unless virtual orbits are asked for. `classify_event` turns a located zero into
+a reported type, dropping what is not a bifurcation: a sign change through a
+pole (the multipliers grow without bound as rdot -> 0), a zero of rdot away
+from the boundary equilibrium (|k| != 1: the resonance point at gamma = 0),
+a +1 multiplier at a fold or coalescence (that is the fold), a real pair of
+multipliers with product 1 (not a bifurcation).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .engine import EventFunction, LocatedEvent
+from ..maps.impact_map import IDEAL, flight_extrema, impact_map_jacobian
+from ..maps.orbit_system import OneImpactSystem, label_of, orbit_angles, regularised_residual
+from .results import OrbitEvent
+
+__all__ = ["BranchAnalyser", "at_turning_point", "branch_event_functions", "classify_event", "report_events",
+           "turning_points"]
+
+# How close a multiplier must be to +-1 or to the unit circle at a located test-function zero.
+_MULTIPLIER_TOL = 1e-6
+# |k|^2 - 1 at a located rdot = 0 for it to be at the boundary equilibrium.
+_BOUNDARY_TOL = 1e-7
+
+
+@dataclass(frozen=True)
+class _Core:
+    """What the event functions need at a point (no labels, no plausibility).
+
+    ``admissible`` is True also for virtual orbits when they are analysed.
+    """
+
+    admissible: bool
+    r_max: float | None
+    count: int
+    multipliers: np.ndarray | None
+
+
+class BranchAnalyser:
+    """The test functions along the branches of one system, with a cache per point.
+
+    Parameters
+    ----------
+    system : OneImpactSystem
+    virtual : bool
+        Also evaluate the orbit-property functions (grazing, extrema,
+        multipliers of the formal impact map) on virtual orbits.
+    """
+
+    def __init__(self, system: OneImpactSystem, virtual: bool = False):
+        self.system = system
+        self.virtual = virtual
+        self._core: dict[bytes, _Core] = {}
+
+    def core(self, y: np.ndarray) -> _Core:
+        """Extrema of r and multipliers at the point y = (T, rdot, lambda) (cached)."""
+        key = np.asarray(y, dtype=float).tobytes()
+        c = self._core.get(key)
+        if c is not None:
+            return c
+        p = self.system.params_at(y[2])
+        T, r = float(y[0]), float(y[1])
+        theta, thetadot = orbit_angles(p, T, r)
+        state = (theta, r, thetadot)
+        ext = flight_extrema(p, state, T, law=IDEAL)
+        mult = None
+        if r > 0.0 or self.virtual:
+            _, jac, _ = impact_map_jacobian(p, state, T, law=IDEAL)
+            mult = np.linalg.eigvals(jac)
+        c = _Core(admissible=r > 0.0 or self.virtual, r_max=ext.r_max, count=ext.count, multipliers=mult)
+        if len(self._core) > 20000:
+            self._core.clear()
+        self._core[key] = c
+        return c
+
+    def partials(self, y: np.ndarray) -> np.ndarray:
+        """d(R1, R2)/d(T, rdot) of the regularised equations at y."""
+        return regularised_residual(self.system.params_at(y[2]), float(y[0]), float(y[1]))[1]
+
+    def multipliers(self, y: np.ndarray) -> np.ndarray | None:
+        """The multipliers at y (None where they are not evaluated: virtual orbits)."""
+        return self.core(y).multipliers
+
+    # test functions ------------------------------------------------------------
+
+    def fold(self, y: np.ndarray) -> float:
+        """dR1/dT: the sign of F1', zero where F1 has a double zero."""
+        return float(self.partials(y)[0, 0])
+
+    def coalescence(self, y: np.ndarray) -> float:
+        """dR2/drdot: negative at the smaller root, zero at a double root."""
+        return float(self.partials(y)[1, 1])
+
+    def rdot(self, y: np.ndarray) -> float:
+        """The impact velocity."""
+        return float(y[1])
+
+    def grazing(self, y: np.ndarray) -> float | None:
+        """r_max - 1 (None without an interior maximum, or on a virtual orbit)."""
+        c = self.core(y)
+        if not c.admissible or c.r_max is None:
+            return None
+        return c.r_max - 1.0
+
+    def extrema_count(self, y: np.ndarray) -> int | None:
+        """The number of interior extrema of r (None on a virtual orbit)."""
+        c = self.core(y)
+        return c.count if c.admissible else None
+
+    def plus_one(self, y: np.ndarray) -> float | None:
+        """det(J - I) = prod (z_i - 1)."""
+        z = self.multipliers(y)
+        return None if z is None else float(np.prod(z - 1.0).real)
+
+    def minus_one(self, y: np.ndarray) -> float | None:
+        """det(J + I) = prod (z_i + 1)."""
+        z = self.multipliers(y)
+        return None if z is None else float(np.prod(z + 1.0).real)
+
+    def torus(self, y: np.ndarray) -> float | None:
+        """prod_{i<j} (z_i z_j - 1): zero where a complex pair is on the unit circle (or z_i z_j = 1)."""
+        z = self.multipliers(y)
+        if z is None:
+            return None
+        prod = 1.0 + 0j
+        for i in range(len(z)):
+            for j in range(i + 1, len(z)):
+                prod *= z[i] * z[j] - 1.0
+        return float(prod.real)
+
+
+def branch_event_functions(an: BranchAnalyser, start: float, stop: float, t_min: float, t_max: float,
+                           rdot_max: float) -> list[EventFunction]:
+    """Terminal events of the box (parameter range, t_min <= T <= t_max, |rdot| <= rdot_max) and the tests."""
+    return [
+        EventFunction("lower", lambda y: y[2] - start, terminal=True),
+        EventFunction("upper", lambda y: stop - y[2], terminal=True),
+        EventFunction("t-max", lambda y: t_max - y[0], terminal=True),
+        EventFunction("t-min", lambda y: y[0] - t_min, terminal=True),
+        EventFunction("rdot-max", lambda y: rdot_max - abs(y[1]), terminal=True),
+        EventFunction("fold", an.fold),
+        EventFunction("ac-coalescence", an.coalescence),
+        EventFunction("nsfh", an.rdot),
+        EventFunction("grazing", an.grazing),
+        EventFunction("extrema-change", an.extrema_count, kind="discrete"),
+        EventFunction("plus-one", an.plus_one),
+        EventFunction("minus-one", an.minus_one),
+        EventFunction("torus", an.torus),
+    ]
+
+
+def classify_event(e: LocatedEvent, an: BranchAnalyser, system: OneImpactSystem) -> tuple[str, str] | None:
+    """The reported type of a located event and a detail string, or None to drop it."""
+    if e.terminal:
+        return None
+    increasing = e.y_before[2] <= e.y_after[2]
+    if e.name == "extrema-change":
+        lo, hi = (e.before, e.after) if increasing else (e.after, e.before)
+        return "extrema-change", f"{int(lo)} -> {int(hi)} interior extrema as {system.param} increases"
+    if not e.continuous:
+        return None
+    y = e.y
+    if e.name in ("fold", "ac-coalescence", "grazing"):
+        return e.name, ""
+    if e.name == "nsfh":
+        p = system.params_at(y[2])
+        if abs(abs(p.k) ** 2 - 1.0) > _BOUNDARY_TOL:
+            return None
+        return "nsfh", ""
+    z = an.multipliers(y)
+    if z is None:
+        return None
+    stab = []
+    for yy in ((e.y_before, e.y_after) if increasing else (e.y_after, e.y_before)):
+        zz = an.multipliers(yy)
+        stab.append(None if zz is None else bool(np.all(np.abs(zz) < 1.0)))
+    change = "" if stab[0] == stab[1] or None in stab else (
+        f"{'gain' if stab[1] else 'loss'} of stability as {system.param} increases")
+    if e.name == "plus-one":
+        if np.min(np.abs(z - 1.0)) > _MULTIPLIER_TOL:
+            return None
+        return "branch-point", change
+    if e.name == "minus-one":
+        if np.min(np.abs(z + 1.0)) > _MULTIPLIER_TOL:
+            return None
+        return "period-doubling", change
+    if e.name == "torus":
+        pair = [x for x in z if abs(x.imag) > 1e-9 and abs(abs(x) - 1.0) <= _MULTIPLIER_TOL]
+        if not pair:
+            return None
+        arg = abs(math.atan2(pair[0].imag, pair[0].real))
+        return "neimark-sacker", (change + ("; " if change else "") + f"angle {arg:.6g} rad")
+    return None
+
+
+def turning_points(raw: list[LocatedEvent]) -> list[np.ndarray]:
+    """The located folds and coalescences among ``raw``: where the branch turns in the parameter."""
+    return [e.y for e in raw if e.name in ("fold", "ac-coalescence") and e.continuous]
+
+
+def at_turning_point(y: np.ndarray, turning: list[np.ndarray]) -> bool:
+    """Whether the point y = (T, rdot, lambda) is one of the turning points (relative distance 1e-6).
+
+    A multiplier +1 located there is the fold itself, not a separate branch point.
+    """
+    return any(np.linalg.norm((y - t) / np.array([1.0 + abs(t[0]), 1.0 + abs(t[1]), 1.0])) < 1e-6
+               for t in turning)
+
+
+def report_events(raw: list[LocatedEvent], an: BranchAnalyser, system: OneImpactSystem) -> tuple[OrbitEvent, ...]:
+    """The reported events (typed, labelled, sorted by value, without duplicates) from the located ones."""
+    turning = turning_points(raw)
+    out: list[OrbitEvent] = []
+    for e in raw:
+        kind = classify_event(e, an, system)
+        if kind is None:
+            continue
+        typ, detail = kind
+        if typ in ("grazing", "extrema-change", "branch-point", "period-doubling", "neimark-sacker"):
+            if not an.virtual and not (e.y[1] > 0.0):
+                continue
+        if typ == "branch-point" and at_turning_point(e.y, turning):
+            continue
+        labels = set()
+        for yy in (e.y_before, e.y_after):
+            p = system.params_at(yy[2])
+            n, b = label_of(p, float(yy[0]), float(yy[1]))
+            labels.add((n, b))
+        orbits = tuple(f"B{n},{b}" for n, b in sorted(labels))
+        out.append(OrbitEvent(type=typ, value=float(e.parameter), orbits=orbits, T=float(e.y[0]),
+                              rdot=float(e.y[1]), detail=detail, accuracy=float(e.bracket)))
+    # the same event met by two runs (a seed's two directions share their start)
+    out.sort(key=lambda ev: (ev.value, ev.type, ev.orbits))
+    unique: list[OrbitEvent] = []
+    for ev in out:
+        if any(u.type == ev.type and u.orbits == ev.orbits and abs(u.value - ev.value) <= 1e-8
+               and abs(u.T - ev.T) <= 1e-6 * (1.0 + abs(ev.T)) for u in unique):
+            continue
+        unique.append(ev)
+    return tuple(unique)

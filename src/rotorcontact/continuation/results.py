@@ -1,0 +1,263 @@
+"""Result types of the branches of one-impact orbits (`rotorcontact.continuation.branches`).
+
+`OrbitBranches` holds the computed curves (`OrbitCurve`: the orbits along
+one continuation) and the located events (`OrbitEvent`). `OrbitBranches.branch`
+regroups the points by orbit label (`LabelBranch`), in connected pieces; its
+``to_dict`` is the ``rotorcontact branches --json`` contract.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..maps.impact_map import ImpactOrbit
+from ..model.params import Parameters
+
+__all__ = ["EVENT_TYPES", "OrbitEvent", "OrbitCurve", "LabelBranch", "OrbitBranches"]
+
+#: Types of the events reported along branches.
+EVENT_TYPES = (
+    "fold",
+    "nsfh",
+    "grazing",
+    "branch-point",
+    "period-doubling",
+    "neimark-sacker",
+    "extrema-change",
+    "ac-coalescence",
+)
+
+
+@dataclass(frozen=True)
+class OrbitEvent:
+    """A bifurcation or change of character along a branch.
+
+    Attributes
+    ----------
+    type : str
+        One of `EVENT_TYPES`.
+    value : float
+        The parameter there.
+    orbits : tuple of str
+        Labels of the orbits involved (both sides of a fold or coalescence).
+    T : float
+        Period at the event.
+    rdot : float
+        Impact velocity at the event.
+    detail : str
+        A short description (for example the stability on either side).
+    accuracy : float
+        Width of the final bracket in the parameter.
+    """
+
+    type: str
+    value: float
+    orbits: tuple[str, ...]
+    T: float
+    rdot: float
+    detail: str = ""
+    accuracy: float = 0.0
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``branches --json`` event: type, value, orbits."""
+        return {"type": self.type, "value": self.value, "orbits": list(self.orbits)}
+
+
+@dataclass(frozen=True)
+class OrbitCurve:
+    """One computed solution curve: a sequence of orbits along the parameter.
+
+    Attributes
+    ----------
+    param : str
+        The parameter varied.
+    values : numpy.ndarray
+        The parameter at each point (located event points included).
+    orbits : tuple of ImpactOrbit
+        The orbit at each point.
+    extrema : tuple of (numpy.ndarray, numpy.ndarray)
+        Radii of the interior extrema of r at each point, and which are maxima.
+    event_index : tuple of (int, str)
+        Positions of located event points in the sequence, with the event type.
+    ends : tuple of str
+        Why the continuation ended in each direction (``"terminal: t-max"``, ...).
+    """
+
+    param: str
+    values: np.ndarray = field(repr=False)
+    orbits: tuple[ImpactOrbit, ...] = field(repr=False)
+    extrema: tuple[tuple[np.ndarray, np.ndarray], ...] = field(repr=False)
+    event_index: tuple[tuple[int, str], ...]
+    ends: tuple[str, str]
+
+    def column(self, name: str) -> np.ndarray:
+        """An orbit attribute along the curve as an array (None -> nan)."""
+        out = [getattr(o, name) for o in self.orbits]
+        return np.array([math.nan if v is None else v for v in out], dtype=float)
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        """Orbit label at each point."""
+        return tuple(o.label for o in self.orbits)
+
+
+@dataclass(frozen=True)
+class LabelBranch:
+    """All points of one orbit label, in pieces separated by NaN (None for ``stable``).
+
+    Attributes
+    ----------
+    label : str
+    values, T, theta, rdot, thetadot, r_max_interior, max_multiplier : numpy.ndarray
+        NaN marks a break between pieces (and r_max / multipliers that do not exist).
+    admissible, plausible : numpy.ndarray of bool
+        False at breaks.
+    stable : numpy.ndarray of object
+        True / False, None where virtual and at breaks.
+    interior_extrema : numpy.ndarray of int
+        -1 at breaks.
+    extrema : list
+        Per point, (radii, maxima) of the interior extrema of r (None at breaks).
+    """
+
+    label: str
+    values: np.ndarray = field(repr=False)
+    T: np.ndarray = field(repr=False)
+    theta: np.ndarray = field(repr=False)
+    rdot: np.ndarray = field(repr=False)
+    thetadot: np.ndarray = field(repr=False)
+    admissible: np.ndarray = field(repr=False)
+    plausible: np.ndarray = field(repr=False)
+    stable: np.ndarray = field(repr=False)
+    r_max_interior: np.ndarray = field(repr=False)
+    interior_extrema: np.ndarray = field(repr=False)
+    max_multiplier: np.ndarray = field(repr=False)
+    extrema: list = field(repr=False)
+
+    def pieces(self) -> list[slice]:
+        """Slices of the connected pieces."""
+        breaks = np.flatnonzero(np.isnan(self.values))
+        out, start = [], 0
+        for b in list(breaks) + [len(self.values)]:
+            if b > start:
+                out.append(slice(start, b))
+            start = b + 1
+        return out
+
+
+@dataclass(frozen=True)
+class OrbitBranches:
+    """Branches of one-impact orbits along a parameter range, with their events.
+
+    Attributes
+    ----------
+    param : str
+    start, stop : float
+        The parameter range.
+    base : Parameters
+        The other parameters.
+    t_max : float
+        Largest period followed.
+    curves : tuple of OrbitCurve
+    events : tuple of OrbitEvent
+        Sorted by value.
+    """
+
+    param: str
+    start: float
+    stop: float
+    base: Parameters
+    t_max: float
+    curves: tuple[OrbitCurve, ...] = field(repr=False)
+    events: tuple[OrbitEvent, ...]
+
+    def params_at(self, value: float) -> Parameters:
+        """The parameters at ``value`` of the varied parameter."""
+        return self.base.replace(**{self.param: value})
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        """Every orbit label met, by pair n then branch letter."""
+        found = {o.label: (o.n, o.branch) for c in self.curves for o in c.orbits}
+        return tuple(sorted(found, key=lambda lab: found[lab]))
+
+    def select(self, type: str | None = None, orbit: str | None = None) -> tuple[OrbitEvent, ...]:
+        """The events of one type and/or involving one orbit."""
+        return tuple(
+            e for e in self.events if (type is None or e.type == type) and (orbit is None or orbit in e.orbits)
+        )
+
+    def branch(self, label: str) -> LabelBranch:
+        """The points of one label, in pieces (see `LabelBranch`)."""
+        rows: list[tuple | None] = []
+        for curve in self.curves:
+            pieces = _label_pieces(curve, label)
+            for idx in pieces:
+                if rows:
+                    rows.append(None)
+                for i in idx:
+                    rows.append((curve.values[i], curve.orbits[i], curve.extrema[i]))
+        if not rows:
+            raise ParameterError(f"orbit {label!r} has no branch here; found: {', '.join(self.labels) or 'none'}")
+
+        def col(fn, empty=math.nan, dtype=float):
+            return np.array([empty if r is None else fn(r) for r in rows], dtype=dtype)
+
+        def mm(o: ImpactOrbit) -> float:
+            return math.nan if o.multipliers is None else max(abs(z) for z in o.multipliers)
+
+        return LabelBranch(
+            label=label,
+            values=col(lambda r: r[0]),
+            T=col(lambda r: r[1].T),
+            theta=col(lambda r: r[1].theta),
+            rdot=col(lambda r: r[1].rdot),
+            thetadot=col(lambda r: r[1].thetadot),
+            admissible=col(lambda r: r[1].admissible, False, bool),
+            plausible=col(lambda r: r[1].plausible, False, bool),
+            stable=col(lambda r: r[1].stable, None, object),
+            r_max_interior=col(lambda r: math.nan if r[1].r_max_interior is None else r[1].r_max_interior),
+            interior_extrema=col(lambda r: r[1].interior_extrema, -1, int),
+            max_multiplier=col(lambda r: mm(r[1])),
+            extrema=[None if r is None else r[2] for r in rows],
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``branches --json`` contract (breaks between pieces as null)."""
+        branches = {}
+        for label in self.labels:
+            b = self.branch(label)
+            branches[label] = {
+                self.param: [None if math.isnan(v) else float(v) for v in b.values],
+                "T": [None if math.isnan(v) else float(v) for v in b.T],
+                "rdot": [None if math.isnan(v) else float(v) for v in b.rdot],
+                "thetadot": [None if math.isnan(v) else float(v) for v in b.thetadot],
+                "stable": [None if s is None else bool(s) for s in b.stable],
+            }
+        return {"param": self.param, "events": [e.to_dict() for e in self.events], "branches": branches}
+
+
+def _label_pieces(curve: OrbitCurve, label: str) -> list[list[int]]:
+    """Runs of consecutive points with ``label``; a fold or coalescence point joins both sides."""
+    labels = curve.labels
+    joins = {i for i, kind in curve.event_index if kind in ("fold", "ac-coalescence")}
+    pieces: list[list[int]] = []
+    current: list[int] = []
+    for i, lab in enumerate(labels):
+        if lab == label:
+            if not current and i > 0 and (i - 1) in joins and labels[i - 1] != label:
+                current.append(i - 1)
+            current.append(i)
+        elif current:
+            if i in joins:
+                current.append(i)
+            pieces.append(current)
+            current = []
+    if current:
+        pieces.append(current)
+    return [p for p in pieces if len(p) >= 1]

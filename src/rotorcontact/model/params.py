@@ -1,0 +1,420 @@
+"""Parameters of the rotor model: dimensionless `Parameters` and the SI `Machine`.
+
+The dimensionless groups are those of MODEL.md §2::
+
+    gamma = c / (m Omega),  omega**2 = k / (m Omega**2),  rho = e_c / c_r,
+
+together with the friction coefficient mu, the restitution d, the unbalance
+phase phi and r_ratio = R / c_r, which sets the direction of the friction force
+through v_rel = r_ratio + 1 + thetadot.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import asdict, dataclass, fields, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from ..errors import ParameterError
+
+__all__ = [
+    "Parameters",
+    "Machine",
+    "reference_machine",
+    "load_machine",
+    "check_finite",
+    "check_range",
+    "check_velocity",
+    "MAX_MAGNITUDE",
+    "MAX_VELOCITY",
+]
+
+#: Largest magnitude of a dimensionless parameter (|gamma|, omega, rho, mu, |phi|, r_ratio).
+#: The groups of a real rotor are of order one (MODEL.md §2: the reference rig has gamma 0.15,
+#: omega 0.76, rho 0.43, r_ratio 57); 1e6 still covers a rig turning at 1e-4 rad/s or a clearance of
+#: a micrometre under a 1 m rotor. Beyond it the closed-form flight, whose fast time scale is 1/omega
+#: (or 1/gamma), cannot be resolved in double precision over a run, and its squares and exponentials
+#: approach overflow.
+MAX_MAGNITUDE = 1e6
+#: Largest magnitude of an initial velocity U'(0), in clearances per unit of dimensionless time
+#: (c_r Omega: about 0.13 m/s on the reference rig). A million of them is a shock far beyond any
+#: touchdown; beyond it the impact search, whose steps scale like 1/|U'|, cannot finish.
+MAX_VELOCITY = 1e6
+
+
+def check_finite(name: str, value: Any) -> float:
+    """Return ``value`` as a float, or raise `ParameterError` if it is not a finite real number.
+
+    A bool is refused: ``True`` is not a value of a physical parameter, whatever ``float(True)`` says.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} = {value!r} is a bool, not a number; a finite real number is required")
+    if not isinstance(value, (int, float)):
+        try:
+            value = float(value)
+        except (TypeError, ValueError):
+            raise ParameterError(
+                f"{name} = {value!r} is not a number; a finite real number is required"
+            ) from None
+    value = float(value)
+    if not math.isfinite(value):
+        raise ParameterError(f"{name} = {value!r} is not finite; a finite real number is required")
+    return value
+
+
+def check_range(
+    name: str,
+    value: Any,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    why: str | None = None,
+) -> float:
+    """Check that ``value`` is finite and lies in the given interval; return it as a float.
+
+    Parameters
+    ----------
+    name : str
+        Name of the value, as the user knows it (shown in the error).
+    value : Any
+        The value to check.
+    low, high : float, optional
+        Bounds of the interval (None: unbounded on that side).
+    low_open, high_open : bool
+        Whether the bound itself is excluded.
+    why : str, optional
+        Reason for the upper bound, appended in parentheses to the error of
+        a value above it.
+
+    Returns
+    -------
+    float
+        ``value`` as a float.
+
+    Raises
+    ------
+    ParameterError
+        If ``value`` is not a finite number or lies outside the interval; the
+        message names ``name``, the value and the allowed interval.
+    """
+    v = check_finite(name, value)
+    lo_bad = low is not None and (v <= low if low_open else v < low)
+    hi_bad = high is not None and (v >= high if high_open else v > high)
+    if lo_bad or hi_bad:
+        left = "(" if low_open else "["
+        right = ")" if high_open else "]"
+        lo = "-inf" if low is None else f"{low:g}"
+        hi = "inf" if high is None else f"{high:g}"
+        if low is None:
+            left = "("
+        if high is None:
+            right = ")"
+        reason = f" ({why})" if why and hi_bad else ""
+        raise ParameterError(f"{name} = {v!r} is out of range; allowed: {left}{lo}, {hi}{right}{reason}")
+    return v
+
+
+def check_velocity(name: str, value: complex) -> complex:
+    """Check that an initial velocity has magnitude at most `MAX_VELOCITY`; return it.
+
+    Raises
+    ------
+    ParameterError
+        If ``|value| > MAX_VELOCITY`` (or it is not finite).
+    """
+    speed = abs(complex(value))
+    if not speed <= MAX_VELOCITY:
+        raise ParameterError(
+            f"{name} = {value.real!r},{value.imag!r} is too fast (|{name}| = {speed:.3g}); allowed: "
+            f"|{name}| <= {MAX_VELOCITY:g} clearances per unit time (far beyond any touchdown shock)"
+        )
+    return complex(value)
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """Dimensionless parameters of the co-rotating model (MODEL.md §2).
+
+    Attributes
+    ----------
+    gamma : float
+        Damping c / (m Omega), in [-1e6, 1e6]; negative values are allowed for
+        the analysis of orbits, not for a physical machine.
+    omega : float
+        Stiffness ratio sqrt(k / (m Omega^2)), in (0, 1e6].
+    rho : float
+        Eccentricity over clearance e_c / c_r, in [0, 1e6].
+    mu : float
+        Coulomb friction coefficient, in [0, 1e6].
+    d : float
+        Newton restitution coefficient, in [0, 1].
+    phi : float
+        Unbalance phase in radians, in [-1e6, 1e6].
+    r_ratio : float
+        Rotor radius over clearance R / c_r, in [0, 1e6]; sets sgn(v_rel).
+
+    The bound 1e6 on magnitudes is `MAX_MAGNITUDE` (the groups of a real rotor
+    are of order one); a `ParameterError` names the parameter otherwise.
+    """
+
+    gamma: float
+    omega: float
+    rho: float
+    mu: float
+    d: float
+    phi: float = 0.0
+    r_ratio: float = 0.0
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            object.__setattr__(self, f.name, check_finite(f.name, getattr(self, f.name)))
+        big = MAX_MAGNITUDE
+        why = "dimensionless groups of a rotor are of order one; larger magnitudes are beyond the model's numerics"
+        check_range("gamma", self.gamma, low=-big, high=big, why=why)
+        check_range("omega", self.omega, low=0.0, high=big, low_open=True, why=why)
+        check_range("rho", self.rho, low=0.0, high=big, why=why)
+        check_range("mu", self.mu, low=0.0, high=big, why=why)
+        check_range("d", self.d, low=0.0, high=1.0)
+        check_range("phi", self.phi, low=-big, high=big, why=why)
+        check_range("r_ratio", self.r_ratio, low=0.0, high=big, why=why)
+
+    @classmethod
+    def reference(cls) -> "Parameters":
+        """The dimensionless parameters of the built-in reference machine."""
+        return reference_machine().parameters()
+
+    def replace(self, **changes: float) -> "Parameters":
+        """Return a copy with some parameters changed (validated again)."""
+        unknown = set(changes) - {f.name for f in fields(self)}
+        if unknown:
+            name = sorted(unknown)[0]
+            raise ParameterError(
+                f"unknown parameter {name!r}; allowed: {', '.join(f.name for f in fields(self))}"
+            )
+        return replace(self, **changes)
+
+    def as_dict(self) -> dict[str, float]:
+        """The parameters as a plain dict of floats."""
+        return asdict(self)
+
+    @property
+    def k(self) -> complex:
+        """Regular equilibrium U = k = rho e^{i phi} / (omega^2 - 1 + i gamma) (MODEL.md §3)."""
+        return self.rho * complex(math.cos(self.phi), math.sin(self.phi)) / complex(
+            self.omega**2 - 1.0, self.gamma
+        )
+
+
+_MACHINE_RULES: dict[str, dict[str, Any]] = {
+    "mass": dict(low=0.0, low_open=True, unit="kg"),
+    "damping": dict(low=0.0, unit="N s/m"),
+    "stiffness": dict(low=0.0, low_open=True, unit="N/m"),
+    "eccentricity": dict(low=0.0, unit="m"),
+    "clearance": dict(low=0.0, low_open=True, unit="m"),
+    "rotor_radius": dict(low=0.0, unit="m"),
+    "unbalance_phase": dict(unit="rad"),
+    "speed": dict(low=0.0, low_open=True, unit="rad/s"),
+    "friction": dict(low=0.0, unit="1"),
+    "restitution": dict(low=0.0, high=1.0, unit="1"),
+}
+
+
+def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
+    """A value in the SI unit ``unit``: a number (already SI) or a string with units ("0.7 mm", "12000 rpm").
+
+    Raises
+    ------
+    ParameterError
+        For an unknown unit, units of the wrong dimension, or a malformed value.
+    """
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+        raise ParameterError(
+            f"{source}: {name} = {raw!r} is not a number; a finite real number in {unit}, "
+            f"or a string with units such as '1.5 {unit}', is required"
+        )
+    if not isinstance(raw, str):
+        return float(raw)
+    from .units import quantity_in
+
+    return quantity_in(f"{source}: {name}", raw, unit)
+
+
+@dataclass(frozen=True)
+class Machine:
+    """A rotor in its touchdown bearing, in SI units (MODEL.md §1).
+
+    Each value may be given as a number in SI units or, as in machine files, as
+    a string with units parsed by pint (``Machine(..., speed="12000 rpm")``);
+    it is stored in SI units.
+
+    Attributes
+    ----------
+    mass : float
+        Rotor mass m in kg, > 0.
+    damping : float
+        Bearing damping c in N s/m, >= 0.
+    stiffness : float
+        Bearing stiffness k in N/m, > 0.
+    eccentricity : float
+        Unbalance eccentricity e_c in m, >= 0.
+    clearance : float
+        Radial clearance c_r in m, > 0.
+    rotor_radius : float
+        Rotor radius R in m, >= 0.
+    unbalance_phase : float
+        Unbalance phase phi in rad.
+    speed : float
+        Spin speed Omega in rad/s, > 0.
+    friction : float
+        Coulomb friction coefficient mu, >= 0.
+    restitution : float
+        Newton restitution coefficient d, in [0, 1].
+    """
+
+    mass: float
+    damping: float
+    stiffness: float
+    eccentricity: float
+    clearance: float
+    rotor_radius: float
+    unbalance_phase: float
+    speed: float
+    friction: float
+    restitution: float
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            rule = {k: v for k, v in _MACHINE_RULES[f.name].items() if k != "unit"}
+            value = getattr(self, f.name)
+            if isinstance(value, str):  # a quantity with units, as in machine files: "12000 rpm"
+                value = to_si(f.name, value, _MACHINE_RULES[f.name]["unit"], source="Machine")
+            object.__setattr__(self, f.name, check_range(f.name, value, **rule))
+
+    @staticmethod
+    def units() -> dict[str, str]:
+        """SI unit of each field."""
+        return {name: rule["unit"] for name, rule in _MACHINE_RULES.items()}
+
+    def parameters(self) -> Parameters:
+        """Convert to the dimensionless `Parameters` (MODEL.md §2)."""
+        m, om = self.mass, self.speed
+        if not (m * om * om > 0.0 and math.isfinite(m * om * om)):
+            raise ParameterError(
+                f"speed = {om!r} with mass = {m!r} puts m Omega^2 = {m * om * om!r} outside floating-point "
+                "range; choose SI values whose products are representable"
+            )
+        return Parameters(
+            gamma=self.damping / (m * om),
+            omega=math.sqrt(self.stiffness / (m * om * om)),
+            rho=self.eccentricity / self.clearance,
+            mu=self.friction,
+            d=self.restitution,
+            phi=self.unbalance_phase,
+            r_ratio=self.rotor_radius / self.clearance,
+        )
+
+    def with_speed(self, speed: float) -> "Machine":
+        """The same machine at another spin speed (rad/s)."""
+        return replace(self, speed=speed)
+
+    # Scales that turn dimensionless results into SI (MODEL.md §2: u = c_r U, t = Omega tau).
+    @property
+    def length_scale(self) -> float:
+        """Metres per unit of U (the clearance c_r)."""
+        return self.clearance
+
+    @property
+    def time_scale(self) -> float:
+        """Seconds per unit of dimensionless time (1 / Omega)."""
+        return 1.0 / self.speed
+
+    @property
+    def force_scale(self) -> float:
+        """Newtons per unit of dimensionless force per unit mass (m c_r Omega^2)."""
+        return self.mass * self.clearance * self.speed**2
+
+    @property
+    def impulse_scale(self) -> float:
+        """Newton seconds per unit of dimensionless impulse per unit mass (m c_r Omega)."""
+        return self.mass * self.clearance * self.speed
+
+    def as_dict(self) -> dict[str, float]:
+        """The machine as a plain dict of SI floats."""
+        return asdict(self)
+
+    @classmethod
+    def from_mapping(cls, data: Mapping[str, Any], source: str = "machine") -> "Machine":
+        """Build a machine from a mapping of field names to values.
+
+        Values are numbers in SI units, or strings with units parsed by pint
+        (for example ``"0.7 mm"``, ``"12000 rpm"``, ``"1.4 kN*s/m"``).
+
+        Raises
+        ------
+        ParameterError
+            On unknown or missing keys, or invalid values.
+        """
+        if not isinstance(data, Mapping):
+            raise ParameterError(f"{source}: expected a table of machine parameters, got {type(data).__name__}")
+        allowed = [f.name for f in fields(cls)]
+        unknown = [key for key in data if key not in allowed]
+        if unknown:
+            raise ParameterError(
+                f"{source}: unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}"
+            )
+        missing = [key for key in allowed if key not in data]
+        if missing:
+            raise ParameterError(
+                f"{source}: missing key {missing[0]!r}; required keys: {', '.join(allowed)}"
+            )
+        values = {key: to_si(key, data[key], _MACHINE_RULES[key]["unit"], source) for key in allowed}
+        return cls(**values)
+
+
+def _machine_file(name: str) -> Path:
+    return Path(str(resources.files("rotorcontact").joinpath("machines", f"{name}.toml")))
+
+
+def load_machine(path: str | Path) -> Machine:
+    """Load a `Machine` from a TOML file, or a built-in machine by name (``"reference"``).
+
+    The file holds the fields of `Machine` as top-level keys, or under a
+    ``[machine]`` table: numbers in SI units, or strings with units such as
+    ``"0.7 mm"`` or ``"12000 rpm"``.
+
+    Raises
+    ------
+    ParameterError
+        If the file is missing, is not valid TOML, or its keys or values are invalid.
+    """
+    path_str = str(path)
+    if path_str == "reference":
+        path = _machine_file("reference")
+    path = Path(path)
+    if path.is_dir():
+        raise ParameterError(
+            f"machine = {path_str!r} is a folder, not a file; give a TOML file or the built-in name 'reference'"
+        )
+    if not path.is_file():
+        raise ParameterError(
+            f"machine = {path_str!r}: no such file; give a TOML file or the built-in name 'reference'"
+        )
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ParameterError(f"{path}: malformed TOML ({exc})") from None
+    if "machine" in data and isinstance(data["machine"], Mapping) and len(data) == 1:
+        data = data["machine"]
+    return Machine.from_mapping(data, source=str(path))
+
+
+def reference_machine() -> Machine:
+    """The experimental rig of MODEL.md §1, the built-in ``reference`` machine."""
+    return load_machine("reference")

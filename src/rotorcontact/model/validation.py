@@ -1,0 +1,81 @@
+"""Checks of the arguments of the public functions: one message format for every bad input.
+
+Every message names the argument, the value given and what is allowed, and is raised as a
+`ParameterError` (the command line prints it in one line and exits with status 2).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..errors import ParameterError
+
+__all__ = ["check_params", "check_int", "check_float", "check_choice"]
+
+
+def check_params(params: Any, name: str = "params"):
+    """Return ``params`` if it is a `rotorcontact.model.params.Parameters`, else raise `ParameterError`."""
+    from .params import Parameters
+
+    if not isinstance(params, Parameters):
+        raise ParameterError(f"{name} = {params!r} is not a Parameters object; allowed: rotorcontact.Parameters")
+    return params
+
+
+def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:
+    """Return ``value`` as an int if it is an integer (not a bool) within [low, high].
+
+    Raises
+    ------
+    ParameterError
+        Naming ``name``, the value and the allowed range.
+    """
+    ok = not isinstance(value, bool) and isinstance(value, (int, np.integer))
+    if ok:
+        value = int(value)
+        ok = (low is None or value >= low) and (high is None or value <= high)
+    if not ok:
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: an integer{_range(low, high)}")
+    return value
+
+
+def check_float(name: str, value: Any, low: float | None = None, high: float | None = None, *,
+                low_open: bool = False, high_open: bool = False) -> float:
+    """Return ``value`` as a float if it is a finite real number within the given bounds.
+
+    ``low_open`` and ``high_open`` exclude the bounds themselves.
+    """
+    ok = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
+    if ok:
+        value = float(value)
+        ok = math.isfinite(value)
+        if ok and low is not None:
+            ok = value > low if low_open else value >= low
+        if ok and high is not None:
+            ok = value < high if high_open else value <= high
+    if not ok:
+        lo = "" if low is None else f" {'>' if low_open else '>='} {low:g}"
+        hi = "" if high is None else f" {'<' if high_open else '<='} {high:g}"
+        bounds = f"{lo}{' and' if lo and hi else ''}{hi}"
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: a finite number{bounds}")
+    return value
+
+
+def check_choice(name: str, value: Any, allowed: Sequence[str]) -> str:
+    """Return ``value`` if it is one of ``allowed``, else raise `ParameterError` listing them."""
+    if not isinstance(value, str) or value not in allowed:
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: {', '.join(map(repr, allowed))}")
+    return value
+
+
+def _range(low: int | None, high: int | None) -> str:
+    if low is not None and high is not None:
+        return f" from {low} to {high}"
+    if low is not None:
+        return f" >= {low}"
+    if high is not None:
+        return f" <= {high}"
+    return ""

@@ -1,0 +1,403 @@
+"""Guaranteed location of the next impact: the first t > 0 with |U(t)| = 1, |U| increasing.
+
+Method: safe stepping on f(s) = |U(s)|^2 - 1, with s the time since the start
+of the flight. At a point with f < 0, Taylor's theorem gives
+
+    f(s + h) <= f + f' h + f'' h^2 / 2 + M3 h^3 / 6      (M3 >= |f'''| ahead)
+    f(s + h) <= f + f' h + M2 h^2 / 2                     (M2 >= |f''| ahead)
+
+so no crossing lies before the first positive root of either right-hand side,
+and the step to it is safe. The bounds M2, M3 are rigorous: |U| = |Z| with Z
+the inertial position, and in the flight's own inertial frame
+
+    Z(s) = k e^{i s} + W(s),   W'' + gamma W' + omega^2 W = 0,
+
+so every derivative obeys W^{(n)}(s + h) = e^{-gamma h/2}[C(h) p_n + S(h) q_n]
+(p_n = W^{(n)}(s), q_n = gamma p_n / 2 + p_{n+1}, C and S as in `flow`), which
+gives |W^{(n)}| <= sqrt(|p_n|^2 + |q_n|^2 / nu^2) for all h >= 0 when the flow
+is underdamped with gamma >= 0, and |W^{(n)}| <= Cmax |p_n| + Smax |q_n| on a
+finite window otherwise; then |Z^{(n)}| <= |k| + |W^{(n)}|.
+
+Stepping never crosses the surface. Near a transversal crossing the steps
+converge to it from below at least quadratically (like Newton); near a tangency
+that stays below 1 they walk past it; a crossing whose excursion above 1 is
+tiny is still found because no step can jump over it.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+from numba import njit
+
+from ..model.flow import scaled_cs
+
+NO_CROSSING = 0
+CROSSING = 1
+STUCK = 2
+ITERATION_LIMIT = 3
+
+MAX_STEPS = 200_000
+EPS = 2.220446049250313e-16
+
+
+@njit(cache=True)
+def inertial_flow(w0: complex, dw0: complex, s: float, gamma: float, omega: float) -> tuple[complex, complex]:
+    """(W, W') at time s of W'' + gamma W' + omega^2 W = 0 from (w0, dw0) at 0."""
+    h2 = 0.25 * gamma * gamma - omega * omega
+    c, sn = scaled_cs(s, gamma, h2)
+    g2 = 0.5 * gamma
+    w = c * w0 + sn * (g2 * w0 + dw0)
+    dw = c * dw0 + sn * (-omega * omega * w0 - g2 * dw0)
+    return w, dw
+
+
+@njit(cache=True)
+def window_bounds(gamma: float, h2: float, width: float) -> tuple[float, float]:
+    """Cmax >= e^{-gamma s/2}|C(s)| and Smax >= e^{-gamma s/2}|S(s)| for s in [0, width]."""
+    g2 = 0.5 * gamma
+    if h2 > 0.0:
+        kap = math.sqrt(h2)
+        cmax = 0.5 * (max(1.0, math.exp((kap - g2) * width)) + max(1.0, math.exp((-kap - g2) * width)))
+        return cmax, cmax * min(width, 1.0 / kap)
+    cmax = max(1.0, math.exp(-g2 * width))
+    if h2 < 0.0:
+        return cmax, cmax * min(width, 1.0 / math.sqrt(-h2))
+    return cmax, cmax * width
+
+
+@njit(cache=True)
+def _bound(p: complex, q: complex, cmax: float, smax: float, sqrt_form: bool, nu: float) -> float:
+    """Bound on |e^{-gamma h/2}(C(h) p + S(h) q)| ahead of the current point."""
+    pp = p.real * p.real + p.imag * p.imag
+    qq = q.real * q.real + q.imag * q.imag
+    if sqrt_form:
+        return math.sqrt(pp + qq / (nu * nu))
+    return cmax * math.sqrt(pp) + smax * math.sqrt(qq)
+
+
+@njit(cache=True)
+def _first_positive_root(c0: float, c1: float, c2: float) -> float:
+    """Smallest s > 0 with c0 + c1 s + c2 s^2 / 2 = 0 for c0 <= 0 (inf if none).
+
+    With c0 = 0 the answer is the second root when the polynomial dips below
+    zero, and 0 when it does not (no safe step).
+    """
+    if c0 == 0.0:
+        if c1 < 0.0:
+            return -2.0 * c1 / c2 if c2 > 0.0 else math.inf
+        if c1 == 0.0 and c2 < 0.0:
+            return math.inf
+        return 0.0
+    if c2 == 0.0:
+        return -c0 / c1 if c1 > 0.0 else math.inf
+    disc = c1 * c1 - 2.0 * c2 * c0
+    if disc < 0.0:
+        return math.inf
+    sq = math.sqrt(disc)
+    if c2 > 0.0:
+        if c1 >= 0.0:
+            return -2.0 * c0 / (c1 + sq)
+        return (sq - c1) / c2
+    if c1 <= 0.0:
+        return math.inf
+    return -2.0 * c0 / (c1 + sq)
+
+
+@njit(cache=True)
+def _dot(a: complex, b: complex) -> float:
+    """Re(conj(a) b)."""
+    return a.real * b.real + a.imag * b.imag
+
+
+@njit(cache=True)
+def _step_from_bounds(f, fp, fpp, f3, f4, z0, z1, z2, z3, z4, z5):
+    """Largest crossing-free step given bounds z_n >= |Z^{(n)}| ahead.
+
+    With M3 >= |f3| and M4 >= |f4| ahead, for h in [0, S]
+
+        f(h) <= f + f1 h + c2(S) h^2 / 2,
+        c2(S) = min(f2 + M3 S / 3,
+                    f2 + max(f3, 0) S / 3 + M4 S^2 / 12,
+                    f2 + max(f3, 0) S / 3 + max(f4, 0) S^2 / 12 + M5 S^3 / 60),
+
+    (h^n / n! <= S^(n-2) h^2 / n! on [0, S]; M_n = sum_j C(n, j) z_j z_(n-j)),
+
+    so min(S, first root of that quadratic) is safe for any trial S, and a
+    few trials pick a good one. The second-order bound M2 >= |f2| gives a
+    safe step to start from.
+    """
+    best = _first_positive_root(f, fp, 2.0 * z1 * z1 + 2.0 * z0 * z2)
+    m3 = 6.0 * z1 * z2 + 2.0 * z0 * z3
+    m4 = 6.0 * z2 * z2 + 8.0 * z1 * z3 + 2.0 * z0 * z4
+    m5 = 2.0 * z0 * z5 + 10.0 * z1 * z4 + 20.0 * z2 * z3
+    f3p = max(f3, 0.0)
+    f4p = max(f4, 0.0)
+    trial = 2.0 * best
+    if fpp < 0.0:
+        trial = max(trial, -1.5 * fpp / m3)
+    for _ in range(5):
+        t2 = trial * trial
+        c2 = min(
+            fpp + m3 * trial / 3.0,
+            fpp + f3p * trial / 3.0 + m4 * t2 / 12.0,
+            fpp + f3p * trial / 3.0 + f4p * t2 / 12.0 + m5 * t2 * trial / 60.0,
+        )
+        g = _first_positive_root(f, fp, c2)
+        if g >= trial:
+            best = max(best, trial)
+            trial *= 2.0
+        else:
+            best = max(best, g)
+            trial = 0.5 * (g + trial)
+    return best
+
+
+@njit(cache=True)
+def _derivatives(w: complex, dw: complex, gamma: float, omega: float):
+    """W'' to W^(6) from W and W' by the flow's own law W'' = -gamma W' - omega^2 W."""
+    om2 = omega * omega
+    w2 = -gamma * dw - om2 * w
+    w3 = -gamma * w2 - om2 * dw
+    w4 = -gamma * w3 - om2 * w2
+    w5 = -gamma * w4 - om2 * w3
+    w6 = -gamma * w5 - om2 * w4
+    return w2, w3, w4, w5, w6
+
+
+@njit(cache=True)
+def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, window):
+    """Largest step from the current point guaranteed free of crossings."""
+    g2 = 0.5 * gamma
+    w2, w3, w4, w5, w6 = _derivatives(w, dw, gamma, omega)
+    q0 = g2 * w + dw
+    q1 = g2 * dw + w2
+    q2 = g2 * w2 + w3
+    q3 = g2 * w3 + w4
+    q4 = g2 * w4 + w5
+    q5 = g2 * w5 + w6
+    kr = z - w  # k e^{is}
+    ddz = -kr + w2
+    dddz = -1j * kr + w3
+    ddddz = kr + w4
+    f3 = 6.0 * _dot(dz, ddz) + 2.0 * _dot(z, dddz)
+    f4 = 6.0 * _dot(ddz, ddz) + 8.0 * _dot(dz, dddz) + 2.0 * _dot(z, ddddz)
+    best = 0.0
+    nu = math.sqrt(-h2) if h2 < 0.0 else 0.0
+    if gamma >= 0.0 and h2 < 0.0:
+        best = _step_from_bounds(
+            f, fp, fpp, f3, f4,
+            k_abs + _bound(w, q0, 1.0, 1.0, True, nu),
+            k_abs + _bound(dw, q1, 1.0, 1.0, True, nu),
+            k_abs + _bound(w2, q2, 1.0, 1.0, True, nu),
+            k_abs + _bound(w3, q3, 1.0, 1.0, True, nu),
+            k_abs + _bound(w4, q4, 1.0, 1.0, True, nu),
+            k_abs + _bound(w5, q5, 1.0, 1.0, True, nu),
+        )
+    width = min(window, horizon)
+    # the finite window helps only where the all-time bound is poor (growth, or nu small)
+    if best < width and (gamma < 0.0 or nu < 0.5 * omega):
+        cmax, smax = window_bounds(gamma, h2, width)
+        h = min(
+            _step_from_bounds(
+                f, fp, fpp, f3, f4,
+                k_abs + _bound(w, q0, cmax, smax, False, 1.0),
+                k_abs + _bound(dw, q1, cmax, smax, False, 1.0),
+                k_abs + _bound(w2, q2, cmax, smax, False, 1.0),
+                k_abs + _bound(w3, q3, cmax, smax, False, 1.0),
+                k_abs + _bound(w4, q4, cmax, smax, False, 1.0),
+                k_abs + _bound(w5, q5, cmax, smax, False, 1.0),
+            ),
+            width,
+        )
+        best = max(best, h)
+    return best
+
+
+@njit(cache=True)
+def _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window):
+    """A step away from a lift-off point, where f = f' = f'' = 0 to the event tolerance.
+
+    With f3 = f''' < 0 and M4 >= |f''''| ahead, f(h) <= f3 h^3/6 + M4 h^4/24 < 0
+    on (0, -4 f3/M4); half of that is returned (0 when f3 >= 0).
+    """
+    g2 = 0.5 * gamma
+    w2, w3, w4, w5, _w6 = _derivatives(w, dw, gamma, omega)
+    kr = z - w  # k e^{is}
+    ddz = -kr + w2
+    dddz = -1j * kr + w3
+    f3 = 6.0 * (dz.real * ddz.real + dz.imag * ddz.imag) + 2.0 * (z.real * dddz.real + z.imag * dddz.imag)
+    if f3 >= 0.0:
+        return 0.0
+    width = min(window, horizon)
+    if gamma >= 0.0 and h2 < 0.0:
+        cmax, smax, sq, nu = 1.0, 1.0, True, math.sqrt(-h2)
+    else:
+        cmax, smax = window_bounds(gamma, h2, width)
+        sq, nu = False, 1.0
+    z0 = k_abs + _bound(w, g2 * w + dw, cmax, smax, sq, nu)
+    z1 = k_abs + _bound(dw, g2 * dw + w2, cmax, smax, sq, nu)
+    z2 = k_abs + _bound(w2, g2 * w2 + w3, cmax, smax, sq, nu)
+    z3 = k_abs + _bound(w3, g2 * w3 + w4, cmax, smax, sq, nu)
+    z4 = k_abs + _bound(w4, g2 * w4 + w5, cmax, smax, sq, nu)
+    m4 = 6.0 * z2 * z2 + 8.0 * z1 * z3 + 2.0 * z0 * z4
+    h = -2.0 * f3 / m4
+    if not sq:
+        h = min(h, width)
+    return h
+
+
+@njit(cache=True)
+def _all_time_bound(w: complex, dw: complex, gamma: float, h2: float) -> float:
+    """Bound on |W(s)| for all s >= 0 of the decaying flow (gamma > 0).
+
+    e^{-gamma s/2} C(s) <= 1 always; e^{-gamma s/2} S(s) <= 1/nu (underdamped,
+    where the two combine as a Euclidean norm), <= 1/(2 kappa) (overdamped,
+    kappa < gamma/2) and <= 2/(e gamma) (critical). Underdamped, W is also the
+    sum of two decaying circular motions A e^{(-gamma/2 + i nu) s} and
+    B e^{(-gamma/2 - i nu) s}, so |W| <= |A| + |B|, which is exact for a
+    circular whirl; the smaller of the two bounds is returned.
+    """
+    q = 0.5 * gamma * w + dw
+    if h2 < 0.0:
+        nu = math.sqrt(-h2)
+        euclid = math.sqrt(abs(w) ** 2 + abs(q) ** 2 / (-h2))
+        a = (q + 1j * nu * w) / (2j * nu)  # dw - mu_minus w over (mu_plus - mu_minus)
+        return min(euclid, abs(a) + abs(w - a))
+    if h2 > 0.0:
+        return abs(w) + abs(q) / (2.0 * math.sqrt(h2))
+    return abs(w) + abs(q) * 2.0 / (math.e * gamma)
+
+
+@njit(cache=True)
+def _surface(k, w0, dw0, s, gamma, omega):
+    """Z, Z', W, W' and f, f', f'' at time s of the flight."""
+    w, dw = inertial_flow(w0, dw0, s, gamma, omega)
+    rot = cmath.exp(1j * s)
+    kr = k * rot
+    z = kr + w
+    dz = 1j * kr + dw
+    ddz = -kr - gamma * dw - omega * omega * w
+    f = (z.real * z.real + z.imag * z.imag) - 1.0
+    fp = 2.0 * (z.real * dz.real + z.imag * dz.imag)
+    fpp = 2.0 * (dz.real * dz.real + dz.imag * dz.imag) + 2.0 * (z.real * ddz.real + z.imag * ddz.imag)
+    return z, dz, w, dw, f, fp, fpp
+
+
+@njit(cache=True)
+def _nearest_root(f: float, fp: float, fpp: float) -> float:
+    """The root of f + fp h + fpp h^2 / 2 nearest to h = 0, for fp > 0 (nan if it has none)."""
+    disc = fp * fp - 2.0 * fpp * f
+    if disc < 0.0:
+        return math.nan
+    return -2.0 * f / (fp + math.sqrt(disc))
+
+
+@njit(cache=True)
+def _polish(k, w0, dw0, s, f, fp, fpp, gamma, omega):
+    """The crossing near s, where f is within rounding of 0 and f' > 0, to the rounding limit of f.
+
+    Iterates on the quadratic Taylor model of f (its nearest root), which
+    converges cubically at a transversal crossing and stays accurate at a
+    graze, where f' is small and Newton's linear model is not. Returns -1 when
+    the model has no root: the maximum of f stays below 0 by more than its
+    rounding error (a tangency, not an impact). The safe steps have shown
+    that no crossing lies before s, so a model root behind s (rounding) is
+    taken as s itself.
+    """
+    s_safe = s
+    for _ in range(8):
+        h = _nearest_root(f, fp, fpp)
+        if h != h:
+            return -1.0
+        s_new = max(s + h, s_safe)
+        if s_new == s:
+            break
+        s = s_new
+        _z, _dz, _w, _dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
+        if fp <= 0.0:
+            return -1.0
+        if abs(h) <= 4.0 * EPS * (1.0 + s):
+            break
+    return s
+
+
+@njit(cache=True)
+def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: float,
+                  horizon: float, on_boundary: bool, liftoff: bool = False) -> tuple[int, float]:
+    """First time s in (0, horizon] where |k + V(s)| reaches 1 while increasing.
+
+    Parameters
+    ----------
+    v0, dv0 : complex
+        V = U - k and V' (co-rotating frame) at s = 0.
+    k : complex
+        Regular equilibrium.
+    gamma, omega : float
+        Parameters of the flow.
+    horizon : float
+        Search up to this time.
+    on_boundary : bool
+        True when the start lies on |U| = 1 (just after an impact).
+    liftoff : bool
+        True when the start is a lift-off from continuous contact: on the
+        boundary with rdot = 0 and N = 0 to the event tolerance; the flight
+        leaves when the third derivative of |U|^2 is negative (`_liftoff_step`).
+
+    Returns
+    -------
+    code, s : int, float
+        ``CROSSING`` and the time; ``NO_CROSSING`` and ``horizon``; ``STUCK``
+        when starting on the boundary with no inward velocity and outward
+        acceleration (impacts accumulate); ``ITERATION_LIMIT``.
+    """
+    # the flight's inertial frame: Z(s) = U(s) e^{is}, W = V e^{is}
+    w0 = v0
+    dw0 = dv0 + 1j * v0
+    h2 = 0.25 * gamma * gamma - omega * omega
+    k_abs = abs(k)
+    window = 1.0
+    s = 0.0
+    for _ in range(MAX_STEPS):
+        z, dz, w, dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
+        scale = (k_abs + abs(w)) ** 2 + 1.0
+        ftol = 16.0 * EPS * scale
+        if on_boundary and s == 0.0:
+            f = 0.0
+            if fp > -ftol * (1.0 + abs(dz)):
+                # no inward velocity: the sign of f2 decides, and at a lift-off (f2 = 0 to
+                # the event tolerance) the sign of the third derivative
+                if fpp >= -ftol:
+                    if not liftoff:
+                        return STUCK, 0.0
+                    h = _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window)
+                    if h <= 0.0:
+                        return STUCK, 0.0
+                    if h >= horizon:
+                        return NO_CROSSING, horizon
+                    s = h
+                    continue
+                fp = min(fp, 0.0)
+        elif gamma > 0.0 and k_abs + _all_time_bound(w, dw, gamma, h2) < 1.0 - ftol:
+            # |Z| <= |k| + |W| stays below 1 for ever: no impact in any horizon
+            return NO_CROSSING, horizon
+        elif f >= -ftol:
+            if fp > 0.0:
+                root = _polish(k, w0, dw0, s, f, fp, fpp, gamma, omega)
+                if root >= 0.0:
+                    return CROSSING, root
+            # a tangency within rounding of the wall that does not reach it: walk past
+            f = -ftol
+        h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon - s, window)
+        if s + h == s:
+            # the step is below the resolution of s: a crossing here, or a tangency to walk past
+            if fp > 0.0:
+                root = _polish(k, w0, dw0, s, f, fp, fpp, gamma, omega)
+                if root >= 0.0:
+                    return CROSSING, root
+            h = 4.0 * EPS * abs(s)
+        if s + h >= horizon:
+            return NO_CROSSING, horizon
+        s += h
+    return ITERATION_LIMIT, s

@@ -1,0 +1,457 @@
+"""The hybrid simulator: exact free flight, guaranteed impact location, reset, chatter and contact.
+
+Data flows one way: parameters -> exact flow (`flow`) -> impact location
+(`roots`) -> reset (`reset`) -> continuous contact when impacts accumulate
+(`contact`) -> `Trajectory`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..errors import ParameterError
+from ..model.flow import equilibrium_point, propagate
+from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity
+from ..model.impact_law import apply_reset, polar_velocity
+from ..model.angles import wrap_angle
+from .tables import grow_rows, push_row
+from .contact import (
+    ACCUMULATION,
+    LIFTOFF,
+    ROLLING,
+    SLIDE_BACKWARD,
+    SLIDE_FORWARD,
+    STEP_LIMIT,
+    TO_ROLLING,
+    TO_SLIDE_BACKWARD,
+    TO_SLIDE_FORWARD,
+    END,
+    free_tangential,
+    normal_force,
+    roll,
+    slide,
+    stick_or_slip,
+)
+from .roots import CROSSING, ITERATION_LIMIT, NO_CROSSING, STUCK, next_crossing
+from .trajectory import COLUMNS, Trajectory
+
+__all__ = ["simulate", "STATUS_NAMES"]
+
+COMPLETED = 0
+CHATTER = 1
+MAX_EVENTS = 2
+FAILED = 3
+STATUS_NAMES = {COMPLETED: "completed", CHATTER: "chatter", MAX_EVENTS: "max-events", FAILED: "failed"}
+
+NCOL = len(COLUMNS)
+BOUNDARY_TOL = 1e-12
+RDOT_MIN = 1e-13  # normal velocities below this (relative) are touches, not impacts
+MAX_STALLS = 50
+NO_MODE = -1
+K_MAX = 1e3  # largest |k| (in clearances) for which the closed form keeps its accuracy
+# the error estimate of the tail is used where successive impact velocities shrink by d to within
+# RATIO_TOL (1 - d): the sequence is in its asymptotic regime
+RATIO_TOL = 0.1
+MAX_RESOLVED = 1e4  # micro-bouncing that needs more impacts than this to accumulate is switched by chatter_dt
+
+NO_FAILURE = 0
+ROOT_LIMIT = 1
+CONTACT_STALL = 2
+CONTACT_STEP_LIMIT = 3
+FAILURE_MESSAGES = {
+    ROOT_LIMIT: "the impact search exceeded its step limit",
+    CONTACT_STALL: "contact phases switched repeatedly without progress in time",
+    CONTACT_STEP_LIMIT: "a contact phase exceeded the integrator's step limit",
+}
+
+
+@njit(cache=True)
+def _push_state(table, n, t, u, du):
+    """Append the row (t, Re u, Im u, Re du, Im du) without a temporary array."""
+    table = grow_rows(table, n)
+    table[n, 0] = t
+    table[n, 1] = u.real
+    table[n, 2] = u.imag
+    table[n, 3] = du.real
+    table[n, 4] = du.imag
+    return table, n + 1
+
+
+@njit(cache=True)
+def _push_linear_phase(contacts, n_ct, path, n_path, kind, t0, t1, theta0, thetadot):
+    """Record a phase on r = 1 where theta moves linearly (rolling)."""
+    p_start = n_path
+    path, n_path = push_row(path, n_path, np.array([t0, theta0, thetadot, 0.0]))
+    path, n_path = push_row(path, n_path, np.array([t1, theta0 + thetadot * (t1 - t0), thetadot, 0.0]))
+    contacts, n_ct = push_row(contacts, n_ct, np.array([t0, t1, float(kind), float(p_start), float(n_path - 1)]))
+    return contacts, n_ct, path, n_path
+
+
+@njit(cache=True)
+def _first_order_tail(t, theta, rd, tdp, n_force, t_cap, gamma, rho, mu, d, phi, r_ratio):
+    """The accumulation point predicted from one impact to first order in its velocity rd.
+
+    Bounces of a rotor pressed outwards with force N last 2 d^j rd / N, so they
+    end after tau = 2 d rd / (N (1 - d)); over it the tangential motion takes
+    the smooth force F tau and the friction impulses mu (1 + d) rd d / (1 - d),
+    bounded so that v_rel does not reverse (docs/contact.md). The tail is cut
+    at t_cap. Returns (t_acc, theta_acc, thetadot_acc), each off by O(rd^2).
+    """
+    if d < 1.0:
+        t_tail = 2.0 * d * rd / (n_force * (1.0 - d))
+        p_tail = mu * (1.0 + d) * rd * d / (1.0 - d)
+    else:
+        t_tail = 0.0
+        p_tail = 0.0
+    tau = min(t_tail, max(t_cap - t, 0.0))
+    vrel_p = r_ratio + 1.0 + tdp
+    f_t = free_tangential(theta, tdp, gamma, rho, phi)
+    td_acc = tdp + f_t * tau - math.copysign(min(p_tail, abs(vrel_p)), vrel_p)
+    return t + tau, theta + 0.5 * (tdp + td_acc) * tau, td_acc
+
+
+@njit(cache=True)
+def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol,
+                    chatter_rdot, chatter_height, chatter_dt, stop_on_chatter):
+    """Run the rotor from (u0, du0) at t = 0 to t_end through flights, impacts and contact.
+
+    Returns
+    -------
+    impacts : (n, NCOL) array, one row per impact (`trajectory.COLUMNS`).
+    flights : (m, 5) array: start time and (U, U') at the start of each free flight.
+    contacts : (c, 5) array: t_start, t_end, kind, first and last row in ``path``
+        (kind `ACCUMULATION` marks the interval from the last impact of a chatter
+        sequence to its accumulation point, where the rotor stays on r = 1).
+    path : (q, 4) array: t, theta, thetadot, thetadot' along contact phases.
+    status, reason : int
+    t_stop : float
+    """
+    k = equilibrium_point(gamma, omega, rho, phi)
+    impacts = np.empty((64, NCOL))
+    flights = np.empty((64, 5))
+    contacts = np.empty((16, 5))
+    path = np.empty((256, 4))
+    n_imp = 0
+    n_fl = 0
+    n_ct = 0
+    n_path = 0
+    row = np.empty(NCOL)
+    roll_dot = -(1.0 + r_ratio)
+    status = COMPLETED
+    reason = NO_FAILURE
+    t = 0.0
+    u = u0
+    du = du0
+    on_boundary = abs(abs(u0) - 1.0) <= BOUNDARY_TOL
+    if on_boundary:
+        u = u0 / abs(u0)
+    flights, n_fl = _push_state(flights, n_fl, t, u, du)
+    in_contact = False
+    liftoff = False
+    theta_c = 0.0
+    thetadot_c = 0.0
+    events = 0
+    stalls = 0
+    short_before = False
+    chain = False  # the previous event was an impact of an accumulating sequence (N > 0)
+    prev_rd = 0.0
+    prev_acc = np.zeros(3)
+    next_mode = NO_MODE
+    while True:
+        events += 1
+        if events > max_events:
+            status = MAX_EVENTS
+            break
+        if not in_contact:
+            if on_boundary and n_imp == 0 and events == 1 and polar_velocity(u, du)[0] > RDOT_MIN:
+                code, tau = CROSSING, 0.0
+            else:
+                code, tau = next_crossing(u - k, du, k, gamma, omega, t_end - t, on_boundary, liftoff)
+            liftoff = False
+            if code == NO_CROSSING:
+                break
+            if code == ITERATION_LIMIT:
+                status = FAILED
+                reason = ROOT_LIMIT
+                t = t + tau
+                break
+            if code == STUCK:
+                # on the boundary, no inward velocity, pressed outwards: contact
+                if stop_on_chatter:
+                    status = CHATTER
+                    break
+                theta_c = math.atan2(u.imag, u.real)
+                thetadot_c = polar_velocity(u, du)[1]
+                in_contact = True
+                continue
+            v, dv = propagate(u - k, du, tau, gamma, omega)
+            ui = k + v
+            ui = ui / abs(ui)
+            t = t + tau
+            if polar_velocity(ui, dv)[0] <= RDOT_MIN * (1.0 + abs(dv)):
+                # a touch at rounding level with no normal velocity: no impulse, flight goes on
+                chain = False
+                u = ui
+                du = dv
+                on_boundary = True
+                flights, n_fl = _push_state(flights, n_fl, t, u, du)
+                continue
+            du_plus, rd, td, rdp, tdp, vrel, pn, pt = apply_reset(ui, dv, d, mu, r_ratio)
+            theta = wrap_angle(math.atan2(ui.imag, ui.real))
+            n_force = normal_force(theta, tdp, omega, rho, phi)
+            row[0] = t
+            row[1] = theta
+            row[2] = rd
+            row[3] = td
+            row[4] = rdp
+            row[5] = tdp
+            row[6] = vrel
+            row[7] = pn
+            row[8] = pt
+            row[9] = ui.real
+            row[10] = ui.imag
+            row[11] = du_plus.real
+            row[12] = du_plus.imag
+            row[13] = n_force
+            impacts, n_imp = push_row(impacts, n_imp, row)
+            u = ui
+            du = du_plus
+            on_boundary = True
+            flights, n_fl = _push_state(flights, n_fl, t, u, du)
+            if n_force <= 0.0:
+                chain = False
+                short_before = False
+                continue
+            # Impacts accumulate (docs/contact.md): the first-order tail from this impact, A_n, is
+            # off by c rd^2 + O(rd^3); with the ratio q of successive impact velocities,
+            # E = (A_n - A_{n-1}) q^2 / (1 - q^2) estimates that error and A_n + E is off by O(rd^3).
+            t_a, th_a, td_a = _first_order_tail(t, theta, rd, tdp, n_force, math.inf, gamma, rho, mu, d,
+                                                phi, r_ratio)
+            ratio = rd / prev_rd if chain else math.inf
+            estimate = math.inf
+            e_t = e_th = e_td = 0.0
+            if d < 1.0 and 0.0 < ratio < 1.0 and abs(ratio - d) <= RATIO_TOL * (1.0 - d):
+                w = ratio * ratio / (1.0 - ratio * ratio)
+                e_t = (t_a - prev_acc[0]) * w
+                e_th = wrap_angle(th_a - prev_acc[1]) * w
+                e_td = (td_a - prev_acc[2]) * w
+                estimate = max(abs(e_t), abs(e_th), abs(e_td)) * rd
+            bounce = 2.0 * d * rd / n_force
+            short = bounce < chatter_dt and short_before
+            short_before = bounce < chatter_dt
+            # micro-bouncing that does not contract towards chatter_rdot within MAX_RESOLVED impacts
+            # (elastic impacts, d = 1, never accumulate by themselves)
+            slow = chain and (ratio >= 1.0 or math.log(chatter_rdot / rd) < MAX_RESOLVED * math.log(ratio))
+            converged = estimate <= chatter_tol
+            if converged or rd < chatter_rdot or rdp * rdp < 2.0 * chatter_height * n_force or (short and slow):
+                # the corrected tail where the sequence has converged onto it, else the first order
+                # (as in the linearisation of `lyapunov.accumulation_saltation`)
+                if converged and t <= t_a + e_t <= t_end:
+                    t_acc, theta_acc, td_acc = t_a + e_t, th_a + e_th, td_a + e_td
+                else:
+                    t_acc, theta_acc, td_acc = _first_order_tail(t, theta, rd, tdp, n_force, t_end, gamma, rho,
+                                                                 mu, d, phi, r_ratio)
+                if t_acc > t:
+                    # the phase holds the states at its two ends (dense output interpolates between them)
+                    p_start = n_path
+                    path, n_path = push_row(path, n_path, np.array([t, theta, tdp, 0.0]))
+                    path, n_path = push_row(path, n_path, np.array([t_acc, theta_acc, td_acc, 0.0]))
+                    contacts, n_ct = push_row(
+                        contacts, n_ct, np.array([t, t_acc, float(ACCUMULATION), float(p_start), float(n_path - 1)])
+                    )
+                theta_c = theta_acc
+                thetadot_c = td_acc
+                t = t_acc
+                chain = False
+                if stop_on_chatter:
+                    status = CHATTER
+                    break
+                if t >= t_end:
+                    break
+                in_contact = True
+                next_mode = NO_MODE
+                continue
+            chain = True
+            prev_rd = rd
+            prev_acc[0] = t_a
+            prev_acc[1] = th_a
+            prev_acc[2] = td_a
+            continue
+        # continuous contact from (theta_c, thetadot_c) at t
+        if next_mode != NO_MODE:
+            # the previous phase ended by a located switch that decides the next phase
+            mode = next_mode
+        else:
+            n_force = normal_force(theta_c, thetadot_c, omega, rho, phi)
+            vrel = r_ratio + 1.0 + thetadot_c
+            if n_force <= 0.0:
+                mode = LIFTOFF
+            elif abs(vrel) <= 1e-12 * (1.0 + r_ratio):
+                thetadot_c = roll_dot
+                mode = stick_or_slip(theta_c, thetadot_c, gamma, omega, rho, mu, phi)
+            else:
+                mode = TO_SLIDE_FORWARD if vrel > 0.0 else TO_SLIDE_BACKWARD
+        t_start = t
+        if mode == TO_ROLLING:
+            code, t, theta_end = roll(theta_c, t, t_end, gamma, omega, rho, mu, phi, r_ratio)
+            contacts, n_ct, path, n_path = _push_linear_phase(
+                contacts, n_ct, path, n_path, ROLLING, t_start, t, theta_c, roll_dot
+            )
+            theta_c = theta_end
+            thetadot_c = roll_dot
+        elif mode == LIFTOFF:
+            code = LIFTOFF
+        else:
+            sgn = 1.0 if mode == TO_SLIDE_FORWARD else -1.0
+            p_start = n_path
+            code, t, theta_c, thetadot_c, path, n_path = slide(
+                theta_c, thetadot_c, t, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio, path, n_path
+            )
+            kind = SLIDE_FORWARD if sgn > 0.0 else SLIDE_BACKWARD
+            contacts, n_ct = push_row(contacts, n_ct, np.array([t_start, t, float(kind), float(p_start), float(n_path - 1)]))
+        stalls = stalls + 1 if t == t_start else 0
+        if stalls > MAX_STALLS:
+            status = FAILED
+            reason = CONTACT_STALL
+            break
+        if code == END:
+            break
+        if code == STEP_LIMIT:
+            status = FAILED
+            reason = CONTACT_STEP_LIMIT
+            break
+        next_mode = code if code in (TO_ROLLING, TO_SLIDE_FORWARD, TO_SLIDE_BACKWARD) else NO_MODE
+        if code == LIFTOFF:
+            e = complex(math.cos(theta_c), math.sin(theta_c))
+            u = e
+            du = e * complex(0.0, thetadot_c)
+            in_contact = False
+            on_boundary = True
+            liftoff = True
+            short_before = False
+            chain = False
+            flights, n_fl = _push_state(flights, n_fl, t, u, du)
+    t_stop = t_end if status == COMPLETED else min(t, t_end)
+    return (impacts[:n_imp].copy(), flights[:n_fl].copy(), contacts[:n_ct].copy(), path[:n_path].copy(),
+            status, reason, t_stop)
+
+
+def _as_complex(name: str, value) -> complex:
+    if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 2:
+        re, im = value
+    else:
+        try:
+            z = complex(value)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{name} = {value!r} is not a complex number; give RE,IM") from None
+        re, im = z.real, z.imag
+    return complex(check_finite(f"{name} (real part)", re), check_finite(f"{name} (imaginary part)", im))
+
+
+def simulate(
+    params: Parameters,
+    u0: complex = 0j,
+    du0: complex = 0j,
+    t_end: float = 500.0,
+    *,
+    on_chatter: str = "contact",
+    max_events: int = 10_000_000,
+    chatter_tol: float = 1e-11,
+    chatter_rdot: float = 1e-5,
+    chatter_height: float = 0.0,
+    chatter_dt: float = 1e-3,
+    machine: Machine | None = None,
+) -> Trajectory:
+    """Simulate the rotor from (U, U') = (u0, du0) at t = 0 up to t_end.
+
+    Free flight is evaluated in closed form and every impact is located with a
+    guarantee (`rotorcontact.simulation.roots`). When impacts accumulate (chatter) the
+    rotor continues in continuous contact (`rotorcontact.simulation.contact`): sliding,
+    rolling, slip and lift-off, after which free flight continues exactly.
+
+    Parameters
+    ----------
+    params : Parameters
+        Dimensionless parameters.
+    u0, du0 : complex or (float, float)
+        Initial position (|u0| <= 1) and velocity (|du0| <= `rotorcontact.model.params.MAX_VELOCITY`) in the
+        co-rotating frame.
+    t_end : float
+        Final dimensionless time, > 0.
+    on_chatter : {"contact", "stop"}
+        At an accumulation of impacts, continue in continuous contact (default)
+        or stop there with status ``"chatter"``.
+    max_events : int
+        Stop with status ``"max-events"`` after this many flights and contact
+        phases; it bounds the run time whatever the dynamics.
+    chatter_tol, chatter_rdot, chatter_height, chatter_dt : float
+        With the rotor pressed outwards (N > 0) and d < 1, impacts accumulate
+        geometrically. The simulator follows them one by one and switches to
+        contact at the accumulation point, predicted from the last impact by a
+        tail that is corrected to second order in the impact velocity from the
+        last two impacts (docs/contact.md). It switches when the estimated
+        error of that tail is below ``chatter_tol`` (default 1e-11), when the
+        impact velocity falls below ``chatter_rdot`` (1e-5; below about 1e-7
+        the crossing times of double precision are too coarse to resolve the
+        bounces), or when the next bounce, of height (d rdot)^2 / (2 N), is
+        lower than ``chatter_height`` (0: off). Sustained micro-bouncing that
+        does not contract (d = 1, or needing more than 10^4 impacts to reach
+        ``chatter_rdot``) is switched when two bounces in a row last less than
+        ``chatter_dt`` (2 d rdot / N); the switch then neglects the bounce
+        energy (d rdot)^2 / 2. ``chatter_dt = 0`` resolves every such bounce.
+    machine : Machine, optional
+        The machine the parameters come from, for results in SI units.
+
+    Returns
+    -------
+    Trajectory
+        ``status`` is ``"completed"``, ``"chatter"`` (only with
+        ``on_chatter="stop"``), ``"max-events"`` or ``"failed"``.
+    """
+    if not isinstance(params, Parameters):
+        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    u0 = _as_complex("u0", u0)
+    du0 = check_velocity("du0", _as_complex("du0", du0))
+    if abs(u0) > 1.0 + BOUNDARY_TOL:
+        raise ParameterError(
+            f"u0 = {u0.real!r},{u0.imag!r} lies outside the clearance (|u0| = {abs(u0)!r}); allowed: |u0| <= 1"
+        )
+    t_end = check_range("t_end", t_end, low=0.0, low_open=True)
+    if on_chatter not in ("contact", "stop"):
+        raise ParameterError(f"on_chatter = {on_chatter!r} is invalid; allowed: 'contact', 'stop'")
+    if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) or max_events < 1:
+        raise ParameterError(f"max_events = {max_events!r} is invalid; allowed: an integer >= 1")
+    chatter_tol = check_range("chatter_tol", chatter_tol, low=0.0)
+    chatter_rdot = check_range("chatter_rdot", chatter_rdot, low=0.0, low_open=True)
+    chatter_height = check_range("chatter_height", chatter_height, low=0.0)
+    chatter_dt = check_range("chatter_dt", chatter_dt, low=0.0)
+    k_abs = abs(params.k) if (params.omega**2 - 1.0, params.gamma) != (0.0, 0.0) else math.inf
+    if k_abs > K_MAX:
+        raise ParameterError(
+            f"omega = {params.omega!r}, gamma = {params.gamma!r} are too close to undamped resonance "
+            f"(|omega^2 - 1 + i gamma| = {abs(complex(params.omega**2 - 1.0, params.gamma)):.3g}): the forced "
+            f"response |k| = {k_abs:.3g} clearances is beyond the simulator's accurate range; allowed: "
+            f"|omega^2 - 1 + i gamma| >= rho / {K_MAX:g} = {params.rho / K_MAX:.3g}"
+        )
+    p = params
+    impacts, flights, contacts, path, status, reason, t_stop = simulate_kernel(
+        p.gamma, p.omega, p.rho, p.mu, p.d, p.phi, p.r_ratio, u0, du0, t_end, int(max_events), chatter_tol,
+        chatter_rdot, chatter_height, chatter_dt, on_chatter == "stop",
+    )
+    return Trajectory(
+        params=params,
+        u0=u0,
+        du0=du0,
+        t_end=t_end,
+        t_stop=float(t_stop),
+        status=STATUS_NAMES[int(status)],
+        failure=FAILURE_MESSAGES.get(int(reason)),
+        records=impacts,
+        flights=flights,
+        contacts=contacts,
+        path=path,
+        machine=machine,
+    )

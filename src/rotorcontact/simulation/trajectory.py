@@ -1,0 +1,437 @@
+"""The result of a simulation: impacts, exact dense output, status and a summary."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+from numba import njit
+from scipy.interpolate import BPoly
+
+from .contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_BACKWARD, SLIDE_FORWARD
+
+from ..errors import ParameterError
+from ..model.flow import equilibrium_point, propagate, to_inertial
+from ..model.params import Machine, Parameters
+
+__all__ = ["Trajectory", "ImpactTable", "COLUMNS"]
+
+#: Columns of the impact records, in order. Velocities are just before (no
+#: suffix) or just after (``_plus``) the impact; impulses are per unit mass.
+COLUMNS = (
+    "t",
+    "theta",
+    "rdot",
+    "thetadot",
+    "rdot_plus",
+    "thetadot_plus",
+    "v_rel",
+    "normal_impulse",
+    "tangential_impulse",
+    "u_re",
+    "u_im",
+    "du_plus_re",
+    "du_plus_im",
+    "normal_force",
+)
+_PUBLIC = COLUMNS[:9]
+
+
+class ImpactTable:
+    """Impacts of a trajectory, one entry per impact, as named numpy arrays.
+
+    Attributes
+    ----------
+    t, theta, rdot, thetadot, rdot_plus, thetadot_plus, v_rel,
+    normal_impulse, tangential_impulse : numpy.ndarray
+        Time; impact angle in (-pi, pi]; polar velocities before and after;
+        relative surface velocity before; normal and tangential impulse per
+        unit mass (dimensionless).
+    point : numpy.ndarray
+        Complex impact point U (on |U| = 1).
+    """
+
+    def __init__(self, records: np.ndarray):
+        self._records = records
+        for i, name in enumerate(COLUMNS):
+            setattr(self, name, records[:, i])
+        self.point = records[:, 9] + 1j * records[:, 10]
+        self.du_plus = records[:, 11] + 1j * records[:, 12]
+
+    def __len__(self) -> int:
+        return self._records.shape[0]
+
+    def to_dicts(self, machine: Machine | None = None) -> list[dict[str, float]]:
+        """One plain dict per impact (the JSON form)."""
+        rows = []
+        for rec in self._records:
+            row = {name: float(rec[i]) for i, name in enumerate(_PUBLIC)}
+            if machine is not None:
+                row["t_s"] = row["t"] * machine.time_scale
+                row["normal_impulse_Ns"] = row["normal_impulse"] * machine.impulse_scale
+                row["tangential_impulse_Ns"] = row["tangential_impulse"] * machine.impulse_scale
+            rows.append(row)
+        return rows
+
+
+@njit(cache=True)
+def _evaluate_flights(t, starts, u_start, du_start, k, gamma, omega):
+    n = t.shape[0]
+    u = np.empty(n, dtype=np.complex128)
+    du = np.empty(n, dtype=np.complex128)
+    for i in range(n):
+        j = np.searchsorted(starts, t[i], side="right") - 1
+        if j < 0:
+            j = 0
+        v, dv = propagate(u_start[j] - k, du_start[j], t[i] - starts[j], gamma, omega)
+        u[i] = k + v
+        du[i] = dv
+    return u, du
+
+
+@dataclass(frozen=True)
+class ContactInterval:
+    """A phase of continuous contact.
+
+    Attributes
+    ----------
+    t_start, t_end : float
+        Its time span.
+    kind : str
+        ``"sliding-forward"`` (v_rel > 0), ``"rolling"`` (v_rel = 0) or
+        ``"sliding-backward"`` (v_rel < 0).
+    """
+
+    t_start: float
+    t_end: float
+    kind: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"t_start": self.t_start, "t_end": self.t_end, "kind": self.kind}
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """A simulated motion of the rotor, in the style of scipy's ``OdeResult``.
+
+    Attributes
+    ----------
+    params : Parameters
+        Parameters of the run.
+    u0, du0 : complex
+        Initial state in the co-rotating frame.
+    t_end : float
+        Requested final time.
+    t_stop : float
+        Time the simulation reached (``t_end`` unless it stopped early).
+    status : str
+        ``"completed"``, ``"chatter"`` (impacts accumulate and the run was
+        asked to stop there), ``"max-events"`` or ``"failed"``.
+    records : numpy.ndarray
+        Raw impact records, columns `COLUMNS`.
+    flights : numpy.ndarray
+        Start time and (U, U') (as re, im pairs) of each free flight.
+    contacts : numpy.ndarray
+        t_start, t_end, kind code, first and last row in ``path`` of each contact phase.
+    path : numpy.ndarray
+        (t, theta, thetadot, thetadot') along the contact phases.
+    machine : Machine or None
+        The machine the parameters come from, for SI outputs.
+    failure : str or None
+        Why the run stopped, when ``status == "failed"``.
+    """
+
+    params: Parameters
+    u0: complex
+    du0: complex
+    t_end: float
+    t_stop: float
+    status: str
+    records: np.ndarray = field(repr=False)
+    flights: np.ndarray = field(repr=False)
+    contacts: np.ndarray = field(repr=False)
+    path: np.ndarray = field(repr=False)
+    machine: Machine | None = None
+    failure: str | None = None
+
+    @cached_property
+    def impacts(self) -> ImpactTable:
+        """The table of impacts."""
+        return ImpactTable(self.records)
+
+    @cached_property
+    def contact_intervals(self) -> list[ContactInterval]:
+        """The phases of continuous contact, in time order."""
+        return [
+            ContactInterval(float(c[0]), float(c[1]), KIND_NAMES[int(c[2])])
+            for c in self.contacts
+            if int(c[2]) != ACCUMULATION
+        ]
+
+    @property
+    def success(self) -> bool:
+        """True when the run reached ``t_end``."""
+        return self.status == "completed"
+
+    @property
+    def message(self) -> str:
+        """A sentence describing how the run ended."""
+        n = len(self.impacts)
+        c = len(self.contact_intervals)
+        if self.status == "completed":
+            return f"Reached t_end = {self.t_end:g} after {n} impacts and {c} contact phases."
+        if self.status == "chatter":
+            th = self.impacts.theta[-1] if n else float(np.angle(self.u0))
+            return (
+                f"Impacts accumulate (chatter) at t = {self.t_stop:.12g}, theta = {th:.6g}, "
+                f"after {n} impacts; the run stops there (on_chatter='stop')."
+            )
+        if self.status == "max-events":
+            return f"Stopped after the maximum number of events at t = {self.t_stop:.12g} ({n} impacts)."
+        return f"The simulation could not continue at t = {self.t_stop:.12g}: {self.failure}."
+
+    @cached_property
+    def _flight_table(self):
+        fl = self.flights
+        return fl[:, 0].copy(), fl[:, 1] + 1j * fl[:, 2], fl[:, 3] + 1j * fl[:, 4]
+
+    @cached_property
+    def _contact_splines(self) -> list:
+        out = []
+        for c in self.contacts:
+            rows = self.path[int(c[3]) : int(c[4]) + 1]
+            if int(c[2]) == ROLLING or rows.shape[0] < 2:
+                out.append(None)
+                continue
+            # quintic Hermite through theta, thetadot, thetadot' at the integrator's steps (at the two
+            # ends of an accumulation of impacts, whose bounces it smooths over)
+            t, keep = np.unique(rows[:, 0], return_index=True)
+            out.append(BPoly.from_derivatives(t, rows[keep, 1:4]) if t.size >= 2 else None)
+        return out
+
+    def _contact_state(self, j: int, t: np.ndarray):
+        c = self.contacts[j]
+        rows = self.path[int(c[3]) : int(c[4]) + 1]
+        spline = self._contact_splines[j]
+        if spline is None:
+            theta = rows[0, 1] + rows[0, 2] * (t - rows[0, 0])
+            thetadot = np.full_like(t, rows[0, 2])
+        else:
+            theta = spline(t)
+            thetadot = spline(t, 1)
+        e = np.exp(1j * theta)
+        return e, 1j * thetadot * e
+
+    def in_contact(self, t) -> np.ndarray:
+        """Index of the contact phase holding each time, or -1 in free flight."""
+        tt = np.asarray(t, dtype=float)
+        out = np.full(tt.shape, -1, dtype=int)
+        if len(self.contacts) == 0:
+            return out
+        c_start, c_end = self.contacts[:, 0], self.contacts[:, 1]
+        j = np.searchsorted(c_start, tt, side="right") - 1
+        f_start = self._flight_table[0]
+        i = np.searchsorted(f_start, tt, side="right") - 1
+        last_flight = np.where(i >= 0, f_start[np.clip(i, 0, None)], -np.inf)
+        jj = np.clip(j, 0, None)
+        inside = (j >= 0) & (tt <= c_end[jj]) & (c_start[jj] >= last_flight)
+        out[inside] = j[inside]
+        return out
+
+    def state(self, t) -> tuple[np.ndarray, np.ndarray]:
+        """Exact (U, U') in the co-rotating frame at times ``t`` in [0, t_stop].
+
+        In free flight the closed form is evaluated; in contact phases the
+        rolling motion is exact and sliding is the integrator's solution,
+        interpolated by quintic Hermite polynomials. At an impact time the
+        state just after the impact is returned.
+        """
+        tt = np.asarray(t, dtype=float)
+        flat = tt.ravel()
+        if flat.size and (
+            not np.all(np.isfinite(flat)) or flat.min() < 0.0 or flat.max() > self.t_stop * (1 + 1e-14)
+        ):
+            raise ParameterError(
+                f"t must lie in [0, t_stop] = [0, {self.t_stop:g}]; got values in [{flat.min():g}, {flat.max():g}]"
+            )
+        p = self.params
+        k = equilibrium_point(p.gamma, p.omega, p.rho, p.phi)
+        starts, u_start, du_start = self._flight_table
+        u, du = _evaluate_flights(flat, starts, u_start, du_start, k, p.gamma, p.omega)
+        phase = self.in_contact(flat)
+        for j in np.unique(phase[phase >= 0]):
+            sel = phase == j
+            u[sel], du[sel] = self._contact_state(int(j), flat[sel])
+        return u.reshape(tt.shape), du.reshape(tt.shape)
+
+    def contact_forces(self, t) -> tuple[np.ndarray, np.ndarray]:
+        """Normal force N and tangential contact force per unit mass (dimensionless) at times ``t``.
+
+        Both are zero in free flight. The tangential force is along +theta:
+        -mu N sgn(v_rel) when sliding, and the force that holds v_rel = 0 when
+        rolling (MODEL.md §4).
+        """
+        from .contact import free_tangential, normal_force
+
+        tt = np.asarray(t, dtype=float)
+        r, theta, _rdot, thetadot = self.polar(tt)
+        phase = self.in_contact(tt)
+        p = self.params
+        n = np.zeros(tt.shape)
+        ft = np.zeros(tt.shape)
+        for j in np.unique(phase[phase >= 0]):
+            sel = phase == j
+            kind = int(self.contacts[j, 2])
+            nn = normal_force(theta[sel], thetadot[sel], p.omega, p.rho, p.phi)
+            n[sel] = nn
+            if kind == ROLLING:
+                ft[sel] = -free_tangential(theta[sel], thetadot[sel], p.gamma, p.rho, p.phi)
+            elif kind == SLIDE_FORWARD:
+                ft[sel] = -p.mu * nn
+            elif kind == SLIDE_BACKWARD:
+                ft[sel] = p.mu * nn
+            else:  # accumulation of impacts: friction opposes the slip
+                ft[sel] = -p.mu * nn * np.sign(p.r_ratio + 1.0 + thetadot[sel])
+        return n, ft
+
+    def friction_power(self, t) -> np.ndarray:
+        """Power dissipated by friction per unit mass (dimensionless), |F_t v_rel|, at times ``t``."""
+        _n, ft = self.contact_forces(t)
+        thetadot = self.polar(t)[3]
+        return np.abs(ft * (self.params.r_ratio + 1.0 + thetadot))
+
+    def U(self, t) -> np.ndarray:
+        """Co-rotating position U(t)."""
+        return self.state(t)[0]
+
+    def dU(self, t) -> np.ndarray:
+        """Co-rotating velocity U'(t)."""
+        return self.state(t)[1]
+
+    def Z(self, t) -> np.ndarray:
+        """Inertial position Z(t) = U(t) e^{it}."""
+        return to_inertial(self.U(t), t)
+
+    def r(self, t) -> np.ndarray:
+        """Radius |U(t)| (in units of the clearance)."""
+        return np.abs(self.U(t))
+
+    def theta(self, t) -> np.ndarray:
+        """Co-rotating angle of U(t), in (-pi, pi]."""
+        th = np.angle(self.U(t))
+        return np.where(th <= -np.pi, th + 2 * np.pi, th)
+
+    def polar(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(r, theta, rdot, thetadot) at times ``t``.
+
+        At r = 0 the polar coordinates are singular; there theta is the
+        direction of U' (0 when U' = 0 too), rdot = |U'| and thetadot = 0, the
+        limits along the motion as it leaves the centre.
+        """
+        u, du = self.state(t)
+        r = np.abs(u)
+        at_centre = r == 0.0
+        e = np.where(at_centre, np.exp(1j * np.angle(du)), u / np.where(at_centre, 1.0, r))
+        w = np.conj(e) * du
+        th = np.where(at_centre, np.angle(du), np.angle(u))
+        thetadot = np.where(at_centre, 0.0, w.imag / np.where(at_centre, 1.0, r))
+        return r, np.where(th <= -np.pi, th + 2 * np.pi, th), w.real, thetadot
+
+    def sample(self, n: int = 2000) -> np.ndarray:
+        """Uniform sample times over [0, t_stop] that include every impact time."""
+        base = np.linspace(0.0, self.t_stop, n)
+        return np.unique(np.concatenate((base, self.impacts.t)))
+
+    def contact_dicts(self, samples: int = 64, intervals: list[ContactInterval] | None = None) -> list[dict[str, Any]]:
+        """Contact intervals as plain dicts; with a machine, also their forces and friction power in SI.
+
+        Parameters
+        ----------
+        samples : int
+            Sample times per interval for the SI forces and power.
+        intervals : list of ContactInterval, optional
+            The intervals to describe (default: all of `contact_intervals`).
+        """
+        out = []
+        m = self.machine
+        for c in self.contact_intervals if intervals is None else intervals:
+            row = c.to_dict()
+            if m is not None:
+                t = np.linspace(c.t_start, min(c.t_end, self.t_stop), samples)
+                n, ft = self.contact_forces(t)
+                power = self.friction_power(t)
+                row.update(
+                    t_start_s=c.t_start * m.time_scale,
+                    t_end_s=c.t_end * m.time_scale,
+                    max_normal_force_N=float(n.max()) * m.force_scale,
+                    max_friction_force_N=float(np.abs(ft).max()) * m.force_scale,
+                    mean_friction_power_W=float(power.mean()) * m.force_scale * m.clearance * m.speed,
+                )
+            out.append(row)
+        return out
+
+    @cached_property
+    def summary(self):
+        """Classification of the long-run motion (`rotorcontact.simulation.motion.MotionSummary`)."""
+        from .motion import classify
+
+        return classify(self)
+
+    def to_dict(self, max_rows: int | None = None) -> dict[str, Any]:
+        """The whole result as plain JSON-ready data (the ``simulate --json`` contract).
+
+        Parameters
+        ----------
+        max_rows : int, optional
+            Largest number of impacts, and of contact intervals, listed (>= 2).
+            A longer list keeps its first ``max_rows // 2`` and its last
+            ``max_rows - max_rows // 2`` entries, and the result then also has
+            ``"impacts_total"`` (the number of impacts) and
+            ``"impacts_truncated": true`` (likewise ``"contact_intervals_total"``
+            and ``"contact_intervals_truncated"``). None (default) lists all.
+
+        Returns
+        -------
+        dict
+            ``parameters``, ``status``, ``message``, ``t_end``, ``t_stop``,
+            ``initial_state``, ``impacts``, ``contact_intervals``, ``summary``
+            (and ``machine`` with a machine).
+        """
+        if max_rows is not None and (
+            isinstance(max_rows, bool) or not isinstance(max_rows, (int, np.integer)) or max_rows < 2
+        ):
+            raise ParameterError(f"max_rows = {max_rows!r} is invalid; allowed: an integer >= 2, or None for all")
+        n_imp = len(self.impacts)
+        cut_impacts = max_rows is not None and n_imp > max_rows
+        records = self.records
+        if cut_impacts:
+            head = max_rows // 2
+            records = np.concatenate((records[:head], records[n_imp - (max_rows - head):]))
+        intervals = self.contact_intervals
+        n_int = len(intervals)
+        cut_intervals = max_rows is not None and n_int > max_rows
+        if cut_intervals:
+            head = max_rows // 2
+            intervals = intervals[:head] + intervals[n_int - (max_rows - head):]
+        out: dict[str, Any] = {
+            "parameters": self.params.as_dict(),
+            "status": self.status,
+            "message": self.message,
+            "t_end": self.t_end,
+            "t_stop": self.t_stop,
+            "initial_state": {"u0": [self.u0.real, self.u0.imag], "du0": [self.du0.real, self.du0.imag]},
+            "impacts": ImpactTable(records).to_dicts(self.machine),
+            "contact_intervals": self.contact_dicts(intervals=intervals),
+            "summary": self.summary.to_dict(),
+        }
+        if cut_impacts:
+            out["impacts_total"] = n_imp
+            out["impacts_truncated"] = True
+        if cut_intervals:
+            out["contact_intervals_total"] = n_int
+            out["contact_intervals_truncated"] = True
+        if self.machine is not None:
+            out["machine"] = self.machine.as_dict()
+        return out

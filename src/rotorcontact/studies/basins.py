@@ -1,0 +1,643 @@
+"""Basins of attraction: which initial states end where.
+
+A grid of initial states is simulated (`rotorcontact.studies.batch`) through a
+transient and a window, and the attractor reached is classified:
+
+* ``"no-contact"``: no impact and no contact in the last third of the window;
+  the rotor settles on the contact-free synchronous whirl x_R;
+* a named one-impact orbit, ``"B1,d"`` etc.: periodic with one impact per
+  period, the impact state matching a fixed point of the impact map
+  (`rotorcontact.maps.impact_map.one_impact_orbits`) to ``match_tol``;
+  ``"one-impact"`` when periodic with one impact but no fixed point matches;
+* ``"multi-impact"``: periodic with p >= 2 impacts per period;
+* ``"forward-rub"``: continuous contact sliding forward only (settling on a
+  pseudo-equilibrium);
+* ``"backward-whirl"``: the window ends rolling round the stator;
+* ``"mixed"``: impacts and contact phases, or contact with backward sliding;
+* ``"irregular"``: impacting with no period of up to
+  `rotorcontact.simulation.motion.MAX_PERIOD_IMPACTS` impacts;
+* ``"undetermined"``: too few impacts to tell; ``"failed"``: the simulation
+  could not continue; ``"outside"``: the grid point lies outside the
+  clearance and was not simulated.
+
+Two grids are provided (`BasinGrid`, `parse_grid`):
+
+* ``displacement``: U(0) = x + i y on a rectangle, at zero velocity;
+* ``shock``: from the contact-free whirl x_R (U = k, U' = 0), a velocity kick
+  U'(0) = A e^{i (arg k + beta)} of amplitude A and direction beta measured
+  from the outward radial direction of x_R (beta = 0 points at the stator,
+  beta = pi/2 is a forward tangential kick). At t = 0 a kick in the
+  co-rotating frame is the same kick in the inertial frame.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import __version__
+from .batch import (
+    IRREGULAR,
+    MIXED,
+    NO_CONTACT,
+    PERIODIC,
+    ROLL,
+    RUB,
+    UNDETERMINED,
+    BatchResult,
+    BatchSettings,
+    parameter_array,
+)
+from ..errors import ParameterError
+from ..model.params import MAX_VELOCITY, Machine, Parameters, check_finite
+from .execution import (
+    ChunkStore,
+    ChunkTask,
+    check_output_path,
+    chunk_folder,
+    make_executor,
+    progress_bar,
+    read_finished,
+    run_waves,
+    study_digest,
+    write_netcdf,
+)
+
+__all__ = [
+    "GRID_KINDS",
+    "BasinGrid",
+    "BasinResult",
+    "basins",
+    "displacement_grid",
+    "shock_grid",
+    "parse_grid",
+    "GRID_SYNTAX",
+    "class_names",
+]
+
+GRID_KINDS = ("displacement", "shock")
+_AXES = {"displacement": ("x", "y"), "shock": ("amplitude", "direction")}
+_AXIS_ATTRS = {
+    "x": dict(long_name="initial displacement, real part of U(0)", units="1"),
+    "y": dict(long_name="initial displacement, imaginary part of U(0)", units="1"),
+    "amplitude": dict(long_name="amplitude of the velocity kick |U'(0)| applied at x_R", units="1"),
+    "direction": dict(long_name="direction of the kick from the outward radial direction of x_R", units="rad"),
+}
+#: Classes before and after the named orbits, in code order.
+CLASSES_BEFORE = ("outside", "no-contact")
+#: The contact regimes are named as in `rotorcontact.simulation.motion.REGIMES`; their former names ``"rub"`` and
+#: ``"rolling"`` are accepted by `BasinResult.fraction` (`rotorcontact.simulation.motion.REGIME_ALIASES`).
+CLASSES_AFTER = ("one-impact", "multi-impact", "forward-rub", "backward-whirl", "mixed", "irregular", "undetermined",
+                 "failed")
+DEFAULT_CHUNK = 2048
+
+GRID_SYNTAX = """\
+Grid of initial states, one of:
+  x=X0:X1:NX,y=Y0:Y1:NY               displacement plane U(0) = x + i y at U'(0) = 0
+                                      (points with |U(0)| > 1 are outside and not simulated)
+  amplitude=A0:A1:NA,direction=B0:B1:NB
+                                      velocity kicks U'(0) = A exp(i (arg k + B)) from the
+                                      contact-free whirl x_R (U(0) = k); B = 0 points at the
+                                      stator, B = pi/2 is a forward tangential kick
+  plane:N                             short for x=-1:1:N,y=-1:1:N
+  shock:N                             short for amplitude=0:1:N,direction=-pi:pi:N
+Each axis is START:STOP:COUNT (COUNT >= 1, both ends included). Numbers may be
+written with pi: pi, -pi, pi/2, 2pi, 0.5pi."""
+
+
+MAX_GRID_POINTS = 16_000_000  # 4000 x 4000; beyond this the arrays alone need gigabytes
+
+
+@dataclass(frozen=True)
+class BasinGrid:
+    """A grid of initial states.
+
+    Attributes
+    ----------
+    kind : {"displacement", "shock"}
+        See the module docstring.
+    axis0, axis1 : numpy.ndarray
+        Values along the first (image columns: x or amplitude) and second
+        (image rows: y or direction) axis.
+    """
+
+    kind: str
+    axis0: np.ndarray = field(repr=False)
+    axis1: np.ndarray = field(repr=False)
+
+    def __post_init__(self) -> None:
+        if self.kind not in GRID_KINDS:
+            raise ParameterError(f"grid kind {self.kind!r} is invalid; allowed: {', '.join(GRID_KINDS)}")
+        for name in ("axis0", "axis1"):
+            arr = np.asarray(getattr(self, name), dtype=float).reshape(-1)
+            if arr.size == 0 or not np.all(np.isfinite(arr)):
+                raise ParameterError(f"grid {name} must hold finite values")
+            object.__setattr__(self, name, arr)
+        if self.kind == "shock" and np.any(self.axis0 < 0):
+            raise ParameterError("grid amplitude values must be >= 0")
+        if self.kind == "shock" and np.any(self.axis0 > MAX_VELOCITY):
+            raise ParameterError(
+                f"grid amplitude {float(self.axis0.max())!r} is too large; allowed: amplitudes <= {MAX_VELOCITY:g} "
+                "clearances per unit time (far beyond any touchdown shock)"
+            )
+        points = self.axis0.size * self.axis1.size
+        if points > MAX_GRID_POINTS:
+            raise ParameterError(
+                f"grid of {self.axis0.size} x {self.axis1.size} = {points} points is too large; "
+                f"allowed: at most {MAX_GRID_POINTS} points"
+            )
+
+    @property
+    def names(self) -> tuple[str, str]:
+        """Names of the two axes."""
+        return _AXES[self.kind]
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(rows, columns) = (len(axis1), len(axis0))."""
+        return self.axis1.size, self.axis0.size
+
+    def describe(self) -> str:
+        """The grid in the syntax of `parse_grid`."""
+        a, b = self.names
+        f = lambda v: f"{v[0]:.17g}:{v[-1]:.17g}:{v.size}"  # noqa: E731
+        return f"{a}={f(self.axis0)},{b}={f(self.axis1)}"
+
+    def initial_states(self, params: Parameters) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(u0, du0, inside): complex arrays shaped `shape`, and where |u0| <= 1.
+
+        Raises
+        ------
+        ParameterError
+            For a shock grid where x_R is virtual (|k| >= 1).
+        """
+        c0, c1 = np.meshgrid(self.axis0, self.axis1)
+        if self.kind == "displacement":
+            u0 = c0 + 1j * c1
+            du0 = np.zeros_like(u0)
+            inside = np.abs(u0) <= 1.0
+        else:
+            k = params.k
+            if abs(k) >= 1.0:
+                raise ParameterError(
+                    f"shock grid: the contact-free whirl x_R is virtual at these parameters (|k| = {abs(k):.6g} >= 1)"
+                )
+            u0 = np.full(c0.shape, complex(k))
+            du0 = c0 * np.exp(1j * (np.angle(k) + c1))
+            inside = np.ones(c0.shape, dtype=bool)
+        return u0, du0, inside
+
+
+def _axis(name: str, lo: float, hi: float, n: int) -> np.ndarray:
+    lo = check_finite(f"{name} start", lo)
+    hi = check_finite(f"{name} stop", hi)
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ParameterError(f"{name} count = {n!r} is invalid; allowed: an integer >= 1")
+    if n > 1 and not lo < hi:
+        raise ParameterError(f"{name}: start {lo!r} must be smaller than stop {hi!r}")
+    return np.linspace(lo, hi, int(n))
+
+
+def displacement_grid(x: tuple[float, float, int] = (-1.0, 1.0, 101),
+                      y: tuple[float, float, int] = (-1.0, 1.0, 101)) -> BasinGrid:
+    """Initial displacements U(0) = x + i y at zero velocity; ``x`` and ``y`` are (start, stop, count)."""
+    return BasinGrid("displacement", _axis("x", *x), _axis("y", *y))
+
+
+def shock_grid(amplitude: tuple[float, float, int] = (0.0, 1.0, 101),
+               direction: tuple[float, float, int] = (-math.pi, math.pi, 101)) -> BasinGrid:
+    """Velocity kicks at x_R: amplitude and direction from the outward radial direction, each (start, stop, count)."""
+    return BasinGrid("shock", _axis("amplitude", *amplitude), _axis("direction", *direction))
+
+
+_PI = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+)?)\*?pi(?:/(\d+\.?\d*))?$")
+
+
+def _number(text: str, where: str) -> float:
+    s = text.strip().lower()
+    m = _PI.match(s)
+    if m:
+        factor = m.group(1)
+        f = 1.0 if factor in ("", "+") else (-1.0 if factor == "-" else float(factor))
+        value = f * math.pi / (float(m.group(2)) if m.group(2) else 1.0)
+    else:
+        try:
+            value = float(s)
+        except ValueError:
+            raise ParameterError(f"--grid: {where}: {text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise ParameterError(f"--grid: {where}: {text!r} is not finite")
+    return value
+
+
+def parse_grid(text: str) -> BasinGrid:
+    """Parse a grid specification (`GRID_SYNTAX`).
+
+    Raises
+    ------
+    ParameterError
+        With a message that names the faulty part and shows the syntax.
+    """
+    if not isinstance(text, str) or not text.strip():
+        raise ParameterError(f"--grid = {text!r} is empty\n{GRID_SYNTAX}")
+    s = text.strip().replace(" ", "")
+    short = re.fullmatch(r"(plane|shock):(\d+)", s)
+    if short:
+        n = int(short.group(2))
+        if n < 1:
+            raise ParameterError(f"--grid = {text!r}: the count must be >= 1")
+        if short.group(1) == "plane":
+            return displacement_grid((-1.0, 1.0, n), (-1.0, 1.0, n))
+        return shock_grid((0.0, 1.0, n), (-math.pi, math.pi, n))
+    parts = s.split(",")
+    axes: dict[str, tuple[float, float, int]] = {}
+    for part in parts:
+        if "=" not in part:
+            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT\n{GRID_SYNTAX}")
+        name, spec = part.split("=", 1)
+        if name not in ("x", "y", "amplitude", "direction"):
+            raise ParameterError(
+                f"--grid = {text!r}: unknown axis {name!r}; allowed: x, y (displacement) or amplitude, "
+                "direction (shock)"
+            )
+        if name in axes:
+            raise ParameterError(f"--grid = {text!r}: axis {name!r} given twice")
+        fields_ = spec.split(":")
+        if len(fields_) != 3:
+            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT\n{GRID_SYNTAX}")
+        lo = _number(fields_[0], name)
+        hi = _number(fields_[1], name)
+        try:
+            n = int(fields_[2])
+        except ValueError:
+            raise ParameterError(f"--grid = {text!r}: {name} count {fields_[2]!r} is not an integer") from None
+        axes[name] = (lo, hi, n)
+    if set(axes) == {"x", "y"}:
+        return displacement_grid(axes["x"], axes["y"])
+    if set(axes) == {"amplitude", "direction"}:
+        return shock_grid(axes["amplitude"], axes["direction"])
+    raise ParameterError(
+        f"--grid = {text!r}: give both x and y, or both amplitude and direction\n{GRID_SYNTAX}"
+    )
+
+
+def class_names(orbit_labels: tuple[str, ...] | list[str]) -> tuple[str, ...]:
+    """All class names, in code order, for the given orbit labels."""
+    return CLASSES_BEFORE + tuple(orbit_labels) + CLASSES_AFTER
+
+
+@dataclass(frozen=True)
+class BasinResult:
+    """Basins of attraction on a grid.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        ``attractor`` (class code per grid point, rows = second axis), the
+        regime, impacts per period, period and last impact of each point, the
+        initial states, the class table with ``count`` and ``fraction``, and
+        the one-impact orbits used for naming.
+    classes : tuple of str
+        Class names in code order.
+    fractions : dict
+        Fraction of the simulated grid points (those inside the clearance)
+        in each class that occurs.
+    path : pathlib.Path or None
+        The NetCDF file written, if any.
+    chunks_computed, chunks_reused : int
+        Chunks computed by this call, and found from an interrupted one (or
+        all chunks, when `reused_file`).
+    impacts_simulated : int
+        Impacts computed.
+    reused_file : bool
+        The output file already held this finished study and was returned as it is.
+    """
+
+    dataset: Any = field(repr=False)
+    classes: tuple[str, ...]
+    fractions: dict[str, float]
+    path: Path | None
+    chunks_computed: int
+    chunks_reused: int
+    impacts_simulated: int
+    reused_file: bool = False
+
+    @property
+    def image(self) -> np.ndarray:
+        """Class codes, shape (rows, columns)."""
+        return self.dataset["attractor"].values
+
+    def class_of(self, i: int, j: int) -> str:
+        """Class name at row ``i``, column ``j``."""
+        return self.classes[int(self.image[i, j])]
+
+    def fraction(self, name: str) -> float:
+        """Fraction of the simulated grid points in the class ``name`` (0 where it does not occur).
+
+        Former regime names (``"rub"``, ``"rolling"``; `rotorcontact.simulation.motion.REGIME_ALIASES`) are accepted.
+
+        Raises
+        ------
+        ParameterError
+            If ``name`` is not a class of this result.
+        """
+        from ..simulation.motion import canonical_regime
+
+        key = canonical_regime(name) if isinstance(name, str) else name
+        if key not in self.classes or key == "outside":
+            allowed = ", ".join(c for c in self.classes if c != "outside")
+            raise ParameterError(f"class = {name!r} is not a class of these basins; allowed: {allowed}")
+        return self.fractions.get(key, 0.0)
+
+
+def _orbit_table(params: Parameters, t_max: float):
+    from ..maps.impact_map import one_impact_orbits
+
+    return [o for o in one_impact_orbits(params, t_max=t_max) if o.admissible]
+
+
+def classify(result: BatchResult, orbits, match_tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Class codes (for `class_names` of the orbits' labels) and the index of the matched orbit (-1: none).
+
+    ``result`` must keep at least the last impact of each window.
+    """
+    labels = [o.label for o in orbits]
+    names = class_names(labels)
+    code = {name: i for i, name in enumerate(names)}
+    reg = result.regime
+    out = np.full(reg.shape, code["failed"], dtype=np.int32)
+    matched = np.full(reg.shape, -1, dtype=np.int32)
+    out[reg == NO_CONTACT] = code["no-contact"]
+    out[reg == RUB] = code["forward-rub"]
+    out[reg == ROLL] = code["backward-whirl"]
+    out[reg == MIXED] = code["mixed"]
+    out[reg == IRREGULAR] = code["irregular"]
+    out[reg == UNDETERMINED] = code["undetermined"]
+    periodic = reg == PERIODIC
+    out[periodic & (result.impacts_per_period >= 2)] = code["multi-impact"]
+    one = periodic & (result.impacts_per_period == 1)
+    out[one] = code["one-impact"]
+    if orbits and one.any():
+        th = result.theta[..., -1]
+        rd = result.rdot[..., -1]
+        td = result.thetadot[..., -1]
+        best = np.full(reg.shape, np.inf)
+        for j, o in enumerate(orbits):
+            dist = np.maximum.reduce([
+                np.abs(np.angle(np.exp(1j * (th - o.theta)))),
+                np.abs(rd - o.rdot),
+                np.abs(td - o.thetadot),
+            ])
+            better = one & (dist < match_tol) & (dist < best)
+            best[better] = dist[better]
+            matched[better] = j
+        hit = matched >= 0
+        out[hit] = len(CLASSES_BEFORE) + matched[hit]
+    return out, matched
+
+
+def basins(
+    params: Parameters,
+    grid: BasinGrid | str,
+    *,
+    settings: BatchSettings | None = None,
+    n_transient: int = 300,
+    n_record: int = 50,
+    t_transient: float | None = None,
+    t_record: float | None = None,
+    settle: int = 25,
+    match_tol: float = 1e-3,
+    chunk_size: int = DEFAULT_CHUNK,
+    n_jobs: int | None = None,
+    scheduler: Any = None,
+    processes: bool = True,
+    out: str | Path | None = None,
+    resume: bool = True,
+    keep_chunks: bool = False,
+    progress: bool = True,
+    machine: Machine | None = None,
+) -> BasinResult:
+    """Basins of attraction of the attractors reached from a grid of initial states.
+
+    Parameters
+    ----------
+    params : Parameters
+        Model parameters.
+    grid : BasinGrid or str
+        The grid (`displacement_grid`, `shock_grid`, or a `parse_grid` string).
+    settings : BatchSettings, optional
+        Transient and window; otherwise from ``n_transient`` (300 events),
+        ``n_record`` (50 events: enough to see periods of up to 16 impacts),
+        the time limits (default 5 per event) and ``settle``.
+    settle : int
+        The transient runs in segments of this many events and ends once the
+        motion repeats or can no longer touch the stator
+        (`rotorcontact.studies.batch.BatchSettings`); 0 runs the whole transient.
+    match_tol : float
+        Largest difference in theta, rdot and thetadot between the last impact
+        of a one-impact periodic window and the fixed point it is named after.
+    chunk_size : int
+        Grid points per chunk (it sets where files are written, not the
+        results; an interrupted run is resumed with the chunk size it was
+        started with).
+    n_jobs, scheduler, processes, out, resume, keep_chunks, progress, machine
+        As for `rotorcontact.studies.sweep.sweep`.
+
+    Returns
+    -------
+    BasinResult
+    """
+    if not isinstance(params, Parameters):
+        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    if isinstance(grid, str):
+        grid = parse_grid(grid)
+    if not isinstance(grid, BasinGrid):
+        raise ParameterError(f"grid = {grid!r} is not a BasinGrid or a grid string")
+    match_tol = float(check_finite("match_tol", match_tol))
+    if match_tol <= 0:
+        raise ParameterError(f"match_tol = {match_tol!r} must be > 0")
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1:
+        raise ParameterError(f"chunk_size = {chunk_size!r} is invalid; allowed: an integer >= 1")
+    chunk_size = int(chunk_size)
+    if settings is None:
+        settings = BatchSettings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
+                                 t_record=t_record, n_keep=1, settle=settle)
+    elif settings.keep < 1:  # pragma: no cover - BatchSettings forbids it
+        raise ParameterError("settings must keep at least one impact")
+    u0, du0, inside = grid.initial_states(params)
+    if not inside.any():
+        raise ParameterError("grid: no initial state lies inside the clearance (|U(0)| <= 1); nothing to simulate")
+    row = parameter_array(params)
+    flat = np.flatnonzero(inside.ravel())
+    n_valid = flat.size
+    manifest = {
+        "study": "basins",
+        "params": params.as_dict(),
+        "grid": {"kind": grid.kind, "axis0": grid.axis0, "axis1": grid.axis1},
+        "settings": settings.as_dict(),
+    }
+    # the finished file also depends on the naming of the orbits, the machine and the version
+    digest = study_digest({**manifest, "match_tol": match_tol, "version": __version__,
+                           "machine": None if machine is None else machine.as_dict()})
+    store = None
+    reused = 0
+    if out is not None:
+        out = check_output_path(out)
+        finished = read_finished(out, digest) if resume else None
+        if finished is not None:
+            return _result_from_file(finished, out, n_valid)
+        # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
+        store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
+        chunk_size = int(store.layout["chunk_size"])
+    n_chunks = math.ceil(n_valid / chunk_size) if n_valid else 0
+    keys = [f"basin-{c:06d}" for c in range(n_chunks)]
+    u_flat, du_flat = u0.ravel(), du0.ravel()
+
+    def waves():
+        tasks = []
+        for c in range(n_chunks):
+            idx = flat[c * chunk_size : (c + 1) * chunk_size]
+            m = idx.size
+            tasks.append(ChunkTask(
+                key=keys[c],
+                params=np.broadcast_to(row, (m, 1, row.size)).copy(),
+                u0=u_flat[idx].reshape(m, 1).copy(),
+                du0=du_flat[idx].reshape(m, 1).copy(),
+                carry=False,
+                settings=settings,
+            ))
+        yield tasks
+
+    if store is not None:
+        reused = sum(store.done(k) for k in keys)
+    sink: dict[str, dict[str, np.ndarray]] = {}
+    with make_executor(n_jobs, scheduler, processes=processes) as executor, \
+            progress_bar(n_valid, "basins", progress) as bar:
+        computed = run_waves(executor, waves(), store, bar, sink)
+
+    from .batch import NSUM
+
+    keep = settings.keep
+    n_all = inside.size
+    sections = np.full((n_all, keep, 4), np.nan)
+    summary = np.zeros((n_all, NSUM))
+    for c in range(n_chunks):
+        res = store.load(keys[c]) if store is not None else sink[keys[c]]
+        idx = flat[c * chunk_size : (c + 1) * chunk_size]
+        sections[idx] = res["sections"][:, 0]
+        summary[idx] = res["summary"][:, 0]
+    shape = grid.shape
+    result = BatchResult.from_arrays(sections.reshape(shape + (keep, 4)), summary.reshape(shape + (NSUM,)), settings)
+
+    one = (result.regime == PERIODIC) & (result.impacts_per_period == 1) & inside
+    t_max = 12.0
+    if one.any():
+        t_max = max(t_max, 1.25 * float(np.nanmax(result.period[one])))
+    orbits = _orbit_table(params, t_max)
+    codes, matched = classify(result, orbits, match_tol)
+    codes[~inside] = 0
+    names = class_names([o.label for o in orbits])
+    counts = np.bincount(codes[inside].ravel(), minlength=len(names)).astype(np.int32)
+    fractions = counts / max(n_valid, 1)
+    ds = _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol,
+                  chunk_size, machine)
+    ds.attrs["study_digest"] = digest
+    if out is not None:
+        write_netcdf(ds, out)
+        if not keep_chunks:
+            store.remove()
+    return BasinResult(
+        dataset=ds,
+        classes=names,
+        fractions=_fractions(names, counts, fractions),
+        path=out,
+        chunks_computed=computed,
+        chunks_reused=reused,
+        impacts_simulated=int(result.impacts_simulated),
+    )
+
+
+def _fractions(names, counts, fractions) -> dict[str, float]:
+    """The fraction of each class that occurs among the simulated points (``"outside"`` left out)."""
+    return {str(names[i]): float(fractions[i]) for i in range(len(names)) if counts[i] > 0 and i > 0}
+
+
+def _result_from_file(ds, out: Path, n_valid: int) -> BasinResult:
+    """The result of a finished study read back from its file (`rotorcontact.studies.execution.read_finished`)."""
+    names = tuple(str(n) for n in ds["class_name"].values)
+    chunk_size = int(ds.attrs["chunk_size"])
+    return BasinResult(
+        dataset=ds,
+        classes=names,
+        fractions=_fractions(names, ds["count"].values, ds["fraction"].values),
+        path=out,
+        chunks_computed=0,
+        chunks_reused=math.ceil(n_valid / chunk_size),
+        impacts_simulated=int(ds["n_impacts"].values.sum() + ds["transient_impacts"].values.sum()),
+        reused_file=True,
+    )
+
+
+def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol, chunk_size,
+             machine=None):
+    import xarray as xr
+
+    from .sweep import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
+
+    a0, a1 = grid.names
+    dims = (a1, a0)
+    data: dict[str, Any] = {
+        "attractor": (dims, codes.astype(np.int32), dict(
+            long_name="attractor reached",
+            flag_values=np.arange(len(names), dtype=np.int32),
+            flag_meanings=" ".join(names),
+            comment=REGIME_COMMENT,
+        )),
+        "inside": (dims, inside.astype(np.int8), dict(long_name="initial state inside the clearance (simulated)")),
+        "theta": (dims, result.theta[..., -1], dict(long_name="angle of the last impact of the window", units="rad")),
+        "rdot": (dims, result.rdot[..., -1], dict(long_name="rdot just before the last impact", units="1")),
+        "thetadot": (dims, result.thetadot[..., -1],
+                     dict(long_name="thetadot just before the last impact", **RATE_UNITS)),
+        "u0_re": (dims, u0.real.copy(), dict(long_name="initial U, real part", units="1")),
+        "u0_im": (dims, u0.imag.copy(), dict(long_name="initial U, imaginary part", units="1")),
+        "du0_re": (dims, du0.real.copy(), dict(long_name="initial U', real part", units="1")),
+        "du0_im": (dims, du0.imag.copy(), dict(long_name="initial U', imaginary part", units="1")),
+        "count": (("class",), counts, dict(long_name="grid points in each class")),
+        "fraction": (("class",), fractions, dict(long_name="fraction of the simulated grid points in each class",
+                                                 units="1")),
+        "orbit_T": (("orbit",), np.array([o.T for o in orbits], dtype=float), dict(long_name="period", units="1")),
+        "orbit_theta": (("orbit",), np.array([o.theta for o in orbits], dtype=float),
+                        dict(long_name="impact angle", units="rad")),
+        "orbit_rdot": (("orbit",), np.array([o.rdot for o in orbits], dtype=float), dict(units="1")),
+        "orbit_thetadot": (("orbit",), np.array([o.thetadot for o in orbits], dtype=float), dict(**RATE_UNITS)),
+        "orbit_stable": (("orbit",), np.array([bool(o.stable) for o in orbits], dtype=np.int8), {}),
+        "orbit_plausible": (("orbit",), np.array([o.plausible for o in orbits], dtype=np.int8), {}),
+    }
+    data.update(summary_variables(result, dims))
+    coords = {
+        a0: (a0, grid.axis0, _AXIS_ATTRS[a0]),
+        a1: (a1, grid.axis1, _AXIS_ATTRS[a1]),
+        "class": ("class", np.arange(len(names), dtype=np.int32)),
+        "class_name": ("class", np.array(names, dtype=str)),
+        "orbit": ("orbit", np.array([o.label for o in orbits], dtype=str)),
+    }
+    attrs: dict[str, Any] = {
+        "title": "basins of attraction",
+        "source": f"rotorcontact {__version__}",
+        "grid_kind": grid.kind,
+        "grid": grid.describe(),
+        "match_tol": float(match_tol),
+        "chunk_size": np.int32(chunk_size),
+        "orbits_source": "one-impact fixed points of the impact map at these parameters",
+    }
+    attrs.update(parameter_attrs(params, machine=machine))
+    attrs.update(settings_attrs(result.settings))
+    if grid.kind == "shock":
+        attrs["x_R_re"] = float(params.k.real)
+        attrs["x_R_im"] = float(params.k.imag)
+    return xr.Dataset(data, coords=coords, attrs=attrs)

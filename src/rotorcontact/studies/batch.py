@@ -1,0 +1,881 @@
+"""Batch simulation: many (parameters, initial state) pairs in one compiled call.
+
+Every item is run by the simulator's own kernel (`rotorcontact.simulation.simulator.simulate_kernel`):
+the same closed-form flight, guaranteed impact location, reset and continuous
+contact, so a batch is exactly as exact as single runs. An item is two runs of
+that kernel:
+
+1. the *transient*: from the initial state for ``n_transient`` events (flights
+   and contact phases; each flight ends in one impact, so in impacting motion
+   these are impacts) or up to the time ``t_transient``, whichever comes first
+   (optionally in segments, ended early once the motion has settled: see
+   `BatchSettings.settle`);
+2. the *window*: from the state where the transient stopped, for ``n_record``
+   events or up to the time ``t_record``.
+
+The impacts of the window are the recorded impact section, and the window is
+classified into a regime (no contact, periodic impacting with p impacts per
+period, irregular impacting, forward rub, backward whirl, mixed) with the rules of
+`rotorcontact.simulation.motion.classify`, applied to the window.
+
+Items are laid out as *lanes* of *steps*. Lanes are independent and run in
+parallel over cores (numba ``prange``). Within a lane the steps run in order;
+with ``carry=True`` each step starts from the state where the previous step
+ended (a sweep with the state carried along), otherwise every step starts from
+its own initial state.
+
+The state where a run ended (`final_state`) is read from the kernel's output:
+after an impact, the state just after it; in free flight, the exact flight at
+the stop time; in contact, the point on the stator with its angular velocity.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from dataclasses import dataclass, field, fields
+from typing import Any, Sequence
+
+import numba
+import numpy as np
+from numba import njit, prange
+
+from ..errors import ParameterError
+from ..model.flow import equilibrium_point, propagate
+from ..simulation.motion import MAX_PERIOD_IMPACTS, MIN_IRREGULAR, REGIMES, REPEAT_TOL, WINDOW
+from ..model.params import Parameters, check_range
+from ..model.impact_law import polar_velocity
+from ..simulation.simulator import BOUNDARY_TOL, COMPLETED, FAILED, MAX_EVENTS, STATUS_NAMES, simulate, simulate_kernel
+from ..simulation.contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_FORWARD
+
+__all__ = [
+    "PARAMETER_ORDER",
+    "SECTION_COLUMNS",
+    "REGIME_NAMES",
+    "FINAL_KIND_NAMES",
+    "BatchSettings",
+    "BatchResult",
+    "CHATTER_DEFAULTS",
+    "simulate_batch",
+    "final_state",
+    "parameter_array",
+]
+
+#: Order of the parameters in the rows of a parameter array.
+PARAMETER_ORDER = ("gamma", "omega", "rho", "mu", "d", "phi", "r_ratio")
+#: Columns of the recorded impact section: time since the start of the window,
+#: impact angle, and the polar velocities just before the impact.
+SECTION_COLUMNS = ("t", "theta", "rdot", "thetadot")
+
+# regimes of the window
+NO_CONTACT = 0
+PERIODIC = 1
+IRREGULAR = 2
+RUB = 3
+ROLL = 4
+MIXED = 5
+UNDETERMINED = 6
+FAILED_REGIME = 7
+#: Names of the regime codes: the regimes of `rotorcontact.simulation.motion.REGIMES` (``"forward-rub"`` and
+#: ``"backward-whirl"`` were formerly ``"rub"`` and ``"rolling"``, `rotorcontact.simulation.motion.REGIME_ALIASES`),
+#: then ``"undetermined"`` and ``"failed"``.
+REGIME_NAMES = (*REGIMES, "undetermined", "failed")
+#: Names of the final-kind codes: -1 free flight, then the contact kinds of `rotorcontact.simulation.contact`.
+FINAL_KIND_NAMES = {-1: "flight", **{i: name for i, name in enumerate(KIND_NAMES)}}
+
+
+
+def _chatter_criteria() -> dict[str, float]:
+    """The simulator's criteria for an accumulation of impacts, in the kernel's order, with their defaults.
+
+    They are the kernel's arguments between ``max_events`` and
+    ``stop_on_chatter``; their defaults are those of `rotorcontact.simulation.simulator`.
+    """
+    names = list(inspect.signature(simulate_kernel.py_func).parameters)
+    front = inspect.signature(simulate).parameters
+    chosen = names[names.index("max_events") + 1 : names.index("stop_on_chatter")]
+    return {name: float(front[name].default) for name in chosen}
+
+
+#: The chatter criteria of the simulator and their default values.
+CHATTER_DEFAULTS = _chatter_criteria()
+
+# columns of the per-item summary array
+_S_STATUS = 0
+_S_TRANSIENT_STATUS = 1
+_S_REGIME = 2
+_S_P = 3
+_S_PERIOD = 4
+_S_N_IMPACTS = 5
+_S_N_CONTACTS = 6
+_S_CONTACT_TIME = 7
+_S_FINAL_KIND = 8
+_S_U_RE = 9
+_S_U_IM = 10
+_S_DU_RE = 11
+_S_DU_IM = 12
+_S_T_TRANSIENT = 13
+_S_T_WINDOW = 14
+_S_TRANSIENT_IMPACTS = 15
+NSUM = 16
+
+DEFAULT_TIME_PER_EVENT = 5.0
+CERTIFICATE_MARGIN = 1e-9
+
+
+# ---------------------------------------------------------------------------
+# compiled core
+# ---------------------------------------------------------------------------
+
+
+@njit(cache=True)
+def _final_state(flights, contacts, path, t_stop, gamma, omega, rho, phi):
+    """State (U, U') where a run of `simulate_kernel` stopped, and what it was doing (-1 flight, else contact kind).
+
+    The simulator records the state at the start of every flight (the start of
+    the run, after each impact, touch and lift-off) and every contact phase
+    with its path on r = 1; the last row of a phase (an accumulation of
+    impacts included) is the state at its end.
+    """
+    n_fl = flights.shape[0]
+    n_ct = contacts.shape[0]
+    t_fl = flights[n_fl - 1, 0] if n_fl > 0 else -math.inf
+    if n_ct > 0:
+        cs = contacts[n_ct - 1, 0]
+        ce = contacts[n_ct - 1, 1]
+        # a contact phase is the last phase unless a flight (lift-off) started after it
+        if n_fl == 0 or cs > t_fl or (cs == t_fl and ce > t_fl):
+            row = int(contacts[n_ct - 1, 4])
+            theta = path[row, 1]
+            thetadot = path[row, 2]
+            kind = int(contacts[n_ct - 1, 2])
+            e = complex(math.cos(theta), math.sin(theta))
+            du = complex(0.0, thetadot) * e
+            # the simulator restarts from u / |u|; remove any outward radial velocity
+            # left by rounding there, so that a restart continues in contact rather
+            # than recording a spurious impact at zero speed
+            en = e / abs(e)
+            for _ in range(8):
+                rd = polar_velocity(en, du)[0]
+                if rd <= 0.0:
+                    break
+                du = du - 2.0 * rd * en
+            return e, du, kind
+    u_f = complex(flights[n_fl - 1, 1], flights[n_fl - 1, 2])
+    du_f = complex(flights[n_fl - 1, 3], flights[n_fl - 1, 4])
+    dt = t_stop - t_fl
+    if dt <= 0.0:
+        return u_f, du_f, -1
+    k = equilibrium_point(gamma, omega, rho, phi)
+    v, dv = propagate(u_f - k, du_f, dt, gamma, omega)
+    u = k + v
+    r = abs(u)
+    if r > 1.0:
+        u = u / r
+    return u, dv, -1
+
+
+@njit(cache=True)
+def _angle_gap(a, b):
+    x = a - b
+    return abs(math.atan2(math.sin(x), math.cos(x)))
+
+
+@njit(cache=True)
+def _detect_period(imp, n, max_p, tol):
+    """`rotorcontact.simulation.motion.detect_period` on the first ``n`` rows of an impact table: (p, period) or (0, nan)."""
+    for p in range(1, max_p + 1):
+        m = max(2 * p, 6)
+        if n < m + p + 1:
+            break
+        ok = True
+        pmin = math.inf
+        pmax = -math.inf
+        for i in range(n - m, n):
+            j = i - p
+            if (
+                not (_angle_gap(imp[i, 1], imp[j, 1]) < tol)
+                or not (abs(imp[i, 2] - imp[j, 2]) < tol)
+                or not (abs(imp[i, 3] - imp[j, 3]) < tol)
+            ):
+                ok = False
+                break
+            dt = imp[i, 0] - imp[j, 0]
+            pmin = min(pmin, dt)
+            pmax = max(pmax, dt)
+        if ok and (pmax - pmin) < tol * max(1.0, pmax):
+            return p, imp[n - 1, 0] - imp[n - 1 - p, 0]
+    return 0, math.nan
+
+
+@njit(cache=True)
+def _classify_window(impacts, contacts, t_stop, status, window, max_p, tol, min_irregular):
+    """Regime code, impacts per period and period of a window (rules of `rotorcontact.simulation.motion.classify`)."""
+    if status == FAILED:
+        return FAILED_REGIME, 0, math.nan
+    n = impacts.shape[0]
+    t_win = t_stop * (1.0 - window)
+    late_impacts = 0
+    for i in range(n):
+        if impacts[i, 0] >= t_win:
+            late_impacts += 1
+    n_late = 0
+    forward_only = True
+    last_kind = -1
+    for j in range(contacts.shape[0]):
+        if contacts[j, 1] > t_win and int(contacts[j, 2]) != ACCUMULATION:
+            n_late += 1
+            kind = int(contacts[j, 2])
+            last_kind = kind
+            if kind != SLIDE_FORWARD:
+                forward_only = False
+    if late_impacts == 0 and n_late == 0:
+        return NO_CONTACT, 0, math.nan
+    if late_impacts == 0:
+        if last_kind == ROLLING:
+            return ROLL, 0, math.nan
+        if forward_only:
+            return RUB, 0, math.nan
+        return MIXED, 0, math.nan
+    if n_late > 0:
+        return MIXED, 0, math.nan
+    p, period = _detect_period(impacts, n, max_p, tol)
+    if p > 0:
+        return PERIODIC, p, period
+    if n >= min_irregular:
+        return IRREGULAR, 0, math.nan
+    return UNDETERMINED, 0, math.nan
+
+
+@njit(cache=True)
+def _never_touches(u, du, gamma, omega, rho, phi):
+    """True when free flight from (u, du) provably never reaches |U| = 1 (for all t >= 0).
+
+    U(t) = k + c+ e^{l+ t} + c- e^{l- t} with Re l+- <= 0 for gamma >= 0, so
+    |U(t)| <= |k| + |c+| + |c-|; a margin covers rounding. Not used near
+    critical damping, where the two exponentials merge.
+    """
+    if gamma < 0.0:
+        return False
+    r = abs(u)
+    if r >= 1.0 - CERTIFICATE_MARGIN:
+        return False
+    k = equilibrium_point(gamma, omega, rho, phi)
+    h2 = 0.25 * gamma * gamma - omega * omega
+    if abs(h2) < 1e-8:
+        return False
+    h = complex(math.sqrt(h2), 0.0) if h2 > 0.0 else complex(0.0, math.sqrt(-h2))
+    m = complex(-0.5 * gamma, -1.0)
+    lp = m + h
+    lm = m - h
+    v = u - k
+    cp = (du - lm * v) / (lp - lm)
+    cm = v - cp
+    return abs(k) + abs(cp) + abs(cm) < 1.0 - CERTIFICATE_MARGIN
+
+
+@njit(cache=True)
+def _transient(p, u, du, n_transient, t_transient, settle, chatter):
+    """Run the transient; returns (u, du, status, duration, impacts)."""
+    gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
+    if n_transient <= 0:
+        return u, du, COMPLETED, 0.0, 0
+    if settle <= 0:
+        imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
+            gamma, omega, rho, mu, d, phi, rr, u, du, t_transient, n_transient, *chatter, False
+        )
+        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
+        return u, du, status, t_stop, imp.shape[0]
+    # in segments of ``settle`` events, ending early once the motion repeats
+    # (periodic impacts) or provably never touches the stator again
+    events_left = n_transient
+    time_left = t_transient
+    t_total = 0.0
+    n_imp = 0
+    status = COMPLETED
+    while events_left > 0 and time_left > 0.0:
+        if _never_touches(u, du, gamma, omega, rho, phi):
+            break
+        imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
+            gamma, omega, rho, mu, d, phi, rr, u, du, time_left, min(settle, events_left), *chatter,
+            False
+        )
+        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
+        events_left -= max(1, fl.shape[0] + ct.shape[0])
+        time_left -= t_stop
+        t_total += t_stop
+        n_imp += imp.shape[0]
+        if status != MAX_EVENTS:
+            break
+        per_p, period = _detect_period(imp, imp.shape[0], MAX_PERIOD_IMPACTS, REPEAT_TOL)
+        if per_p > 0:
+            break
+    return u, du, status, t_total, n_imp
+
+
+@njit(cache=True, nogil=True)
+def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, chatter, sec, summ):
+    """Transient and window of one item; fills ``sec`` (n_keep, 4) and ``summ`` (NSUM,). Returns the final state."""
+    gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
+    u, du, tr_status, t_tr, tr_impacts = _transient(p, u0, du0, n_transient, t_transient, settle, chatter)
+    sec[:, :] = math.nan
+    summ[_S_TRANSIENT_STATUS] = tr_status
+    summ[_S_T_TRANSIENT] = t_tr
+    summ[_S_TRANSIENT_IMPACTS] = tr_impacts
+    if tr_status == FAILED:
+        summ[_S_STATUS] = FAILED
+        summ[_S_REGIME] = FAILED_REGIME
+        summ[_S_P] = 0
+        summ[_S_PERIOD] = math.nan
+        summ[_S_N_IMPACTS] = 0
+        summ[_S_N_CONTACTS] = 0
+        summ[_S_CONTACT_TIME] = 0.0
+        summ[_S_FINAL_KIND] = -1
+        summ[_S_U_RE] = u.real
+        summ[_S_U_IM] = u.imag
+        summ[_S_DU_RE] = du.real
+        summ[_S_DU_IM] = du.imag
+        summ[_S_T_WINDOW] = 0.0
+        return u, du
+    if settle > 0 and _never_touches(u, du, gamma, omega, rho, phi):
+        # the window is one free flight to t_record: the simulator's own result,
+        # evaluated directly (the same closed-form flow from the same state)
+        k = equilibrium_point(gamma, omega, rho, phi)
+        v, dv = propagate(u - k, du, t_record, gamma, omega)
+        u = k + v
+        du = dv
+        status = COMPLETED
+        t_stop = t_record
+        regime, per_p, period = NO_CONTACT, 0, math.nan
+        n_imp = 0
+        n_ct = 0
+        contact_time = 0.0
+        kind = -1
+    else:
+        imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
+            gamma, omega, rho, mu, d, phi, rr, u, du, t_record, n_record, *chatter, False
+        )
+        u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
+        regime, per_p, period = _classify_window(imp, ct, t_stop, status, WINDOW, MAX_PERIOD_IMPACTS, REPEAT_TOL,
+                                                 MIN_IRREGULAR)
+        n_imp = imp.shape[0]
+        n_ct = 0
+        n_keep = sec.shape[0]
+        first = max(0, n_imp - n_keep)
+        for i in range(first, n_imp):
+            for c in range(4):
+                sec[i - first, c] = imp[i, c]
+        contact_time = 0.0
+        for j in range(ct.shape[0]):
+            if int(ct[j, 2]) != ACCUMULATION:  # the tail of a chatter sequence is not a contact phase
+                n_ct += 1
+                contact_time += min(ct[j, 1], t_stop) - ct[j, 0]
+    summ[_S_STATUS] = status
+    summ[_S_REGIME] = regime
+    summ[_S_P] = per_p
+    summ[_S_PERIOD] = period
+    summ[_S_N_IMPACTS] = n_imp
+    summ[_S_N_CONTACTS] = n_ct
+    summ[_S_CONTACT_TIME] = contact_time
+    summ[_S_FINAL_KIND] = kind
+    summ[_S_U_RE] = u.real
+    summ[_S_U_IM] = u.imag
+    summ[_S_DU_RE] = du.real
+    summ[_S_DU_IM] = du.imag
+    summ[_S_T_WINDOW] = t_stop
+    return u, du
+
+
+@njit(cache=True, nogil=True)
+def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+              sections, summary):
+    u = u0[lane, 0]
+    du = du0[lane, 0]
+    for s in range(params.shape[1]):
+        if not carry:
+            u = u0[lane, s]
+            du = du0[lane, s]
+        u, du = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record, settle,
+                          chatter, sections[lane, s], summary[lane, s])
+
+
+@njit(cache=True, parallel=True)
+def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                    sections, summary):
+    """The batch kernel: lanes in parallel over cores (``prange``), steps in order within a lane."""
+    for lane in prange(params.shape[0]):
+        _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                  sections, summary)
+
+
+@njit(cache=True, nogil=True)
+def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                  sections, summary):
+    """The batch kernel on one core, releasing the GIL (for worker threads and processes)."""
+    for lane in range(params.shape[0]):
+        _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                  sections, summary)
+
+
+# ---------------------------------------------------------------------------
+# Python front end
+# ---------------------------------------------------------------------------
+
+
+def _check_count(name: str, value: Any, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: an integer >= {low}")
+    return int(value)
+
+
+@dataclass(frozen=True)
+class BatchSettings:
+    """How long each item runs and what is kept.
+
+    Attributes
+    ----------
+    n_transient : int
+        Events (flights and contact phases; impacts in impacting motion) of
+        the transient, >= 0.
+    n_record : int
+        Events of the recorded window, >= 1.
+    t_transient, t_record : float or None
+        Time limits of the transient and of the window; None gives
+        ``5 * n_transient`` and ``5 * n_record`` (at least 100).
+    n_keep : int or None
+        Number of impacts of the window kept in the section (the last ones);
+        None keeps ``n_record``.
+    settle : int
+        0 (default): the transient is one run of ``n_transient`` events. A
+        positive value runs the transient in segments of ``settle`` events and
+        ends it early, after the first segment whose impacts repeat
+        periodically (`rotorcontact.simulation.motion.detect_period`), or as soon as the
+        free flight provably never reaches the stator again (|k| + |c+| + |c-|
+        < 1 for U = k + c+ e^{l+ t} + c- e^{l- t}). Each segment restarts the
+        simulator exactly where the previous one stopped. A window that starts
+        with that certificate is contact-free and is evaluated in closed form.
+    chatter : mapping or None
+        Criteria for an accumulation of impacts by name (``chatter_rdot`` ...),
+        as in `rotorcontact.simulation.simulator`; those not given keep the simulator's
+        defaults (`CHATTER_DEFAULTS`). Stored as (name, value) pairs.
+    """
+
+    n_transient: int = 4000
+    n_record: int = 1000
+    t_transient: float | None = None
+    t_record: float | None = None
+    n_keep: int | None = None
+    settle: int = 0
+    chatter: Any = None
+
+    def __post_init__(self) -> None:
+        _check_count("n_transient", self.n_transient, 0)
+        _check_count("n_record", self.n_record, 1)
+        if self.n_keep is not None:
+            _check_count("n_keep", self.n_keep, 1)
+        _check_count("settle", self.settle, 0)
+        for name in ("t_transient", "t_record"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, check_range(name, value, low=0.0, low_open=True))
+        given = dict(self.chatter or {})
+        unknown = sorted(set(given) - set(CHATTER_DEFAULTS))
+        if unknown:
+            raise ParameterError(
+                f"chatter criterion {unknown[0]!r} is unknown; allowed: {', '.join(CHATTER_DEFAULTS)}"
+            )
+        pairs = tuple(
+            (name, check_range(name, given.get(name, default), low=0.0)) for name, default in CHATTER_DEFAULTS.items()
+        )
+        object.__setattr__(self, "chatter", pairs)
+
+    @property
+    def chatter_values(self) -> tuple[float, ...]:
+        """The chatter criteria in the simulator kernel's order."""
+        return tuple(float(v) for _, v in self.chatter)
+
+    @property
+    def transient_time(self) -> float:
+        """Time limit of the transient."""
+        if self.t_transient is not None:
+            return float(self.t_transient)
+        return max(100.0, DEFAULT_TIME_PER_EVENT * self.n_transient)
+
+    @property
+    def record_time(self) -> float:
+        """Time limit of the window."""
+        if self.t_record is not None:
+            return float(self.t_record)
+        return max(100.0, DEFAULT_TIME_PER_EVENT * self.n_record)
+
+    @property
+    def keep(self) -> int:
+        """Number of impacts kept in the section."""
+        return self.n_record if self.n_keep is None else min(self.n_keep, self.n_record)
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain data, with the time limits resolved."""
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "chatter"}
+        out.update(dict(self.chatter))
+        out["t_transient"] = self.transient_time
+        out["t_record"] = self.record_time
+        out["n_keep"] = self.keep
+        return out
+
+
+@dataclass(frozen=True)
+class BatchResult:
+    """Results of a batch, each array shaped like the batch (``shape``), sections with one more axis.
+
+    Attributes
+    ----------
+    shape : tuple of int
+        Shape of the batch.
+    t, theta, rdot, thetadot : numpy.ndarray
+        The recorded impact section, shape ``shape + (n_keep,)``: time since
+        the start of the window, impact angle in (-pi, pi], and rdot-,
+        thetadot- just before each impact; NaN where the window had fewer
+        impacts.
+    status, transient_status : numpy.ndarray of int
+        How the window and the transient ended (`rotorcontact.simulation.simulator.STATUS_NAMES`).
+    regime : numpy.ndarray of int
+        Regime of the window (`REGIME_NAMES`).
+    impacts_per_period : numpy.ndarray of int
+        p of a periodic impacting window, else 0.
+    period : numpy.ndarray of float
+        Its period, else NaN.
+    n_impacts, n_contacts : numpy.ndarray of int
+        Impacts and contact phases in the window (the accumulation tail of a
+        chatter sequence is not counted as a contact phase).
+    transient_impacts : numpy.ndarray of int
+        Impacts in the transient.
+    contact_time : numpy.ndarray of float
+        Time spent in contact during the window.
+    final_kind : numpy.ndarray of int
+        What the rotor was doing at the end (`FINAL_KIND_NAMES`).
+    final_u, final_du : numpy.ndarray of complex
+        State where the window ended.
+    t_transient, t_window : numpy.ndarray of float
+        Durations of the transient and of the window.
+    settings : BatchSettings
+        The settings of the run.
+    """
+
+    shape: tuple[int, ...]
+    t: np.ndarray = field(repr=False)
+    theta: np.ndarray = field(repr=False)
+    rdot: np.ndarray = field(repr=False)
+    thetadot: np.ndarray = field(repr=False)
+    status: np.ndarray = field(repr=False)
+    transient_status: np.ndarray = field(repr=False)
+    regime: np.ndarray = field(repr=False)
+    impacts_per_period: np.ndarray = field(repr=False)
+    period: np.ndarray = field(repr=False)
+    n_impacts: np.ndarray = field(repr=False)
+    n_contacts: np.ndarray = field(repr=False)
+    transient_impacts: np.ndarray = field(repr=False)
+    contact_time: np.ndarray = field(repr=False)
+    final_kind: np.ndarray = field(repr=False)
+    final_u: np.ndarray = field(repr=False)
+    final_du: np.ndarray = field(repr=False)
+    t_transient: np.ndarray = field(repr=False)
+    t_window: np.ndarray = field(repr=False)
+    settings: BatchSettings = field(default_factory=BatchSettings)
+
+    @property
+    def regime_names(self) -> np.ndarray:
+        """The regimes as strings."""
+        return np.asarray(REGIME_NAMES, dtype=object)[self.regime]
+
+    @property
+    def status_names(self) -> np.ndarray:
+        """How each window ended, as strings."""
+        return np.vectorize(STATUS_NAMES.get, otypes=[object])(self.status)
+
+    @property
+    def impacts_simulated(self) -> int:
+        """Total number of impacts computed (transients and windows)."""
+        return int(self.n_impacts.sum() + self.transient_impacts.sum())
+
+    @classmethod
+    def from_arrays(cls, sections: np.ndarray, summary: np.ndarray, settings: BatchSettings) -> "BatchResult":
+        """Build the result from the kernel's raw arrays (shape ``batch + (n_keep, 4)`` and ``batch + (NSUM,)``)."""
+        s = summary
+        as_int = lambda j: s[..., j].astype(np.int64)  # noqa: E731
+        return cls(
+            shape=tuple(summary.shape[:-1]),
+            t=sections[..., 0],
+            theta=sections[..., 1],
+            rdot=sections[..., 2],
+            thetadot=sections[..., 3],
+            status=as_int(_S_STATUS),
+            transient_status=as_int(_S_TRANSIENT_STATUS),
+            regime=as_int(_S_REGIME),
+            impacts_per_period=as_int(_S_P),
+            period=s[..., _S_PERIOD].copy(),
+            n_impacts=as_int(_S_N_IMPACTS),
+            n_contacts=as_int(_S_N_CONTACTS),
+            transient_impacts=as_int(_S_TRANSIENT_IMPACTS),
+            contact_time=s[..., _S_CONTACT_TIME].copy(),
+            final_kind=as_int(_S_FINAL_KIND),
+            final_u=s[..., _S_U_RE] + 1j * s[..., _S_U_IM],
+            final_du=s[..., _S_DU_RE] + 1j * s[..., _S_DU_IM],
+            t_transient=s[..., _S_T_TRANSIENT].copy(),
+            t_window=s[..., _S_T_WINDOW].copy(),
+            settings=settings,
+        )
+
+
+def parameter_array(params: Parameters | Sequence[Parameters] | np.ndarray) -> np.ndarray:
+    """Parameters as a float array with last axis `PARAMETER_ORDER`, validated.
+
+    Parameters
+    ----------
+    params : Parameters, (nested) sequence of Parameters, or array_like (..., 7)
+        One set of parameters, several, or an array of rows in `PARAMETER_ORDER`.
+
+    Raises
+    ------
+    ParameterError
+        If any row is not a valid set of parameters.
+    """
+    if isinstance(params, Parameters):
+        return np.array([getattr(params, n) for n in PARAMETER_ORDER], dtype=float)
+
+    def rows(obj):
+        if isinstance(obj, Parameters):
+            return [getattr(obj, n) for n in PARAMETER_ORDER]
+        if isinstance(obj, (list, tuple)):
+            return [rows(x) for x in obj]
+        return obj
+
+    try:
+        arr = np.array(rows(params), dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"params = {params!r} is not Parameters or an array of parameter rows") from None
+    if arr.ndim == 0 or arr.shape[-1] != len(PARAMETER_ORDER):
+        raise ParameterError(
+            f"params has shape {arr.shape}; expected rows of {len(PARAMETER_ORDER)} values "
+            f"({', '.join(PARAMETER_ORDER)})"
+        )
+    _validate_rows(arr.reshape(-1, len(PARAMETER_ORDER)))
+    return arr
+
+
+def _validate_rows(rows: np.ndarray) -> None:
+    bad = ~np.all(np.isfinite(rows), axis=1)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ParameterError(f"parameter row {i} = {rows[i].tolist()} is not finite")
+    # one full validation per distinct row
+    for row in np.unique(rows, axis=0):
+        Parameters(**dict(zip(PARAMETER_ORDER, (float(x) for x in row))))
+
+
+def _complex_array(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
+    try:
+        arr = np.asarray(value, dtype=complex)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} = {value!r} is not a complex number or an array of them") from None
+    try:
+        arr = np.broadcast_to(arr, shape)
+    except ValueError:
+        raise ParameterError(f"{name} has shape {arr.shape}, which does not fit the batch shape {shape}") from None
+    if not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name} has values that are not finite")
+    return np.ascontiguousarray(arr, dtype=np.complex128)
+
+
+def check_initial_states(u0: np.ndarray, du0: np.ndarray) -> None:
+    """Raise `ParameterError` unless every |u0| <= 1 (the rotor starts inside the clearance)."""
+    outside = np.abs(u0) > 1.0 + BOUNDARY_TOL
+    if outside.any():
+        i = int(np.flatnonzero(outside.ravel())[0])
+        z = u0.ravel()[i]
+        raise ParameterError(
+            f"u0 = {z.real:g},{z.imag:g} (item {i}) lies outside the clearance (|u0| = {abs(z):.6g}); "
+            "allowed: |u0| <= 1"
+        )
+
+
+def run_lanes(
+    params: np.ndarray,
+    u0: np.ndarray,
+    du0: np.ndarray,
+    settings: BatchSettings,
+    *,
+    carry: bool,
+    parallel: bool = True,
+    schedule_chunk: int = 1,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Run validated lanes through the kernel and return the raw (sections, summary) arrays.
+
+    Parameters
+    ----------
+    params : numpy.ndarray, shape (n_lanes, n_steps, 7)
+    u0, du0 : numpy.ndarray of complex, shape (n_lanes, n_steps)
+        Initial states (only the first step of each lane is used with ``carry``).
+    settings : BatchSettings
+    carry : bool
+        Carry the state along each lane.
+    parallel : bool
+        Lanes in parallel over numba's threads (``prange``); otherwise on one
+        core with the GIL released. The results are the same bit for bit.
+    schedule_chunk : int
+        Lanes handed to a thread at a time (dynamic scheduling, for uneven costs).
+    """
+    n_lanes, n_steps = params.shape[:2]
+    keep = settings.keep
+    sections = np.empty((n_lanes, n_steps, keep, 4))
+    summary = np.empty((n_lanes, n_steps, NSUM))
+    # writable C-contiguous copies where needed: one compiled signature for every call
+    args = (
+        np.require(params, dtype=np.float64, requirements=["C", "W"]),
+        np.require(u0, dtype=np.complex128, requirements=["C", "W"]),
+        np.require(du0, dtype=np.complex128, requirements=["C", "W"]),
+        bool(carry),
+        settings.n_transient,
+        settings.n_record,
+        settings.transient_time,
+        settings.record_time,
+        settings.settle,
+        settings.chatter_values,
+        sections,
+        summary,
+    )
+    if parallel and n_lanes > 1:
+        old = numba.set_parallel_chunksize(max(1, int(schedule_chunk)))
+        try:
+            _batch_parallel(*args)
+        finally:
+            numba.set_parallel_chunksize(old)
+    else:
+        _batch_serial(*args)
+    return sections, summary
+
+
+def simulate_batch(
+    params: Parameters | Sequence[Parameters] | np.ndarray,
+    u0: Any = 0j,
+    du0: Any = 0j,
+    *,
+    settings: BatchSettings | None = None,
+    carry: bool = False,
+    parallel: bool = True,
+    **kwargs: Any,
+) -> BatchResult:
+    """Simulate many (parameters, initial state) pairs in one compiled, parallel call.
+
+    Parameters
+    ----------
+    params : Parameters, sequence of Parameters, or array_like (..., 7)
+        The parameters of each item (rows in `PARAMETER_ORDER`). A single
+        Parameters object is shared by all items (the batch shape then comes
+        from ``u0`` and ``du0``).
+    u0, du0 : complex or array_like of complex
+        Initial positions (|u0| <= 1) and velocities, broadcast to the batch shape.
+    settings : BatchSettings, optional
+        Transient and window lengths; keyword arguments (``n_transient=...``)
+        build one instead.
+    carry : bool
+        With True, the last axis of the batch is a chain: each item starts
+        where the previous one ended (a sweep with the state carried along);
+        ``u0`` and ``du0`` give one state per chain (or one per item, of
+        which the first of each chain is used). Chains run in parallel.
+    parallel : bool
+        Run over all cores (numba ``prange``); False runs on one core. Both
+        give the same results bit for bit.
+
+    Returns
+    -------
+    BatchResult
+
+    Examples
+    --------
+    >>> p = Parameters.reference().replace(gamma=0.1)
+    >>> res = simulate_batch(p, u0=[0j, 0.5 + 0j], n_transient=300, n_record=50)
+    >>> res.regime_names.tolist()  # doctest: +SKIP
+    ['periodic-impacting', 'periodic-impacting']
+    """
+    if settings is None:
+        settings = BatchSettings(**kwargs)
+    elif kwargs:
+        raise ParameterError(f"give either settings or keyword settings, not both ({', '.join(kwargs)})")
+    parr = parameter_array(params)
+    single = parr.ndim == 1
+    u0a = np.asarray(u0)
+    du0a = np.asarray(du0)
+    squeeze = False
+    if carry:
+        if single:
+            raise ParameterError("carry=True needs a chain of parameters (params with shape (..., n_steps, 7))")
+        shape = tuple(parr.shape[:-1])
+        # one initial state per chain (or one per item, of which the first of each chain is used)
+        full = u0a.ndim == len(shape) and du0a.ndim <= len(shape) or du0a.ndim == len(shape)
+        if full:
+            u0c = _complex_array("u0", u0, shape)
+            du0c = _complex_array("du0", du0, shape)
+        else:
+            u0c = np.repeat(_complex_array("u0", u0, shape[:-1])[..., None], shape[-1], axis=-1)
+            du0c = np.repeat(_complex_array("du0", du0, shape[:-1])[..., None], shape[-1], axis=-1)
+    else:
+        try:
+            shape = np.broadcast_shapes(u0a.shape, du0a.shape) if single else np.broadcast_shapes(
+                parr.shape[:-1], u0a.shape, du0a.shape)
+        except ValueError:
+            raise ParameterError(
+                f"the shapes of params {parr.shape[:-1]}, u0 {u0a.shape} and du0 {du0a.shape} do not broadcast"
+            ) from None
+        if shape == ():
+            shape = (1,)
+            squeeze = True
+        u0c = _complex_array("u0", u0, shape)
+        du0c = _complex_array("du0", du0, shape)
+    parr = np.broadcast_to(parr, shape + (len(PARAMETER_ORDER),))
+    check_initial_states(u0c, du0c)
+    if carry:
+        lanes = int(np.prod(shape[:-1], dtype=np.int64))
+        steps = shape[-1]
+    else:
+        lanes = int(np.prod(shape, dtype=np.int64))
+        steps = 1
+    sections, summary = run_lanes(
+        parr.reshape(lanes, steps, -1),
+        u0c.reshape(lanes, steps),
+        du0c.reshape(lanes, steps),
+        settings,
+        carry=carry,
+        parallel=parallel,
+    )
+    out_shape = (1,) if squeeze else shape
+    return BatchResult.from_arrays(
+        sections.reshape(out_shape + sections.shape[-2:]), summary.reshape(out_shape + (NSUM,)), settings
+    )
+
+
+def final_state(traj) -> tuple[complex, complex, str]:
+    """State (U, U') where a `Trajectory` stopped, and what the rotor was doing there.
+
+    After an impact it is the state just after the impact; in free flight the
+    exact flight at ``t_stop``; in contact the point on the stator with its
+    angular velocity. This is the state from which the batch kernel continues.
+
+    Returns
+    -------
+    u, du : complex
+    kind : str
+        ``"flight"`` or a contact kind (`FINAL_KIND_NAMES`).
+    """
+    p = traj.params
+    fl = traj.flights if traj.flights.size else np.empty((0, 5))
+    u, du, kind = _final_state(
+        np.ascontiguousarray(fl, dtype=float).reshape(-1, 5),
+        np.ascontiguousarray(traj.contacts, dtype=float).reshape(-1, 5),
+        np.ascontiguousarray(traj.path, dtype=float).reshape(-1, 4),
+        float(traj.t_stop),
+        p.gamma,
+        p.omega,
+        p.rho,
+        p.phi,
+    )
+    return complex(u), complex(du), FINAL_KIND_NAMES[int(kind)]

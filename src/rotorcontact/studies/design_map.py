@@ -1,0 +1,398 @@
+"""Design maps for a real machine: where levitation is safe, bistable or contact-certain.
+
+A point of a map is a `Machine` (its speed, bearing stiffness and damping set
+gamma = c/(m Omega) and omega^2 = k/(m Omega^2)). At each point the motions
+that can persist are collected from the analysis (no simulation):
+
+- contact-free whirl: the regular equilibrium x_R, admissible when |k| < 1
+  (MODEL.md §4);
+- impacting motions: one-impact periodic orbits B_n,a..d that are admissible,
+  physically plausible and stable (MODEL.md §5, `rotorcontact.maps.impact_map`);
+- forward rubs: pseudo-equilibria P1, P2 that are admissible and stable (MODEL.md §4).
+
+The point's regime is ``"safe"`` (whirl admissible, no stable contact motion),
+``"bistable"`` (whirl admissible and a stable contact motion coexists, so a
+touchdown can persist after a disturbance) or ``"contact-certain"`` (no
+admissible contact-free whirl). Orbits with several impacts per period, rolling
+and chaotic motions are not found by this analysis; `recovery_probability`
+samples disturbances with the simulator, which sees all of them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field, replace
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..analysis.equilibria import equilibria
+from ..errors import ParameterError
+from ..maps.impact_map import one_impact_orbits
+from ..model.params import Machine, check_range
+from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
+
+__all__ = [
+    "REGIMES",
+    "Motion",
+    "MapPoint",
+    "DesignMap",
+    "classify_machine",
+    "speed_map",
+    "plane_map",
+    "recovery_probability",
+    "rpm_to_rad_s",
+    "rad_s_to_rpm",
+]
+
+REGIMES = ("safe", "bistable", "contact-certain")
+RPM = 2.0 * math.pi / 60.0
+
+
+def rpm_to_rad_s(rpm):
+    """Revolutions per minute to rad/s."""
+    return np.asarray(rpm, dtype=float) * RPM if np.ndim(rpm) else float(rpm) * RPM
+
+
+def rad_s_to_rpm(rad_s):
+    """rad/s to revolutions per minute."""
+    return np.asarray(rad_s, dtype=float) / RPM if np.ndim(rad_s) else float(rad_s) / RPM
+
+
+@dataclass(frozen=True)
+class Motion:
+    """A motion that can persist at a map point, with its physical outputs in SI units.
+
+    Attributes
+    ----------
+    name : str
+        ``"x_R"``, an orbit label such as ``"B1,d"``, or ``"P1"`` / ``"P2"``.
+    kind : str
+        ``"contact-free"``, ``"impacting"`` or ``"forward-rub"`` (the regime names of
+        `rotorcontact.simulation.motion.REGIMES`; ``"rub"`` is the former name of ``"forward-rub"``).
+    stable : bool
+        Linear stability.
+    amplitude_um : float
+        Whirl amplitude: the radius of the rotor centre's orbit in micrometres
+        (|k| c_r for x_R; c_r for motions that touch the stator).
+    impulse_Ns, impact_rate_hz : float or None
+        Normal impulse per impact (N s) and impacts per second.
+    friction_power_W : float or None
+        Mean power dissipated by friction (W).
+    contact_force_N : float or None
+        Normal contact force of a rub (N).
+    period_s : float or None
+        Period of an impacting orbit (s).
+    """
+
+    name: str
+    kind: str
+    stable: bool
+    amplitude_um: float
+    impulse_Ns: float | None = None
+    impact_rate_hz: float | None = None
+    friction_power_W: float | None = None
+    contact_force_N: float | None = None
+    period_s: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class MapPoint:
+    """One classified machine setting.
+
+    Attributes
+    ----------
+    speed_rpm, stiffness, damping : float
+        The setting (rpm, N/m, N s/m).
+    gamma, omega : float
+        Its dimensionless parameters.
+    regime : str
+        One of `REGIMES`.
+    whirl_admissible : bool
+        Contact-free whirl x_R lies inside the clearance.
+    coexisting : tuple of str
+        Names of the stable contact motions that coexist (for example ("B1,d", "P2")).
+    motions : tuple of Motion
+        x_R (when admissible) and every stable contact motion, with SI outputs.
+    recovery_probability : float or None
+        For a bistable point, the fraction of sampled disturbances after which
+        the rotor returns to contact-free whirl (None when not computed).
+    """
+
+    speed_rpm: float
+    stiffness: float
+    damping: float
+    gamma: float
+    omega: float
+    regime: str
+    whirl_admissible: bool
+    coexisting: tuple[str, ...]
+    motions: tuple[Motion, ...] = field(repr=False)
+    recovery_probability: float | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        out = asdict(self)
+        out["coexisting"] = list(self.coexisting)
+        out["motions"] = [m.to_dict() for m in self.motions]
+        return out
+
+
+def _impact_motion(machine: Machine, orbit) -> Motion:
+    """SI outputs of a one-impact orbit: impulse, rate, friction power (`rotorcontact.model.si.orbit_si`)."""
+    si = orbit_si(machine, orbit)
+    return Motion(
+        name=orbit.label,
+        kind="impacting",
+        stable=bool(orbit.stable),
+        amplitude_um=si["amplitude_um"],
+        impulse_Ns=si["normal_impulse_Ns"],
+        impact_rate_hz=si["impact_rate_hz"],
+        friction_power_W=si["friction_power_W"],
+        period_s=si["T_s"],
+    )
+
+
+def _rub_motion(machine: Machine, pseudo, stable: bool) -> Motion:
+    """SI outputs of a forward rub: contact force and friction power (`rotorcontact.model.si.pseudo_si`)."""
+    si = pseudo_si(machine, pseudo)
+    return Motion(
+        name=pseudo.name,
+        kind="forward-rub",
+        stable=stable,
+        amplitude_um=machine.clearance * MICROMETRE,
+        contact_force_N=si["normal_force_N"],
+        friction_power_W=si["friction_power_W"],
+    )
+
+
+def classify_machine(machine: Machine, *, t_max: float = 12.0) -> MapPoint:
+    """Classify one machine setting (see the module docstring).
+
+    Parameters
+    ----------
+    machine : Machine
+        The setting.
+    t_max : float
+        Longest period (dimensionless) of the impacting orbits searched.
+    """
+    p = machine.parameters()
+    eq = equilibria(p)
+    motions: list[Motion] = []
+    whirl = bool(eq.regular.exists and eq.regular.admissible and eq.regular.stable)
+    if whirl:
+        motions.append(Motion("x_R", "contact-free", True, regular_si(machine, eq.regular)["amplitude_um"]))
+    coexisting = []
+    for orbit in one_impact_orbits(p, t_max):
+        if orbit.admissible and orbit.plausible and orbit.stable:
+            motions.append(_impact_motion(machine, orbit))
+            coexisting.append(orbit.label)
+    for pseudo in eq.pseudo:
+        if pseudo.exists and pseudo.admissible and pseudo.stable:
+            motions.append(_rub_motion(machine, pseudo, True))
+            coexisting.append(pseudo.name)
+    if not whirl:
+        regime = "contact-certain"
+    elif coexisting:
+        regime = "bistable"
+    else:
+        regime = "safe"
+    return MapPoint(
+        speed_rpm=rad_s_to_rpm(machine.speed),
+        stiffness=machine.stiffness,
+        damping=machine.damping,
+        gamma=p.gamma,
+        omega=p.omega,
+        regime=regime,
+        whirl_admissible=whirl,
+        coexisting=tuple(coexisting),
+        motions=tuple(motions),
+    )
+
+
+def recovery_probability(
+    machine: Machine,
+    shock: float,
+    *,
+    directions: int = 24,
+) -> float:
+    """Fraction of velocity shocks of size ``shock`` (m/s) from contact-free whirl that recover.
+
+    This is a one-amplitude slice of the basin computation
+    (`rotorcontact.studies.basins.basins` on a `shock_grid`): the rotor starts at the
+    regular equilibrium with its velocity kicked by ``shock`` in each of
+    ``directions`` equally spaced directions, runs through the batch kernel
+    (impacts, chatter and contact included), and has recovered when its
+    attractor is ``"no-contact"``.
+
+    Raises
+    ------
+    ParameterError
+        If contact-free whirl is not admissible, or on invalid arguments.
+    """
+    from .basins import basins, shock_grid
+
+    shock = check_range("shock", shock, low=0.0)
+    if isinstance(directions, bool) or not isinstance(directions, int) or directions < 1:
+        raise ParameterError(f"directions = {directions!r} is invalid; allowed: an integer >= 1")
+    p = machine.parameters()
+    if abs(p.k) >= 1.0:
+        raise ParameterError(
+            f"recovery needs admissible contact-free whirl; at speed = {machine.speed:g} rad/s, "
+            f"|k| = {abs(p.k):.4g} >= 1"
+        )
+    kick = shock / (machine.clearance * machine.speed)
+    step = 2.0 * math.pi / directions
+    grid = shock_grid((kick, kick, 1), (-math.pi, math.pi - step, directions))
+    result = basins(p, grid, progress=False, n_jobs=1)
+    return float(result.fractions.get("no-contact", 0.0))
+
+
+@dataclass(frozen=True)
+class DesignMap:
+    """A classified map over speed, or over a plane of two settings.
+
+    Attributes
+    ----------
+    machine : Machine
+        The base machine.
+    axes : tuple of str
+        Names of the swept settings: ("speed_rpm",), ("speed_rpm", "stiffness")
+        or ("stiffness", "damping").
+    values : tuple of numpy.ndarray
+        Their grids (rpm, N/m, N s/m).
+    points : tuple of MapPoint
+        Flattened in C order over the grids.
+    shock : float or None
+        The disturbance (m/s) of the recovery probabilities, when computed.
+    """
+
+    machine: Machine
+    axes: tuple[str, ...]
+    values: tuple[np.ndarray, ...]
+    points: tuple[MapPoint, ...] = field(repr=False)
+    shock: float | None = None
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(v) for v in self.values)
+
+    def regime_codes(self) -> np.ndarray:
+        """Regimes as integer codes (index into `REGIMES`), shaped like the grid."""
+        return np.array([REGIMES.index(pt.regime) for pt in self.points]).reshape(self.shape)
+
+    def boundaries(self) -> list[tuple[float, str, str]]:
+        """For a speed map: (speed_rpm, regime before, regime after) where the regime changes."""
+        if len(self.axes) != 1:
+            raise ParameterError("boundaries() applies to a map over one setting")
+        out = []
+        for a, b in zip(self.points[:-1], self.points[1:]):
+            if a.regime != b.regime:
+                out.append((0.5 * (a.speed_rpm + b.speed_rpm), a.regime, b.regime))
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``design-map --json`` contract."""
+        return {
+            "machine": self.machine.as_dict(),
+            "axes": list(self.axes),
+            "shock_m_per_s": self.shock,
+            "points": [pt.to_dict() for pt in self.points],
+        }
+
+    def to_xarray(self):
+        """The map as an xarray Dataset, settings as coordinates and units as attributes."""
+        import xarray as xr
+
+        units = {"speed_rpm": "rpm", "stiffness": "N/m", "damping": "N s/m"}
+        coords = {name: (name, vals, {"units": units[name]}) for name, vals in zip(self.axes, self.values)}
+        dims = self.axes
+        shape = self.shape
+
+        def grid(attr, dtype=float):
+            return np.array([getattr(pt, attr) for pt in self.points], dtype=dtype).reshape(shape)
+
+        recovery = np.array(
+            [np.nan if pt.recovery_probability is None else pt.recovery_probability for pt in self.points]
+        ).reshape(shape)
+        ds = xr.Dataset(
+            {
+                "regime": (dims, self.regime_codes(), {"flag_values": "0 1 2", "flag_meanings": " ".join(REGIMES)}),
+                "gamma": (dims, grid("gamma"), {"units": "1"}),
+                "omega": (dims, grid("omega"), {"units": "1"}),
+                "whirl_admissible": (dims, grid("whirl_admissible", np.int8), {"units": "1"}),
+                "coexisting": (dims, np.array([",".join(pt.coexisting) for pt in self.points]).reshape(shape)),
+                "recovery_probability": (dims, recovery, {"units": "1"}),
+            },
+            coords=coords,
+        )
+        ds.attrs.update({f"machine_{k}": v for k, v in self.machine.as_dict().items()})
+        ds.attrs.update({f"machine_{k}_units": u for k, u in Machine.units().items()})
+        if self.shock is not None:
+            ds.attrs["shock_m_per_s"] = self.shock
+        return ds
+
+
+def _with_recovery(point: MapPoint, machine: Machine, shock: float | None) -> MapPoint:
+    if shock is None or point.regime != "bistable":
+        return point
+    return replace(point, recovery_probability=recovery_probability(machine, shock))
+
+
+def _check_grid(name: str, values: Sequence[float], positive: bool = True) -> np.ndarray:
+    arr = np.asarray(values, dtype=float).ravel()
+    if arr.size < 1 or not np.all(np.isfinite(arr)) or (positive and np.any(arr <= 0.0)):
+        raise ParameterError(f"{name} = {values!r} is invalid; allowed: finite values{' > 0' if positive else ''}")
+    return arr
+
+
+def _classify_all(machines: list[Machine], shock: float | None, t_max: float, progress: bool) -> tuple[MapPoint, ...]:
+    """Classify each setting (with its recovery probability), with a progress bar on stderr if asked."""
+    from .execution import progress_bar
+
+    pts = []
+    with progress_bar(len(machines), "design map", progress, unit="point") as bar:
+        for m in machines:
+            pts.append(_with_recovery(classify_machine(m, t_max=t_max), m, shock))
+            bar.update(1)
+    return tuple(pts)
+
+
+def speed_map(machine: Machine, speeds_rpm: Sequence[float], *, shock: float | None = None,
+              t_max: float = 12.0, progress: bool = False) -> DesignMap:
+    """Classify ``machine`` at each speed (rpm); see `classify_machine` and `recovery_probability`.
+
+    ``progress`` shows a progress bar over the speeds on stderr (worth it with ``shock``, whose
+    recovery probabilities are simulated).
+    """
+    speeds = _check_grid("speeds_rpm", speeds_rpm)
+    machines = [machine.with_speed(rpm_to_rad_s(s)) for s in speeds]
+    return DesignMap(machine, ("speed_rpm",), (speeds,), _classify_all(machines, shock, t_max, progress), shock)
+
+
+def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], second: Sequence[float], *,
+              shock: float | None = None, t_max: float = 12.0, progress: bool = False) -> DesignMap:
+    """Classify a plane of settings: ("speed_rpm", "stiffness") or ("stiffness", "damping").
+
+    The other fields of ``machine`` stay fixed. ``progress`` shows a progress bar over the points on stderr.
+    """
+    allowed = (("speed_rpm", "stiffness"), ("stiffness", "damping"), ("speed_rpm", "damping"))
+    if tuple(axes) not in allowed:
+        raise ParameterError(f"axes = {axes!r} is invalid; allowed: {', '.join(map(str, allowed))}")
+    a = _check_grid(axes[0], first)
+    b = _check_grid(axes[1], second, positive=axes[1] != "damping")
+    if axes[1] == "damping" and np.any(b < 0.0):
+        raise ParameterError(f"damping = {second!r} is invalid; allowed: values >= 0")
+    machines = []
+    for x in a:
+        for y in b:
+            changes = {}
+            for name, val in ((axes[0], x), (axes[1], y)):
+                if name == "speed_rpm":
+                    changes["speed"] = rpm_to_rad_s(val)
+                else:
+                    changes[name] = val
+            machines.append(replace(machine, **changes))
+    return DesignMap(machine, tuple(axes), (a, b), _classify_all(machines, shock, t_max, progress), shock)

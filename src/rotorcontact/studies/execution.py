@@ -1,0 +1,714 @@
+"""Running batches in chunks: in this process, through joblib, or on a Dask cluster.
+
+A large study (a brute-force diagram, a basin of attraction) is cut into
+*chunks*, each a `ChunkTask`: a small block of lanes and steps for the batch
+kernel (`rotorcontact.studies.batch`). The cut is fixed by the study and its
+``chunk_size`` alone, and every chunk is computed by the same compiled code
+from the same inputs, so the results are identical bit for bit whichever
+executor runs them:
+
+* ``n_jobs=None`` and no scheduler: in this process, over all cores through
+  numba's threads;
+* ``n_jobs=N``: N joblib worker processes, one core each;
+* ``scheduler="local"`` (a `distributed.LocalCluster` started and stopped here)
+  or ``scheduler="tcp://host:port"`` (an existing Dask cluster, whose workers
+  must have rotorcontact installed).
+
+Worker processes on this machine are at most as many as its cores
+(`available_cores`): more would only share the cores and multiply the memory.
+They are started with Ctrl-C (SIGINT) blocked, so that an interrupt, which a
+terminal sends to every process of the command, reaches this process alone;
+leaving an executor's ``with`` block by an exception (KeyboardInterrupt
+included) ends its workers at once instead of letting them finish.
+
+Chunks that depend on each other (a sweep with the state carried along) are
+run in *waves*: a wave holds the chunks whose inputs are known.
+
+A `ChunkStore` writes each finished chunk to its own file in a folder beside
+the output, atomically (write, then rename). A study started again with the
+same settings finds the finished chunks there, computes only the others, and
+produces the same result.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import logging
+import os
+import shutil
+import signal
+import sys
+import tempfile
+import threading
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable, Iterator
+
+import numpy as np
+
+from .batch import BatchSettings, run_lanes
+from ..errors import ParameterError
+
+__all__ = ["ChunkTask", "ChunkStore", "available_cores", "local_workers", "make_executor", "progress_bar", "run_task",
+           "study_digest", "write_netcdf", "read_finished"]
+
+STORE_FORMAT = 2
+
+
+@dataclass(frozen=True)
+class ChunkTask:
+    """One chunk of a study: lanes of steps for the batch kernel.
+
+    Attributes
+    ----------
+    key : str
+        Name of the chunk (also its file name in a `ChunkStore`).
+    params : numpy.ndarray
+        (n_lanes, n_steps, 7) parameter rows.
+    u0, du0 : numpy.ndarray
+        (n_lanes, n_steps) complex initial states.
+    carry : bool
+        Carry the state along each lane.
+    settings : BatchSettings
+        Transient and window.
+    """
+
+    key: str
+    params: np.ndarray = field(repr=False)
+    u0: np.ndarray = field(repr=False)
+    du0: np.ndarray = field(repr=False)
+    carry: bool
+    settings: BatchSettings
+
+    @property
+    def n_items(self) -> int:
+        """Number of simulations in the chunk."""
+        return int(self.params.shape[0] * self.params.shape[1])
+
+
+def run_task(task: ChunkTask, parallel: bool = False) -> dict[str, np.ndarray]:
+    """Compute a chunk; returns its raw ``sections`` and ``summary`` arrays."""
+    sections, summary = run_lanes(task.params, task.u0, task.du0, task.settings, carry=task.carry,
+                                  parallel=parallel)
+    return {"sections": sections, "summary": summary}
+
+
+def _indexed(index: int, task: ChunkTask) -> tuple[int, dict[str, np.ndarray]]:
+    return index, run_task(task, parallel=False)
+
+
+# ---------------------------------------------------------------------------
+# executors
+# ---------------------------------------------------------------------------
+
+
+def available_cores() -> int:
+    """The number of cores this process may run on (its CPU affinity where the system reports it)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - systems without sched_getaffinity
+        return max(1, os.cpu_count() or 1)
+
+
+#: -W option that silences the loky resource tracker's reports of resources it cleans up itself.
+_TRACKER_QUIET = "ignore:resource_tracker:UserWarning"
+
+
+@contextlib.contextmanager
+def _interrupts_blocked() -> Iterator[None]:
+    """Block SIGINT in this thread while worker processes are started, so that they inherit the block.
+
+    Ctrl-C in a terminal signals every process of the command; workers that
+    inherit the block never see it, and the parent, which does, ends them.
+    The resource trackers of multiprocessing and loky unblock SIGINT when they
+    start, so they are started first. A SIGINT that arrives meanwhile is
+    delivered when the block is lifted.
+    """
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    try:
+        from joblib.externals.loky.backend import resource_tracker as loky_tracker
+    except ImportError:  # pragma: no cover - joblib is a dependency
+        pass
+    else:
+        # workers killed on an interrupt leave their registrations of the pool's semaphores behind;
+        # the tracker unlinks them when the command ends but would warn on stderr about each: it
+        # is started with those warnings off (it passes sys.warnoptions on as -W options)
+        sys.warnoptions.append(_TRACKER_QUIET)
+        try:
+            loky_tracker.ensure_running()
+        finally:
+            sys.warnoptions.remove(_TRACKER_QUIET)
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+def _kill(processes: list[Any]) -> None:
+    """Kill the given `psutil.Process` objects that still run (psutil checks the pid was not reused)."""
+    import psutil
+
+    for proc in processes:
+        with contextlib.suppress(psutil.Error):
+            proc.kill()
+    psutil.wait_procs(processes, timeout=5)
+
+
+class _Executor:
+    name = "base"
+
+    def run(self, tasks: list[ChunkTask]) -> Iterator[tuple[int, dict[str, np.ndarray]]]:  # pragma: no cover
+        raise NotImplementedError
+
+    def close(self, abort: bool = False) -> None:
+        """Release the executor's resources; with ``abort``, end running work at once."""
+
+    def __enter__(self) -> "_Executor":
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        # an exception (an interrupt above all) ends the work at once instead of waiting for it
+        self.close(abort=exc_type is not None)
+
+
+class InProcessExecutor(_Executor):
+    """Chunks one after the other in this process; the lanes of a chunk in parallel over numba's threads.
+
+    Chunks with few lanes (the chunks of a carried sweep, one lane each) are
+    stacked into one kernel call so that their lanes still run in parallel.
+    """
+
+    name = "in-process"
+
+    def __init__(self) -> None:
+        import numba
+
+        self.threads = int(numba.get_num_threads())
+
+    def run(self, tasks):
+        i = 0
+        while i < len(tasks):
+            group = [i]
+            lanes = tasks[i].params.shape[0]
+            while (
+                lanes < self.threads
+                and group[-1] + 1 < len(tasks)
+                and _stackable(tasks[group[0]], tasks[group[-1] + 1])
+            ):
+                group.append(group[-1] + 1)
+                lanes += tasks[group[-1]].params.shape[0]
+            if len(group) == 1:
+                yield i, run_task(tasks[i], parallel=True)
+            else:
+                sub = [tasks[j] for j in group]
+                stacked = ChunkTask(
+                    key="stacked",
+                    params=np.concatenate([t.params for t in sub]),
+                    u0=np.concatenate([t.u0 for t in sub]),
+                    du0=np.concatenate([t.du0 for t in sub]),
+                    carry=sub[0].carry,
+                    settings=sub[0].settings,
+                )
+                res = run_task(stacked, parallel=True)
+                start = 0
+                for j, t in zip(group, sub):
+                    n = t.params.shape[0]
+                    yield j, {name: arr[start : start + n].copy() for name, arr in res.items()}
+                    start += n
+            i = group[-1] + 1
+
+
+def _stackable(a: ChunkTask, b: ChunkTask) -> bool:
+    return a.params.shape[1] == b.params.shape[1] and a.carry == b.carry and a.settings == b.settings
+
+
+class JoblibExecutor(_Executor):
+    """Chunks in joblib worker processes (loky), one core each.
+
+    The workers are started at once, with SIGINT blocked (`_interrupts_blocked`),
+    and reused from wave to wave (loky's reusable pool). `close` with ``abort``
+    kills them.
+    """
+
+    name = "joblib"
+
+    def __init__(self, n_jobs: int) -> None:
+        from joblib import Parallel, delayed
+
+        self.n_jobs = n_jobs
+        self._running = None
+        self._parallel = None
+        try:
+            with _interrupts_blocked():
+                # not a managed backend (no ``with Parallel``): joblib then ends the workers on an
+                # exception instead of starting a fresh pool
+                self._parallel = Parallel(n_jobs=n_jobs, backend="loky", return_as="generator_unordered")
+                for _ in self._parallel(delayed(os.getpid)() for _ in range(n_jobs)):
+                    pass
+        except BaseException:
+            self.close(abort=True)
+            raise
+
+    def run(self, tasks):
+        from joblib import delayed
+
+        self._running = self._parallel(delayed(_indexed)(i, t) for i, t in enumerate(tasks))
+        yield from self._running
+        self._running = None
+
+    def close(self, abort: bool = False) -> None:
+        running, self._running = self._running, None
+        if not abort:
+            return
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if running is not None:
+                with contextlib.suppress(Exception):
+                    running.close()  # joblib aborts: the pool's workers are killed
+            # whatever joblib left running (an interrupt between two waves, or during the start)
+            with contextlib.suppress(Exception):
+                from joblib.externals.loky import reusable_executor
+
+                pool = getattr(reusable_executor, "_executor", None)
+                if pool is not None:
+                    pool.shutdown(wait=False, kill_workers=True)
+
+
+class DaskExecutor(_Executor):
+    """Chunks as tasks on a Dask distributed cluster.
+
+    Parameters
+    ----------
+    scheduler : str or distributed.Client
+        ``"local"`` starts a `distributed.LocalCluster` (``n_workers`` workers
+        of one thread, closed again by `close`); an address such as
+        ``"tcp://10.0.0.1:8786"`` connects to a running scheduler; a Client is used as it is.
+    n_workers : int or None
+        Workers of the local cluster (default: the number of cores).
+    processes : bool
+        Local workers as processes (True) or threads of this process.
+
+    Notes
+    -----
+    Local worker processes start with SIGINT blocked (`_interrupts_blocked`);
+    `close` with ``abort`` cancels the tasks, kills the local workers and
+    closes the cluster without its shutdown messages. Workers of a remote
+    cluster only lose their tasks.
+    """
+
+    name = "dask"
+
+    def __init__(self, scheduler: Any, n_workers: int | None = None, processes: bool = True) -> None:
+        try:
+            from distributed import Client, LocalCluster
+        except ImportError:  # pragma: no cover - a declared dependency
+            raise ParameterError("scheduler given but dask.distributed is not installed") from None
+        self._cluster = None
+        self._own_client = True
+        self._futures: list[Any] = []
+        self._workers: list[Any] = []
+        self.client = None
+        if isinstance(scheduler, Client):
+            self.client = scheduler
+            self._own_client = False
+        elif scheduler == "local":
+            n = n_workers or available_cores()
+            try:
+                with _interrupts_blocked():
+                    self._cluster = LocalCluster(
+                        n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None
+                    )
+                    self.client = Client(self._cluster)
+                    if processes:
+                        import psutil
+
+                        pids = self.client.run(os.getpid).values()
+                        self._workers = [psutil.Process(pid) for pid in pids if pid != os.getpid()]
+            except BaseException:
+                self.close(abort=True)
+                raise
+        elif isinstance(scheduler, str) and "://" in scheduler:
+            try:
+                self.client = Client(scheduler, timeout="20s")
+            except (OSError, TimeoutError) as exc:
+                raise ParameterError(f"scheduler = {scheduler!r}: cannot connect ({exc})") from None
+        else:
+            raise ParameterError(
+                f"scheduler = {scheduler!r} is invalid; allowed: 'local' or an address such as tcp://host:8786"
+            )
+
+    def run(self, tasks):
+        from distributed import as_completed
+
+        futures = self.client.map(_indexed, range(len(tasks)), tasks, pure=False)
+        self._futures = futures
+        for fut in as_completed(futures):
+            yield fut.result()
+        for fut in futures:
+            fut.release()
+        self._futures = []
+
+    def close(self, abort: bool = False) -> None:
+        if not abort:
+            if self.client is not None and self._own_client:
+                self.client.close()
+            if self._cluster is not None:
+                self._cluster.close()
+            return
+        # an interrupt or an error: no waiting for running tasks, and no shutdown chatter on stderr
+        quiet = logging.getLogger("distributed")
+        level = quiet.level
+        quiet.setLevel(logging.CRITICAL + 1)
+        try:
+            with warnings.catch_warnings(), contextlib.suppress(BaseException):
+                warnings.simplefilter("ignore")
+                if self.client is not None and self._futures:
+                    self.client.cancel(self._futures, force=True)
+                self._futures = []
+                _kill(self._workers)
+                if self.client is not None and self._own_client:
+                    self.client.close(timeout=5)
+                if self._cluster is not None:
+                    self._cluster.close(timeout=10)
+        finally:
+            quiet.setLevel(level)
+
+
+def local_workers(n_jobs: int) -> tuple[int, bool]:
+    """The number of local worker processes for ``n_jobs``: at most `available_cores`.
+
+    Parameters
+    ----------
+    n_jobs : int
+        Workers asked for; -1 means one per core.
+
+    Returns
+    -------
+    n : int
+        Workers to start.
+    capped : bool
+        True when ``n_jobs`` asked for more workers than there are cores.
+    """
+    cores = available_cores()
+    if n_jobs == -1:
+        return cores, False
+    return min(int(n_jobs), cores), int(n_jobs) > cores
+
+
+def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes: bool = True) -> _Executor:
+    """The executor for ``n_jobs`` / ``scheduler`` (see the module docstring).
+
+    Local workers (joblib, or ``scheduler="local"``) are at most as many as
+    the cores (`local_workers`); asking for more gives that many, with a
+    `RuntimeWarning`.
+
+    Raises
+    ------
+    ParameterError
+        On an invalid ``n_jobs`` or ``scheduler``.
+    """
+    if n_jobs is not None:
+        if isinstance(n_jobs, bool) or not isinstance(n_jobs, (int, np.integer)) or n_jobs == 0 or n_jobs < -1:
+            raise ParameterError(f"n_jobs = {n_jobs!r} is invalid; allowed: an integer >= 1, or -1 for all cores")
+        local = scheduler is None or (isinstance(scheduler, str) and scheduler == "local")
+        if local:
+            n, capped = local_workers(int(n_jobs))
+            if capped:
+                warnings.warn(
+                    f"n_jobs = {int(n_jobs)} is more than the {n} cores available; using {n} workers",
+                    RuntimeWarning,
+                    stacklevel=2,
+                )
+            n_jobs = n
+        else:
+            n_jobs = int(n_jobs) if n_jobs > 0 else None
+    if scheduler is not None:
+        return DaskExecutor(scheduler, n_workers=n_jobs, processes=processes)
+    if n_jobs is None:
+        return InProcessExecutor()
+    return JoblibExecutor(n_jobs)
+
+
+# ---------------------------------------------------------------------------
+# chunk files
+# ---------------------------------------------------------------------------
+
+
+def _canonical(obj: Any) -> Any:
+    """JSON-ready data with floats written exactly (hex), for comparing settings."""
+    if isinstance(obj, dict):
+        return {str(k): _canonical(v) for k, v in sorted(obj.items())}
+    if isinstance(obj, (list, tuple)):
+        return [_canonical(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return [_canonical(v) for v in obj.tolist()]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj).hex()
+    if isinstance(obj, (complex, np.complexfloating)):
+        return [float(obj.real).hex(), float(obj.imag).hex()]
+    if obj is None or isinstance(obj, str):
+        return obj
+    return str(obj)
+
+
+def study_digest(manifest: dict[str, Any]) -> str:
+    """A fingerprint of everything that defines a study (its ``manifest``), exact in every float."""
+    text = json.dumps({"format": STORE_FORMAT, "study": _canonical(manifest)}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+class ChunkStore:
+    """Finished chunks of one study, one ``.npz`` file each, in a folder.
+
+    Parameters
+    ----------
+    folder : path
+        The folder (created if missing).
+    manifest : dict
+        Everything that defines the study. A folder holding chunks of a study
+        with another manifest is refused rather than mixed in.
+    resume : bool
+        Reuse the chunks found in the folder (default); False deletes them first.
+    layout : dict, optional
+        How the study is cut into chunks (for example ``{"chunk_size": 20}``).
+        It decides which files are written, not the results, so a folder
+        written with another layout is resumed with its own: `layout` is then
+        the layout found in the folder, and `layout_changed` is True.
+
+    Attributes
+    ----------
+    digest : str
+        `study_digest` of the manifest.
+    layout : dict
+        The layout to use.
+    layout_changed : bool
+        The folder's layout replaced the one asked for.
+
+    Raises
+    ------
+    ParameterError
+        If the folder holds chunks of a different study.
+    """
+
+    def __init__(self, folder: str | Path, manifest: dict[str, Any], resume: bool = True,
+                 layout: dict[str, int] | None = None) -> None:
+        self.folder = Path(folder)
+        self.layout = dict(layout or {})
+        self.layout_changed = False
+        study = {"format": STORE_FORMAT, "study": _canonical(manifest)}
+        self.digest = study_digest(manifest)
+        path = self.folder / "manifest.json"
+        if self.folder.exists() and not resume:
+            shutil.rmtree(self.folder)
+        if path.exists():
+            try:
+                old = json.loads(path.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                old = None
+            same = isinstance(old, dict) and {k: old.get(k) for k in study} == json.loads(json.dumps(study))
+            if not same and not any(self.folder.glob("*.npz")):
+                # a study that stopped before its first chunk (for example, no cluster to connect to)
+                # left nothing to resume: start this one afresh
+                self._write_manifest(path, study)
+            elif not same:
+                raise ParameterError(
+                    f"{self.folder} holds partial results of a different study; delete it, "
+                    "start afresh (resume=False, --no-resume) or write to another file"
+                )
+            elif isinstance(old.get("layout"), dict) and old["layout"] != self.layout:
+                if any(self.folder.glob("*.npz")):
+                    self.layout = dict(old["layout"])  # resume the chunks as they were cut
+                    self.layout_changed = True
+                else:
+                    self._write_manifest(path, study)
+        else:
+            self.folder.mkdir(parents=True, exist_ok=True)
+            self._write_manifest(path, study)
+
+    def _write_manifest(self, path: Path, study: dict[str, Any]) -> None:
+        _atomic_write_text(path, json.dumps({**study, "layout": self.layout}, sort_keys=True, indent=1))
+
+    def _file(self, key: str) -> Path:
+        return self.folder / f"{key}.npz"
+
+    def done(self, key: str) -> bool:
+        """True when the chunk ``key`` is finished."""
+        return self._file(key).exists()
+
+    def save(self, key: str, arrays: dict[str, np.ndarray]) -> None:
+        """Write a finished chunk (atomically)."""
+        fd, tmp = tempfile.mkstemp(prefix=f".{key}.", suffix=".npz.part", dir=self.folder)
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                np.savez(fh, **arrays)
+                fh.flush()
+                os.fsync(fh.fileno())
+            _umask_permissions(tmp)
+            os.replace(tmp, self._file(key))
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+
+    def load(self, key: str) -> dict[str, np.ndarray]:
+        """Read a finished chunk."""
+        with np.load(self._file(key)) as data:
+            return {name: data[name] for name in data.files}
+
+    def count(self) -> int:
+        """Number of finished chunks in the folder."""
+        return sum(1 for _ in self.folder.glob("*.npz"))
+
+    def remove(self) -> None:
+        """Delete the folder."""
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+def _umask_permissions(path: str | Path) -> None:
+    """Give a file made by `tempfile.mkstemp` (mode 0600) the permissions of an ordinary new file (0666 & ~umask)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    os.chmod(path, 0o666 & ~mask)
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    _umask_permissions(tmp)
+    os.replace(tmp, path)
+
+
+def chunk_folder(out: str | Path) -> Path:
+    """The folder of chunk files that goes with the output file ``out`` (``out`` + ``.chunks``)."""
+    out = Path(out)
+    return out.with_name(out.name + ".chunks")
+
+
+def write_netcdf(ds, out: str | Path) -> Path:
+    """Write an xarray Dataset to NetCDF (netCDF3 64-bit offset through scipy), atomically.
+
+    The folder must exist (`ParameterError` otherwise). The file gets the
+    permissions of an ordinary new file (0666 less the umask, usually 0644).
+    """
+    out = check_output_path(out)
+    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent)
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, engine="scipy", format="NETCDF3_64BIT")
+        _umask_permissions(tmp)
+        os.replace(tmp, out)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return out
+
+
+def read_finished(out: str | Path, digest: str):
+    """The dataset in the NetCDF file ``out`` when it is the finished result of the study ``digest``.
+
+    A study writes its `study_digest` into its file as the attribute
+    ``study_digest``; running the same study again can then return the file
+    instead of computing it afresh.
+
+    Returns
+    -------
+    xarray.Dataset or None
+        None when the file is missing, unreadable or of another study.
+    """
+    out = Path(out)
+    if not out.is_file():
+        return None
+    import xarray as xr
+
+    try:
+        ds = xr.load_dataset(out, engine="scipy")
+    except (OSError, ValueError, TypeError):
+        return None
+    return ds if ds.attrs.get("study_digest") == digest else None
+
+
+def check_output_path(out: str | Path) -> Path:
+    """Check that ``out`` is a ``.nc`` path in an existing folder.
+
+    Raises
+    ------
+    ParameterError
+        For another suffix, a folder in its place, or a folder that is missing
+        or is a file (folders are not created: make them first).
+    """
+    out = Path(out)
+    if out.suffix.lower() != ".nc":
+        raise ParameterError(f"output file {str(out)!r} must end in .nc (NetCDF)")
+    if out.exists() and out.is_dir():
+        raise ParameterError(f"output file {str(out)!r} is a folder")
+    check_output_folder(out)
+    return out
+
+
+def check_output_folder(path: str | Path) -> None:
+    """Check that the folder of the output file ``path`` exists (`ParameterError` otherwise)."""
+    parent = Path(path).parent
+    if not parent.exists():
+        raise ParameterError(f"the folder {str(parent)!r} of the output file {str(path)!r} does not exist; "
+                             "create it first")
+    if not parent.is_dir():
+        raise ParameterError(f"output folder {str(parent)!r} is not a folder")
+
+
+# ---------------------------------------------------------------------------
+# progress
+# ---------------------------------------------------------------------------
+
+
+def progress_bar(total: int, desc: str, enabled: bool, unit: str = "sim"):
+    """A tqdm progress bar on stderr (a silent one when not ``enabled``)."""
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, disable=not enabled, dynamic_ncols=True,
+                mininterval=0.5, smoothing=0.1)
+
+
+def run_waves(
+    executor: _Executor,
+    waves: Iterable[list[ChunkTask]],
+    store: ChunkStore | None,
+    bar,
+    sink: dict[str, dict[str, np.ndarray]],
+) -> int:
+    """Run waves of chunks, skipping finished ones; results go to ``store`` (if any) and ``sink``.
+
+    ``waves`` may be a generator that builds each wave from ``sink`` (the
+    chunks of the previous waves). Returns the number of chunks computed.
+    """
+    computed = 0
+    for wave in waves:
+        todo = []
+        for task in wave:
+            if store is not None and store.done(task.key):
+                sink[task.key] = store.load(task.key)
+                bar.update(task.n_items)
+            else:
+                todo.append(task)
+        for index, result in executor.run(todo):
+            task = todo[index]
+            if store is not None:
+                store.save(task.key, result)
+            sink[task.key] = result
+            computed += 1
+            bar.update(task.n_items)
+    return computed

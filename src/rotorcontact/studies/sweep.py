@@ -1,0 +1,653 @@
+"""Brute-force orbit diagrams: the impact section against a parameter, with hysteresis.
+
+For each value of the swept parameter the rotor is simulated through a
+transient and a recorded window (`rotorcontact.studies.batch`); the impacts of the
+window (angle theta, rdot- and thetadot- just before each impact) make the
+diagram. Sweeping *up* runs the values in increasing order and *down* in
+decreasing order, each value starting from the state where the previous one
+ended, so that coexisting attractors show as hysteresis between the two
+directions. Mode ``"independent"`` starts every value afresh from the start
+state (taken at that value) instead.
+
+The work is cut into chunks of consecutive values (`rotorcontact.studies.execution`),
+run in this process, by joblib or on a Dask cluster, with identical results.
+With an output file every finished chunk is written at once to a folder beside
+it (``FILE.nc.chunks``); an interrupted sweep started again with the same
+arguments continues from the chunks found there, and the folder is merged
+into the NetCDF file at the end.
+
+The result is an xarray Dataset: the sections (``theta``, ``rdot``,
+``thetadot``, ``t``) over (direction, parameter value, impact) and, per
+direction and value, the regime of the window, the impacts per period and
+period of periodic motion, counts, contact time and the final state. The
+model parameters, the settings and the units are attributes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from .. import __version__
+from .batch import (
+    _S_DU_IM,
+    _S_DU_RE,
+    _S_U_IM,
+    _S_U_RE,
+    FINAL_KIND_NAMES,
+    PARAMETER_ORDER,
+    REGIME_NAMES,
+    BatchResult,
+    BatchSettings,
+    parameter_array,
+)
+from ..errors import ParameterError
+from ..model.params import Machine, Parameters, check_finite, check_velocity
+from .execution import (
+    ChunkStore,
+    ChunkTask,
+    check_output_path,
+    chunk_folder,
+    make_executor,
+    progress_bar,
+    read_finished,
+    run_waves,
+    study_digest,
+    write_netcdf,
+)
+from ..simulation.simulator import STATUS_NAMES
+
+__all__ = [
+    "SWEEP_PARAMETERS",
+    "MODES",
+    "SweepResult",
+    "sweep",
+    "sweep_values",
+    "start_state",
+    "one_impact_overlay",
+    "continued_branches",
+    "overlay_for",
+    "PARAMETER_UNITS",
+]
+
+#: Parameters a sweep may vary.
+SWEEP_PARAMETERS = PARAMETER_ORDER
+#: Sweep modes and the directions they run.
+MODES = {"both": ("up", "down"), "up": ("up",), "down": ("down",), "independent": ("independent",)}
+#: Units of the dimensionless parameters.
+PARAMETER_UNITS = {
+    "gamma": "1",
+    "omega": "1",
+    "rho": "1",
+    "mu": "1",
+    "d": "1",
+    "phi": "rad",
+    "r_ratio": "1",
+}
+PARAMETER_LONG_NAMES = {
+    "gamma": "damping c / (m Omega)",
+    "omega": "stiffness ratio sqrt(k / (m Omega^2))",
+    "rho": "eccentricity over clearance e_c / c_r",
+    "mu": "Coulomb friction coefficient",
+    "d": "Newton restitution coefficient",
+    "phi": "unbalance phase",
+    "r_ratio": "rotor radius over clearance R / c_r",
+}
+DEFAULT_CHUNK_CARRY = 20
+DEFAULT_CHUNK_INDEPENDENT = 64
+
+#: Units of an angular velocity in dimensionless time (thetadot): a rate, not an angle.
+RATE_UNITS = dict(units="1", description="radians per unit of dimensionless time t = Omega tau")
+
+SECTION_ATTRS = {
+    "t": dict(long_name="time of the impact since the start of the recorded window", units="1",
+              description="dimensionless time t = Omega tau"),
+    "theta": dict(long_name="impact angle in the co-rotating frame", units="rad"),
+    "rdot": dict(long_name="radial velocity just before the impact", units="1",
+                 description="clearances per unit of dimensionless time"),
+    "thetadot": dict(long_name="angular velocity just before the impact (co-rotating)", **RATE_UNITS),
+}
+
+
+#: Note on the regime names stored with the flags (files of earlier versions used the former names).
+REGIME_COMMENT = "forward-rub and backward-whirl were formerly named rub and rolling"
+
+
+def _flag_attrs(names: Sequence[str], values: Sequence[int] | None = None, **extra: str) -> dict[str, Any]:
+    vals = list(range(len(names))) if values is None else list(values)
+    return dict(flag_values=np.asarray(vals, dtype=np.int32), flag_meanings=" ".join(names), **extra)
+
+
+SUMMARY_ATTRS: dict[str, dict[str, Any]] = {
+    "regime": _flag_attrs(REGIME_NAMES, long_name="regime of the recorded window", comment=REGIME_COMMENT),
+    "impacts_per_period": dict(long_name="impacts per period of a periodic impacting window (0: none)", units="1"),
+    "period": dict(long_name="period of a periodic impacting window", units="1"),
+    "n_impacts": dict(long_name="impacts in the recorded window", units="1"),
+    "n_contacts": dict(long_name="contact phases in the recorded window", units="1"),
+    "transient_impacts": dict(long_name="impacts in the transient", units="1"),
+    "contact_time": dict(long_name="time in continuous contact during the recorded window", units="1"),
+    "final_kind": _flag_attrs(list(FINAL_KIND_NAMES.values()), list(FINAL_KIND_NAMES.keys()),
+                              long_name="motion at the end of the window"),
+    "status": _flag_attrs(list(STATUS_NAMES.values()), list(STATUS_NAMES.keys()),
+                          long_name="how the recorded window ended"),
+    "transient_status": _flag_attrs(list(STATUS_NAMES.values()), list(STATUS_NAMES.keys()),
+                                    long_name="how the transient ended"),
+    "t_transient": dict(long_name="duration of the transient", units="1"),
+    "t_window": dict(long_name="duration of the recorded window", units="1"),
+    "final_u_re": dict(long_name="real part of U at the end of the window", units="1"),
+    "final_u_im": dict(long_name="imaginary part of U at the end of the window", units="1"),
+    "final_du_re": dict(long_name="real part of U' at the end of the window", units="1"),
+    "final_du_im": dict(long_name="imaginary part of U' at the end of the window", units="1"),
+}
+_INT_FIELDS = ("regime", "impacts_per_period", "n_impacts", "n_contacts", "transient_impacts", "final_kind", "status",
+               "transient_status")
+
+
+def sweep_values(start: float, stop: float, n: int) -> np.ndarray:
+    """``n`` equally spaced values from ``start`` to ``stop`` (both included)."""
+    start = check_finite("from", start)
+    stop = check_finite("to", stop)
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ParameterError(f"n = {n!r} is invalid; allowed: an integer >= 1")
+    if n > 1 and not start < stop:
+        raise ParameterError(f"from = {start!r} must be smaller than to = {stop!r}")
+    return np.linspace(start, stop, int(n))
+
+
+def _check_values(param: str, values: Any) -> np.ndarray:
+    try:
+        vals = np.asarray(values, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ParameterError(f"values = {values!r} are not numbers") from None
+    if vals.size == 0:
+        raise ParameterError("values is empty; give at least one parameter value")
+    if not np.all(np.isfinite(vals)):
+        raise ParameterError(f"values of {param} must be finite")
+    if vals.size > 1 and not np.all(np.diff(vals) > 0):
+        raise ParameterError(f"values of {param} must increase strictly (the direction is set by mode)")
+    return vals
+
+
+def start_state(params: Parameters, start: str) -> tuple[complex, complex]:
+    """Initial state named by ``start``.
+
+    Parameters
+    ----------
+    params : Parameters
+        Parameters at which the state is taken.
+    start : str
+        ``"rest"`` (U = U' = 0, the rotor centred and at rest), ``"equilibrium"``
+        (the regular equilibrium x_R, U = k, U' = 0; it must be admissible) or
+        the label of a one-impact orbit such as ``"B1,d"`` (the state just
+        after its impact; it must exist and be admissible).
+
+    Raises
+    ------
+    ParameterError
+        If the state does not exist at these parameters.
+    """
+    if start == "rest":
+        return 0j, 0j
+    if start == "equilibrium":
+        k = params.k
+        if abs(k) >= 1.0:
+            raise ParameterError(
+                "start = 'equilibrium': the regular equilibrium is virtual at these parameters "
+                f"(|k| = {abs(k):.6g} >= 1)"
+            )
+        return complex(k), 0j
+    from ..maps.impact_map import one_impact_orbits
+
+    orbits = [o for o in one_impact_orbits(params) if o.admissible]
+    for o in orbits:
+        if o.label == start:
+            u0, du0 = o.initial_condition()
+            return complex(u0), complex(du0)
+    avail = ", ".join(o.label for o in orbits) or "none"
+    raise ParameterError(
+        f"start = {start!r} is not available at {params}; allowed: 'rest', 'equilibrium' or an admissible "
+        f"one-impact orbit ({avail})"
+    )
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """A brute-force diagram.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        The diagram (see the module docstring).
+    param : str
+        The swept parameter.
+    path : pathlib.Path or None
+        The NetCDF file written, if any.
+    chunks_computed, chunks_reused : int
+        Chunks computed by this call, and finished chunks found from an
+        earlier, interrupted call (or all chunks, when `reused_file`).
+    impacts_simulated : int
+        Impacts computed (transients and windows, including reused chunks).
+    reused_file : bool
+        The output file already held this finished study and was returned as it is.
+    """
+
+    dataset: Any = field(repr=False)
+    param: str
+    path: Path | None
+    chunks_computed: int
+    chunks_reused: int
+    impacts_simulated: int
+    reused_file: bool = False
+
+    def regimes(self, direction: str) -> list[str]:
+        """The regime at each value for one direction, as strings."""
+        codes = self.dataset["regime"].sel(direction=direction).values
+        return [REGIME_NAMES[int(c)] for c in codes]
+
+
+def _lane_orders(directions: tuple[str, ...], n: int) -> list[np.ndarray]:
+    return [np.arange(n)[::-1] if d == "down" else np.arange(n) for d in directions]
+
+
+def sweep(
+    params: Parameters,
+    param: str,
+    values: Any,
+    *,
+    mode: str = "both",
+    start: str = "rest",
+    u0: complex | None = None,
+    du0: complex | None = None,
+    settings: BatchSettings | None = None,
+    n_transient: int = 4000,
+    n_record: int = 1000,
+    t_transient: float | None = None,
+    t_record: float | None = None,
+    chunk_size: int | None = None,
+    n_jobs: int | None = None,
+    scheduler: Any = None,
+    processes: bool = True,
+    out: str | Path | None = None,
+    resume: bool = True,
+    keep_chunks: bool = False,
+    progress: bool = True,
+    machine: Machine | None = None,
+) -> SweepResult:
+    """Brute-force orbit diagram of the impact section against one parameter.
+
+    Parameters
+    ----------
+    params : Parameters
+        The other parameters (the swept one is replaced by each value).
+    param : str
+        The swept parameter, one of `SWEEP_PARAMETERS` (gamma, omega, rho, mu, d, phi, r_ratio).
+    values : array_like
+        Strictly increasing values (see `sweep_values`).
+    mode : {"both", "up", "down", "independent"}
+        Directions with the state carried along from value to value, or
+        every value from the start state.
+    start : str
+        Initial state at the first value of each direction (`start_state`):
+        ``"rest"``, ``"equilibrium"`` or an orbit label such as ``"B1,d"``.
+    u0, du0 : complex, optional
+        An explicit initial state instead of ``start``.
+    settings : BatchSettings, optional
+        Transient and window; otherwise built from ``n_transient``,
+        ``n_record``, ``t_transient`` and ``t_record`` (defaults: 4000 and
+        1000 events, time limits 5 per event).
+    chunk_size : int, optional
+        Values per chunk (default 20 with the state carried, 64 otherwise).
+        It sets where files are written, not the results; an interrupted run
+        is resumed with the chunk size it was started with.
+    n_jobs : int, optional
+        Worker processes for joblib; None runs in this process over all
+        cores; -1 uses one worker per core.
+    scheduler : str or distributed.Client, optional
+        Run on Dask: ``"local"`` (a LocalCluster of ``n_jobs`` workers, default
+        one per core) or a scheduler address ``"tcp://host:port"``.
+    processes : bool
+        With ``scheduler="local"``: workers as processes (True) or threads.
+    out : path, optional
+        NetCDF file to write; chunks go to ``out + ".chunks"`` meanwhile.
+    resume : bool
+        Continue from the chunks of an interrupted run with the same
+        arguments, and return ``out`` as it is when it already holds this
+        finished sweep (default); False computes afresh.
+    keep_chunks : bool
+        Keep the chunk folder after the merge.
+    progress : bool
+        Show a progress bar on stderr.
+    machine : Machine, optional
+        The machine the parameters come from; its SI values and units are
+        stored as attributes too.
+
+    Returns
+    -------
+    SweepResult
+
+    Raises
+    ------
+    ParameterError
+        On invalid input.
+    """
+    if not isinstance(params, Parameters):
+        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    if param not in SWEEP_PARAMETERS:
+        raise ParameterError(f"param = {param!r} is invalid; allowed: {', '.join(SWEEP_PARAMETERS)}")
+    if mode not in MODES:
+        raise ParameterError(f"mode = {mode!r} is invalid; allowed: {', '.join(MODES)}")
+    vals = _check_values(param, values)
+    if settings is None:
+        settings = BatchSettings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
+                                 t_record=t_record)
+    carry = mode != "independent"
+    if chunk_size is None:
+        chunk_size = DEFAULT_CHUNK_CARRY if carry else DEFAULT_CHUNK_INDEPENDENT
+    if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1:
+        raise ParameterError(f"chunk_size = {chunk_size!r} is invalid; allowed: an integer >= 1")
+    chunk_size = int(chunk_size)
+    n = vals.size
+    rows = parameter_array([params.replace(**{param: float(v)}) for v in vals])  # validates every value
+    directions = MODES[mode]
+    orders = _lane_orders(directions, n)
+
+    # initial states: explicit, or named, at the first value of each direction
+    if u0 is not None or du0 is not None:
+        from ..simulation.simulator import _as_complex
+
+        z0 = _as_complex("u0", 0j if u0 is None else u0)
+        dz0 = check_velocity("du0", _as_complex("du0", 0j if du0 is None else du0))
+        if abs(z0) > 1.0 + 1e-12:
+            raise ParameterError(f"u0 = {z0.real:g},{z0.imag:g} lies outside the clearance; allowed: |u0| <= 1")
+        starts = [(z0, dz0)] * (len(directions) if carry else n)
+        start_name = "explicit"
+    else:
+        if not isinstance(start, str):
+            raise ParameterError(f"start = {start!r} is invalid; allowed: 'rest', 'equilibrium' or an orbit label")
+        if carry:
+            starts = [start_state(params.replace(**{param: float(vals[o[0]])}), start) for o in orders]
+        elif start == "rest":
+            starts = [(0j, 0j)] * n
+        else:
+            starts = [start_state(params.replace(**{param: float(v)}), start) for v in vals]
+        start_name = start
+
+    manifest = {
+        "study": "sweep",
+        "param": param,
+        "values": vals,
+        "params": params.as_dict(),
+        "mode": mode,
+        "starts": [list(s) for s in starts],
+        "settings": settings.as_dict(),
+    }
+    # the finished file also records how the start was given and the machine, and depends on the version
+    digest = study_digest({**manifest, "start": start_name, "version": __version__,
+                           "machine": None if machine is None else machine.as_dict()})
+    store = None
+    reused_before = 0
+    if out is not None:
+        out = check_output_path(out)
+        finished = read_finished(out, digest) if resume else None
+        if finished is not None:
+            n_chunks = math.ceil(n / int(finished.attrs["chunk_size"])) * len(directions)
+            return SweepResult(dataset=finished, param=param, path=out, chunks_computed=0, chunks_reused=n_chunks,
+                               impacts_simulated=int(finished["n_impacts"].sum() + finished["transient_impacts"].sum()),
+                               reused_file=True)
+        # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
+        store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
+        chunk_size = int(store.layout["chunk_size"])
+
+    # chunks: (direction, block of consecutive steps)
+    n_blocks = math.ceil(n / chunk_size)
+    keys = [[f"{d}-{b:06d}" for b in range(n_blocks)] for d in directions]
+
+    def block(b: int) -> slice:
+        return slice(b * chunk_size, min(n, (b + 1) * chunk_size))
+
+    sink: dict[str, dict[str, np.ndarray]] = {}
+
+    def waves():
+        if not carry:
+            tasks = []
+            z0 = np.array([s[0] for s in starts], dtype=complex)
+            dz0 = np.array([s[1] for s in starts], dtype=complex)
+            for b in range(n_blocks):
+                steps = orders[0][block(b)]
+                m = steps.size
+                tasks.append(ChunkTask(
+                    key=keys[0][b],
+                    params=rows[steps].reshape(m, 1, -1),
+                    u0=z0[steps].reshape(m, 1),
+                    du0=dz0[steps].reshape(m, 1),
+                    carry=False,
+                    settings=settings,
+                ))
+            yield tasks
+            return
+        state = list(starts)
+        for b in range(n_blocks):
+            tasks = []
+            for li, d in enumerate(directions):
+                if b > 0:
+                    prev = sink[keys[li][b - 1]]["summary"]
+                    last = prev[0, -1]
+                    state[li] = (complex(last[_S_U_RE], last[_S_U_IM]), complex(last[_S_DU_RE], last[_S_DU_IM]))
+                steps = orders[li][block(b)]
+                m = steps.size
+                z0, dz0 = state[li]
+                tasks.append(ChunkTask(
+                    key=keys[li][b],
+                    params=rows[steps].reshape(1, m, -1),
+                    u0=np.full((1, m), z0, dtype=complex),
+                    du0=np.full((1, m), dz0, dtype=complex),
+                    carry=True,
+                    settings=settings,
+                ))
+            yield tasks
+
+    if store is not None:
+        reused_before = sum(store.done(k) for ks in keys for k in ks)
+    total = n * len(directions)
+    with make_executor(n_jobs, scheduler, processes=processes) as executor, \
+            progress_bar(total, f"sweep {param}", progress) as bar:
+        computed = run_waves(executor, waves(), store, bar, sink)
+
+    # assemble (from the chunk files when there are any, so a resumed run is identical)
+    keep = settings.keep
+    sections = np.full((len(directions), n, keep, 4), np.nan)
+    summary = np.empty((len(directions), n, sink[keys[0][0]]["summary"].shape[-1]))
+    for li in range(len(directions)):
+        for b in range(n_blocks):
+            res = store.load(keys[li][b]) if store is not None else sink[keys[li][b]]
+            steps = orders[li][block(b)]
+            if carry:
+                sections[li, steps] = res["sections"][0]
+                summary[li, steps] = res["summary"][0]
+            else:
+                sections[li, steps] = res["sections"][:, 0]
+                summary[li, steps] = res["summary"][:, 0]
+    result = BatchResult.from_arrays(sections, summary, settings)
+    ds = _dataset(result, params, param, vals, directions, mode, start_name, starts, chunk_size, machine)
+    ds.attrs["study_digest"] = digest
+    if out is not None:
+        write_netcdf(ds, out)
+        if not keep_chunks:
+            store.remove()
+    return SweepResult(
+        dataset=ds,
+        param=param,
+        path=out,
+        chunks_computed=computed,
+        chunks_reused=reused_before,
+        impacts_simulated=result.impacts_simulated,
+    )
+
+
+def parameter_attrs(params: Parameters, skip: str | None = None, machine: Machine | None = None) -> dict[str, Any]:
+    """Attributes holding the model parameters and their units, and the machine in SI units if given."""
+    attrs: dict[str, Any] = {}
+    for name in PARAMETER_ORDER:
+        if name == skip:
+            continue
+        attrs[name] = float(getattr(params, name))
+        attrs[f"{name}_units"] = PARAMETER_UNITS[name]
+    if machine is not None:
+        units = machine.units()
+        for name, value in machine.as_dict().items():
+            attrs[f"machine_{name}"] = float(value)
+            attrs[f"machine_{name}_units"] = units[name]
+    return attrs
+
+
+def settings_attrs(settings: BatchSettings) -> dict[str, Any]:
+    """Attributes holding the transient and window settings."""
+    s = settings.as_dict()
+    return {
+        "n_transient": np.int32(s["n_transient"]),
+        "n_record": np.int32(s["n_record"]),
+        "t_transient": float(s["t_transient"]),
+        "t_record": float(s["t_record"]),
+        "n_keep": np.int32(s["n_keep"]),
+        "settle": np.int32(s["settle"]),
+        "transient_definition": "events (flights and contact phases) or time, whichever ends first",
+        **{name: float(value) for name, value in settings.chatter},
+    }
+
+
+def summary_variables(result: BatchResult, dims: tuple[str, ...]) -> dict[str, Any]:
+    """Per-item variables of a batch result for an xarray Dataset (netCDF3 types)."""
+    out: dict[str, Any] = {}
+    for name in ("regime", "impacts_per_period", "period", "n_impacts", "n_contacts", "transient_impacts",
+                 "contact_time", "final_kind", "status", "transient_status", "t_transient", "t_window"):
+        arr = getattr(result, name)
+        arr = arr.astype(np.int32) if name in _INT_FIELDS else arr.astype(float)
+        out[name] = (dims, arr, SUMMARY_ATTRS[name])
+    out["final_u_re"] = (dims, result.final_u.real.copy(), SUMMARY_ATTRS["final_u_re"])
+    out["final_u_im"] = (dims, result.final_u.imag.copy(), SUMMARY_ATTRS["final_u_im"])
+    out["final_du_re"] = (dims, result.final_du.real.copy(), SUMMARY_ATTRS["final_du_re"])
+    out["final_du_im"] = (dims, result.final_du.imag.copy(), SUMMARY_ATTRS["final_du_im"])
+    return out
+
+
+def _dataset(result: BatchResult, params: Parameters, param: str, vals: np.ndarray, directions, mode: str,
+             start_name: str, starts, chunk_size: int, machine: Machine | None = None):
+    import xarray as xr
+
+    dims = ("direction", param)
+    sec_dims = dims + ("impact",)
+    data = {name: (sec_dims, getattr(result, name), SECTION_ATTRS[name]) for name in ("t", "theta", "rdot", "thetadot")}
+    data.update(summary_variables(result, dims))
+    coords = {
+        "direction": ("direction", np.array(directions, dtype=str)),
+        param: (param, vals, dict(long_name=PARAMETER_LONG_NAMES[param], units=PARAMETER_UNITS[param])),
+        "impact": ("impact", np.arange(result.t.shape[-1], dtype=np.int32),
+                   dict(long_name="index of the impact in the kept part of the window")),
+    }
+    attrs: dict[str, Any] = {
+        "title": f"brute-force orbit diagram against {param}",
+        "source": f"rotorcontact {__version__}",
+        "swept_parameter": param,
+        "sweep_mode": mode,
+        "start_state": start_name,
+        "start_u0_re": np.array([s[0].real for s in starts]),
+        "start_u0_im": np.array([s[0].imag for s in starts]),
+        "start_du0_re": np.array([s[1].real for s in starts]),
+        "start_du0_im": np.array([s[1].imag for s in starts]),
+        "chunk_size": np.int32(chunk_size),
+    }
+    attrs.update(parameter_attrs(params, skip=param, machine=machine))
+    attrs.update(settings_attrs(result.settings))
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def one_impact_overlay(params: Parameters, param: str, values: Any, *, max_values: int = 200, t_max: float = 12.0):
+    """The one-impact fixed points B_n,m at parameter values, for overlaying on a diagram.
+
+    Every fixed point of the impact map (`rotorcontact.maps.impact_map.one_impact_orbits`)
+    is computed at up to ``max_values`` of the values (evenly subsampled).
+
+    Returns
+    -------
+    xarray.Dataset
+        Over (value, orbit label): ``theta``, ``rdot``, ``thetadot``, ``T``
+        (NaN where the orbit does not exist), and ``admissible``, ``stable``,
+        ``plausible`` (0/1).
+    """
+    import xarray as xr
+
+    from ..maps.impact_map import one_impact_orbits
+
+    if param not in SWEEP_PARAMETERS:
+        raise ParameterError(f"param = {param!r} is invalid; allowed: {', '.join(SWEEP_PARAMETERS)}")
+    vals = _check_values(param, values)
+    if vals.size > max_values:
+        vals = vals[np.unique(np.linspace(0, vals.size - 1, max_values).round().astype(int))]
+    found: dict[str, dict[int, Any]] = {}
+    for i, v in enumerate(vals):
+        for o in one_impact_orbits(params.replace(**{param: float(v)}), t_max=t_max):
+            found.setdefault(o.label, {})[i] = o
+    labels = sorted(found, key=lambda s: (int(s[1:].split(",")[0]), s.split(",")[1]))
+    shape = (vals.size, len(labels))
+    arrays = {name: np.full(shape, np.nan) for name in ("theta", "rdot", "thetadot", "T")}
+    flags = {name: np.zeros(shape, dtype=np.int8) for name in ("admissible", "stable", "plausible")}
+    for j, lab in enumerate(labels):
+        for i, o in found[lab].items():
+            arrays["theta"][i, j] = o.theta
+            arrays["rdot"][i, j] = o.rdot
+            arrays["thetadot"][i, j] = o.thetadot
+            arrays["T"][i, j] = o.T
+            flags["admissible"][i, j] = o.admissible
+            flags["stable"][i, j] = bool(o.stable)
+            flags["plausible"][i, j] = o.plausible
+    data = {k: ((param, "orbit"), v) for k, v in {**arrays, **flags}.items()}
+    return xr.Dataset(data, coords={param: vals, "orbit": np.array(labels, dtype=str)},
+                      attrs={"source": "one-impact fixed points of the impact map at each value"})
+
+
+#: Parameters along which one-impact branches can be continued.
+BRANCH_PARAMETERS = ("gamma", "omega", "rho", "mu", "d")
+
+
+def continued_branches(params: Parameters, param: str, values: Any, *, t_max: float = 12.0):
+    """The continued branches of one-impact orbits over the range of ``values``, for overlaying.
+
+    Uses `rotorcontact.continuation.branches.orbit_branches` (pseudo-arclength continuation
+    with located bifurcations) from the first to the last value.
+
+    Returns
+    -------
+    rotorcontact.continuation.branches.OrbitBranches
+
+    Raises
+    ------
+    ParameterError
+        If ``param`` cannot be continued (phi, r_ratio) or the range is a single value.
+    """
+    if param not in BRANCH_PARAMETERS:
+        raise ParameterError(f"param = {param!r} cannot be continued; allowed: {', '.join(BRANCH_PARAMETERS)}")
+    vals = _check_values(param, values)
+    if vals.size < 2:
+        raise ParameterError("continued branches need a range of at least two values")
+    from ..continuation.branches import orbit_branches
+
+    return orbit_branches(params, param, float(vals[0]), float(vals[-1]), t_max=t_max)
+
+
+def overlay_for(params: Parameters, param: str, values: Any):
+    """The best overlay available: continued branches where possible, else the fixed points at the values.
+
+    Returns
+    -------
+    overlay : OrbitBranches or xarray.Dataset
+    kind : str
+        ``"branches"`` or ``"fixed-points"``.
+    """
+    try:
+        return continued_branches(params, param, values), "branches"
+    except (ImportError, ParameterError):
+        return one_impact_overlay(params, param, values), "fixed-points"

@@ -1,0 +1,306 @@
+"""Branches of one-impact orbits and their events (MODEL.md §5).
+
+The reference parameters are those of the reference machine (omega =
+0.760043..., rho = 3/7, mu = 0.15, d = 0.95, phi = 0.21, R/c_r = 400/7); one
+test repeats the two headline numbers at omega = 0.76 exactly. Each event is
+checked by a computation that does not use the continuation: the fold by
+solving F1 = F1' = 0 with scipy, the NSFH by the closed form of gamma*, the
+grazing by the extrema of r along the flight, the period doubling by the
+eigenvalues of the simulator's impact-map Jacobian, the coalescence by the
+discriminant of the quadratic for rdot.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import fsolve
+
+from rotorcontact import ParameterError, Parameters, simulate
+from rotorcontact.maps import impact_map as im
+from rotorcontact.continuation.branches import EVENT_TYPES, orbit_branches
+from rotorcontact.analysis.equilibria import boundary_gamma
+
+REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
+
+
+def P(**kw) -> Parameters:
+    return Parameters(**{**REF, **kw})
+
+
+@pytest.fixture(scope="module")
+def ref_branches():
+    return orbit_branches(P(gamma=0.1), "gamma", -0.6, 0.25)
+
+
+def angle_diff(a: float, b: float) -> float:
+    return abs(math.remainder(a - b, 2.0 * math.pi))
+
+
+def events(branches, typ, orbit=None):
+    return [e for e in branches.events if e.type == typ and (orbit is None or orbit in e.orbits)]
+
+
+def orbit_with_label(p, label, t_max=12.0):
+    found = [o for o in im.one_impact_orbits(p, t_max) if o.label == label]
+    assert len(found) == 1, [o.label for o in im.one_impact_orbits(p, t_max)]
+    return found[0]
+
+
+# ---------------------------------------------------------------------------
+# every point is a fixed point
+# ---------------------------------------------------------------------------
+
+
+def test_every_branch_point_is_a_fixed_point_of_the_impact_map(ref_branches):
+    n_plausible = 0
+    for curve in ref_branches.curves:
+        for o in curve.orbits:
+            # the flight of length T from the reset state ends at the same state (law of MODEL.md §5)
+            x1, _, _ = im.impact_map_jacobian(o.params, o.state, o.T, law=im.IDEAL)
+            assert angle_diff(x1[0], o.theta) < 1e-10
+            assert np.abs(x1[1:] - o.state[1:]).max() < 1e-10
+            if o.plausible:
+                # and the simulator's own impact map (guaranteed impact location, slip-bounded law)
+                res = im.impact_map(o.params, o.state)
+                assert res.status == "impact" and abs(res.time - o.T) < 1e-10
+                assert angle_diff(res.state[0], o.theta) < 1e-10
+                assert np.abs(res.state[1:] - o.state[1:]).max() < 1e-10
+                n_plausible += 1
+    assert n_plausible > 50
+
+
+def test_labels_and_values_agree_with_the_guaranteed_zero_search(ref_branches):
+    checked = 0
+    for curve in ref_branches.curves:
+        events_at = {i for i, _ in curve.event_index}
+        for i, (v, o) in enumerate(zip(curve.values, curve.orbits)):
+            if i in events_at or i % 3:
+                continue
+            ref = {x.label: x for x in im.one_impact_orbits(o.params, 12.0)}
+            assert o.label in ref, (v, o.label, sorted(ref))
+            r = ref[o.label]
+            assert abs(r.T - o.T) < 1e-9 * (1 + o.T) and abs(r.rdot - o.rdot) < 1e-9 * (1 + abs(o.rdot))
+            assert r.admissible == o.admissible and r.plausible == o.plausible
+            assert r.interior_extrema == o.interior_extrema
+            checked += 1
+    assert checked > 200
+
+
+def test_branches_pass_through_the_smooth_fold(ref_branches):
+    # one computed curve holds B1,a and B1,b, joined at the fold gamma_F,1 (and B1,c, B1,d)
+    curve = next(c for c in ref_branches.curves if {"B1,a", "B1,b", "B1,c", "B1,d"} <= set(c.labels))
+    labels = curve.labels
+    folds = [i for i, kind in curve.event_index if kind == "fold"]
+    assert len(folds) == 2
+    # a multiplier +1 at the fold is the fold: no second event point beside it
+    assert not [k for _, k in curve.event_index if k == "plus-one"]
+    events = {i for i, _ in curve.event_index}
+    for i in folds:
+        # the nearest regular points on either side, whatever events sit next to the fold
+        before = max(j for j in range(i) if j not in events)
+        after = min(j for j in range(i + 1, len(labels)) if j not in events)
+        assert {labels[before], labels[after]} in ({"B1,a", "B1,b"}, {"B1,c", "B1,d"})
+        # the parameter turns back at the fold: it is the largest value nearby
+        window = curve.values[max(0, i - 6): i + 7]
+        assert curve.values[i] >= window.max() - 1e-14
+        assert window.min() < curve.values[i] - 1e-4
+
+
+# ---------------------------------------------------------------------------
+# multipliers and stability
+# ---------------------------------------------------------------------------
+
+
+def fd_jacobian(p, x, h):
+    def central(step):
+        jac = np.empty((3, 3))
+        for j in range(3):
+            e = np.zeros(3)
+            e[j] = step
+            plus = im.impact_map(p, x + e)
+            minus = im.impact_map(p, x - e)
+            assert plus.status == minus.status == "impact"
+            diff = plus.state - minus.state
+            diff[0] = math.remainder(diff[0], 2.0 * math.pi)
+            jac[:, j] = diff / (2.0 * step)
+        return jac
+
+    return (4.0 * central(h / 2.0) - central(h)) / 3.0
+
+
+def test_multipliers_match_finite_differences(ref_branches):
+    checked = 0
+    for label in ("B1,a", "B1,b", "B1,c", "B1,d"):
+        b = ref_branches.branch(label)
+        idx = [i for i in range(len(b.values)) if b.plausible[i] and 0.08 < b.values[i] < 0.17]
+        for i in idx[:: max(1, len(idx) // 3)]:
+            p = P(gamma=float(b.values[i]))
+            x = np.array([b.theta[i], b.rdot[i], b.thetadot[i]])
+            fd = fd_jacobian(p, x, 1e-5 * max(1e-2, b.rdot[i]))
+            _, jac, _ = im.impact_map_jacobian(p, x, float(b.T[i]), law=im.IDEAL)
+            assert np.abs(jac - fd).max() <= 1e-6 * max(1.0, np.abs(fd).max())
+            ev = np.sort_complex(np.linalg.eigvals(fd))
+            assert np.abs(ev - np.sort_complex(np.linalg.eigvals(jac))).max() < 1e-6
+            assert b.max_multiplier[i] == pytest.approx(np.abs(ev).max(), abs=1e-6)
+            assert b.stable[i] == bool(np.all(np.abs(ev) < 1.0))
+            checked += 1
+    assert checked >= 8
+
+
+def test_a_stable_branch_point_is_the_attractor_of_a_long_simulation(ref_branches):
+    b = ref_branches.branch("B1,d")
+    i = min((i for i in range(len(b.values)) if b.stable[i] is True and b.plausible[i]),
+            key=lambda i: abs(b.values[i] - 0.13))
+    p = P(gamma=float(b.values[i]))
+    x = np.array([b.theta[i], b.rdot[i], b.thetadot[i]])
+    u0, du0 = im.post_impact_state(p, x)
+    traj = simulate(p, 0.97 * u0, du0 + 0.05, 800.0)
+    imp = traj.impacts
+    assert len(imp) > 50
+    assert np.allclose(np.diff(imp.t[-5:]), b.T[i], atol=1e-8)
+    assert angle_diff(imp.theta[-1], x[0]) < 1e-8
+    assert abs(imp.rdot[-1] - x[1]) < 1e-8 and abs(imp.thetadot[-1] - x[2]) < 1e-8
+
+
+# ---------------------------------------------------------------------------
+# events, each checked independently
+# ---------------------------------------------------------------------------
+
+
+def test_headline_values_at_the_reference(ref_branches):
+    # MODEL.md §5: gamma_F,1 ~ 0.178 and the NSFH at gamma* ~ 0.072 (two decimals)
+    folds = events(ref_branches, "fold", "B1,a")
+    assert len(folds) == 1 and abs(folds[0].value - 0.178) < 5e-3
+    nsfh = [e for e in events(ref_branches, "nsfh", "B1,a") if e.value > 0]
+    assert len(nsfh) == 1 and abs(nsfh[0].value - 0.072) < 5e-3
+
+
+def test_headline_values_at_omega_exactly_076():
+    b = orbit_branches(P(gamma=0.1, omega=0.76), "gamma", 0.05, 0.2, t_max=4.0)
+    fold = events(b, "fold", "B1,a")
+    nsfh = events(b, "nsfh", "B1,b")
+    assert len(fold) == 1 and abs(fold[0].value - 0.178) < 5e-3
+    assert len(nsfh) == 1 and abs(nsfh[0].value - 0.072) < 5e-3
+    assert abs(nsfh[0].value - boundary_gamma(P(gamma=0.1, omega=0.76))) < 1e-8
+
+
+def test_event_types_are_the_documented_ones(ref_branches):
+    assert {e.type for e in ref_branches.events} <= set(EVENT_TYPES)
+    assert all(e.accuracy <= 1e-8 for e in ref_branches.events)
+
+
+def test_folds_are_double_zeros_of_f1(ref_branches):
+    folds = events(ref_branches, "fold")
+    assert len(folds) >= 4
+    for e in folds:
+        def eqs(z):
+            p = P(gamma=z[1])
+            return [im.f1(p, z[0]), im.f1_derivative(p, z[0])]
+
+        sol = fsolve(eqs, [e.T + 1e-3, e.value + 1e-4], xtol=1e-12)
+        assert np.abs(eqs(sol)).max() < 1e-12
+        assert abs(sol[1] - e.value) < 1e-8
+        assert abs(sol[0] - e.T) < 1e-6 * (1 + e.T)
+        assert len(e.orbits) == 2
+
+
+def test_nsfh_is_at_the_boundary_equilibrium(ref_branches):
+    gs = boundary_gamma(P(gamma=0.1))
+    nsfh = events(ref_branches, "nsfh")
+    positive = [e for e in nsfh if e.value > 0]
+    assert {lab for e in positive for lab in e.orbits} == {"B1,a", "B1,b"}
+    for e in nsfh:
+        assert abs(abs(e.value) - gs) < 1e-8  # |k| = 1 at +-gamma*
+        assert abs(e.rdot) < 1e-12
+
+
+def test_grazing_of_b1d_has_its_interior_maximum_on_the_clearance(ref_branches):
+    graz = events(ref_branches, "grazing", "B1,d")
+    assert len(graz) == 1
+    e = graz[0]
+    o = orbit_with_label(P(gamma=e.value), "B1,d")
+    ext = im.flight_extrema(o.params, o.state, o.T)
+    assert abs(ext.r_max - 1.0) < 1e-8
+    # below it the orbit crosses the clearance, above it stays inside
+    assert orbit_with_label(P(gamma=e.value - 1e-4), "B1,d").plausible is False
+    assert orbit_with_label(P(gamma=e.value + 1e-4), "B1,d").plausible is True
+
+
+def test_period_doubling_has_a_multiplier_at_minus_one(ref_branches):
+    pd = events(ref_branches, "period-doubling", "B1,d")
+    pd = [e for e in pd if e.value > 0]
+    assert len(pd) == 1
+    o = orbit_with_label(P(gamma=pd[0].value), "B1,d")
+    res = im.impact_map(o.params, o.state, jacobian=True)
+    ev = np.linalg.eigvals(res.jacobian)
+    assert np.min(np.abs(ev + 1.0)) < 1e-6
+    # stable above, unstable below
+    assert orbit_with_label(P(gamma=pd[0].value + 1e-4), "B1,d").stable is True
+    assert orbit_with_label(P(gamma=pd[0].value - 1e-4), "B1,d").stable is False
+
+
+def test_extrema_change_is_where_the_count_changes(ref_branches):
+    changes = events(ref_branches, "extrema-change", "B1,d")
+    assert len(changes) == 1
+    v = changes[0].value
+    below = orbit_with_label(P(gamma=v - 1e-6), "B1,d").interior_extrema
+    above = orbit_with_label(P(gamma=v + 1e-6), "B1,d").interior_extrema
+    assert below != above
+
+
+def test_ac_coalescence_is_a_double_root_at_negative_gamma(ref_branches):
+    ac = events(ref_branches, "ac-coalescence")
+    assert len(ac) == 1 and ac[0].value < 0 and set(ac[0].orbits) == {"B1,a", "B1,c"}
+    p = P(gamma=ac[0].value)
+    zero = min(im.f1_zeros(p, 12.0), key=lambda z: abs(z.T - ac[0].T))
+    q = (1 + p.d) * complex(1, p.mu)
+    a12 = im.a_matrix(p, zero.T)[0, 1]
+    disc, _ = im.rdot_roots(p, zero.T)
+    assert abs(disc) < 1e-8 * (q * a12).real ** 2
+    # real roots on one side, none on the other
+    assert len(im.rdot_roots(P(gamma=ac[0].value + 1e-4), zero.T)[1]) == 2
+    assert im.one_impact_orbits(P(gamma=ac[0].value - 1e-3), 1.0) == ()
+
+
+def test_nsfh_against_omega_is_where_k_has_modulus_one():
+    gamma, rho = 0.1, REF["rho"]
+    b = orbit_branches(P(gamma=gamma), "omega", 0.7, 0.9, t_max=4.0, n_seeds=5)
+    nsfh = events(b, "nsfh")
+    omega_star = math.sqrt(1.0 - math.sqrt(rho**2 - gamma**2))
+    assert nsfh and all(abs(e.value - omega_star) < 1e-8 for e in nsfh)
+    assert b.param == "omega" and set(b.to_dict()["branches"]["B1,a"]) == {"omega", "T", "rdot", "thetadot", "stable"}
+
+
+# ---------------------------------------------------------------------------
+# results and input checking
+# ---------------------------------------------------------------------------
+
+
+def test_to_dict_has_no_nan_and_aligned_arrays(ref_branches):
+    import json
+
+    data = ref_branches.to_dict()
+    text = json.dumps(data, allow_nan=False)
+    assert json.loads(text)["param"] == "gamma"
+    for label, arrays in data["branches"].items():
+        n = len(arrays["gamma"])
+        assert all(len(v) == n for v in arrays.values())
+        for g, s, r in zip(arrays["gamma"], arrays["stable"], arrays["rdot"]):
+            assert (g is None) == (r is None)
+            if r is not None and r < 0:
+                assert s is None  # virtual orbits have no stability
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [dict(param="phi"), dict(start=0.2, stop=0.1), dict(t_max=-1.0), dict(n_seeds=1), dict(rdot_max=0.0),
+     dict(param="d", start=0.5, stop=1.5)],
+)
+def test_bad_input_is_rejected(kw):
+    args = dict(param="gamma", start=0.0, stop=0.2)
+    args.update(kw)
+    with pytest.raises(ParameterError):
+        orbit_branches(P(gamma=0.1), **args)

@@ -1,0 +1,200 @@
+"""Periodic orbits with p >= 2 impacts per period, and the period doubling of B1,d.
+
+The claims: the period-2 orbits are fixed points of the simulator's own P_I^2
+and of `simulate`; the period-2 branch is born at the period doubling of B1,d
+(its impact states converge to B1,d's and its period to 2T); its multipliers
+are those of the map measured by finite differences; brute-force simulation
+and branch switching find the same orbit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rotorcontact import ParameterError, Parameters, simulate
+from rotorcontact.maps.impact_map import impact_map, one_impact_orbits
+from rotorcontact.maps.multi_impact import (
+    MultiImpactOrbit,
+    NewtonFailure,
+    continue_multi_impact,
+    find_period_doubling,
+    multi_impact_orbits,
+    orbits_from_simulation,
+    period_doubled_orbit,
+    periodic_residual,
+    solve_multi_impact,
+)
+
+REF = Parameters.reference()
+GAMMA = 0.083  # between the end of the period-2 branch (grazing) and the period doubling
+
+
+def _b1d(p: Parameters):
+    return next(o for o in one_impact_orbits(p) if o.label == "B1,d")
+
+
+def _angle(a, b):
+    return abs(math.remainder(a - b, 2 * math.pi))
+
+
+def _state_distance(x, y):
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    return max(_angle(x[0], y[0]), abs(x[1] - y[1]), abs(x[2] - y[2]))
+
+
+@pytest.fixture(scope="module")
+def pd():
+    return find_period_doubling(REF.replace(gamma=0.1), "B1,d", "gamma", lo=0.08, hi=0.09)
+
+
+@pytest.fixture(scope="module")
+def orbit(pd) -> MultiImpactOrbit:
+    start = period_doubled_orbit(pd, -1e-4)
+    branch = continue_multi_impact(start, "gamma", GAMMA)
+    assert branch.status == "terminal" and branch.values[-1] == pytest.approx(GAMMA, abs=1e-12)
+    return branch.orbits[-1]
+
+
+def test_b1d_loses_stability_through_a_multiplier_minus_one(pd):
+    assert 0.08 < pd.value < 0.09 and pd.parent == "B1,d"
+    assert pd.multiplier == pytest.approx(-1.0, abs=1e-8)
+    # stable above, a real multiplier below -1 beneath
+    above = _b1d(REF.replace(gamma=pd.value + 1e-4))
+    below = _b1d(REF.replace(gamma=pd.value - 1e-4))
+    assert above.stable and not below.stable
+    assert min(m.real for m in below.multipliers) < -1.0 and pd.unstable_side == -1.0
+    # the eigenvector of -1 at the bifurcation
+    jac = pd.orbit.jacobian()
+    np.testing.assert_allclose(jac @ pd.eigenvector, -pd.eigenvector, atol=1e-7)
+
+
+def test_period_two_points_are_fixed_points_of_the_impact_map_squared(orbit):
+    p = orbit.params
+    assert orbit.impacts == 2 and orbit.label == "B1,d/PD"
+    x0, x1 = orbit.states
+    once = impact_map(p, x0)
+    twice = impact_map(p, once.state)
+    assert once.status == twice.status == "impact"
+    assert _state_distance(once.state, x1) < 1e-10
+    assert _state_distance(twice.state, x0) < 1e-10
+    assert once.time + twice.time == pytest.approx(orbit.period, abs=1e-10)
+    assert [q.dt for q in orbit.points] == pytest.approx([once.time, twice.time], abs=1e-10)
+    # the two impacts are distinct: it is not B1,d counted twice
+    assert _state_distance(x0, x1) > 0.1
+
+
+def test_period_two_orbit_is_reproduced_by_simulate(orbit):
+    u0, du0 = orbit.initial_condition()
+    tr = simulate(orbit.params, u0, du0, orbit.period + 0.5 * orbit.points[0].dt)
+    imp = tr.impacts
+    assert len(imp) == 2
+    x0, x1 = orbit.states
+    assert _state_distance((imp.theta[0], imp.rdot[0], imp.thetadot[0]), x1) < 1e-10
+    assert _state_distance((imp.theta[1], imp.rdot[1], imp.thetadot[1]), x0) < 1e-10
+    assert imp.t[0] == pytest.approx(orbit.points[0].dt, abs=1e-10)
+    assert imp.t[1] == pytest.approx(orbit.period, abs=1e-10)
+
+
+def test_period_two_orbit_is_stable_plausible_and_the_attractor_from_rest(orbit):
+    assert orbit.stable and orbit.plausible and orbit.slipping
+    assert orbit.r_max_interior is not None and orbit.r_max_interior < 1.0
+    found = orbits_from_simulation(orbit.params, 2)
+    assert len(found) == 1 and found[0].label == "M2-1"
+    # the same orbit, up to the starting impact
+    a, b = found[0].states, orbit.states
+    shift = min(range(2), key=lambda s: _state_distance(np.roll(b, -s, axis=0)[0], a[0]))
+    for x, y in zip(a, np.roll(b, -shift, axis=0)):
+        assert _state_distance(x, y) < 1e-9
+    assert found[0].period == pytest.approx(orbit.period, abs=1e-10)
+    # the high-level search reports it once, under the branch label
+    assert [o.label for o in multi_impact_orbits(orbit.params, 2)] == ["B1,d/PD"]
+
+
+def test_multipliers_are_those_of_the_simulated_map_squared(orbit):
+    p = orbit.params
+    x0 = orbit.states[0]
+
+    def p2(x):
+        y = impact_map(p, impact_map(p, x).state).state
+        return np.array([math.remainder(y[0] - x0[0], 2 * math.pi), y[1], y[2]])
+
+    eps = 1e-6
+    fd = np.array([(p2(x0 + eps * e) - p2(x0 - eps * e)) / (2 * eps) for e in np.eye(3)]).T
+    np.testing.assert_allclose(orbit.jacobian(), fd, atol=1e-6 * np.abs(fd).max())
+    ev = np.linalg.eigvals(fd)
+    assert sorted(np.abs(ev)) == pytest.approx(sorted(abs(m) for m in orbit.multipliers), abs=1e-5)
+
+
+def test_the_period_two_branch_meets_b1d_at_the_period_doubling(pd):
+    """As gamma -> gamma_PD the two impact states tend to B1,d's like sqrt and the period to 2T."""
+    dist, lag = [], []
+    offsets = (1e-4, 1e-5, 1e-6)
+    for off in offsets:
+        o = period_doubled_orbit(pd, -off)
+        b = _b1d(o.params)
+        d = max(_state_distance(x, b.state) for x in o.states)
+        dist.append(d / math.sqrt(off))
+        lag.append((2.0 * b.T - o.period) / off)
+        # the two impacts straddle B1,d's: their mean is off it only at first order in the offset
+        mean = o.states.mean(axis=0)
+        assert _state_distance(mean, b.state) < 200.0 * off
+    assert max(d * math.sqrt(off) for d, off in zip(dist, offsets)) < 0.2
+    assert dist[-1] * math.sqrt(offsets[-1]) < 0.02
+    # square-root law of a period doubling, and a period 2T + O(offset)
+    assert max(dist) / min(dist) < 1.05
+    assert max(lag) / min(lag) < 1.1 and min(lag) > 0.0
+
+
+def test_no_period_two_orbit_on_the_stable_side(pd):
+    with pytest.raises(NewtonFailure):
+        period_doubled_orbit(pd, 1e-4)
+
+
+def test_continuation_away_from_the_bifurcation_ends_at_a_grazing(pd):
+    start = period_doubled_orbit(pd, -1e-4)
+    branch = continue_multi_impact(start, "gamma", 0.07)
+    assert branch.status == "grazing"
+    assert 0.0825 < branch.values[-1] < GAMMA
+    last = branch.orbits[-1]
+    assert last.r_max_interior > 0.99
+    assert any(e.kind == "grazing" for e in branch.events)
+    # each continued point is an orbit
+    assert max(o.residual for o in branch.orbits) < 1e-10
+    # gamma decreases along the branch; at the grazing the branch turns vertical (square-root
+    # singularity of P_I), where the steps only move the impact states
+    assert np.all(np.diff(branch.values) < 1e-12) and branch.values[-1] < branch.values[0] - 5e-4
+
+
+def test_newton_rejects_an_orbit_with_fewer_impacts():
+    p = REF.replace(gamma=0.1)
+    b = _b1d(p)
+    with pytest.raises(NewtonFailure):
+        solve_multi_impact(p, [b.state, b.state + [1e-3, 0.0, 0.0]])
+    # with one impact per period it is B1,d itself
+    one = solve_multi_impact(p, [b.state + [1e-3, 1e-3, 0.0]])
+    assert _state_distance(one.states[0], b.state) < 1e-10 and one.period == pytest.approx(b.T, abs=1e-10)
+
+
+def test_residual_and_bad_input():
+    p = REF.replace(gamma=0.1)
+    b = _b1d(p)
+    res, jac = periodic_residual(p, [b.state, b.state])
+    assert np.max(np.abs(res)) < 1e-10 and jac.shape == (6, 6)
+    with pytest.raises(ParameterError):
+        periodic_residual(p, [1.0, 2.0])
+    with pytest.raises(ParameterError):
+        multi_impact_orbits(p, 1)
+    with pytest.raises(ParameterError):
+        orbits_from_simulation(p, 0)
+    with pytest.raises(ParameterError):
+        find_period_doubling(p, "B1,d", "phase", lo=0.08, hi=0.09)
+    with pytest.raises(ParameterError):
+        find_period_doubling(p, "B1,d", "gamma", lo=0.09, hi=0.08)
+    with pytest.raises(ParameterError):
+        # B1,d is stable throughout: no period doubling there
+        find_period_doubling(p, "B1,d", "gamma", lo=0.09, hi=0.1, n_scan=4)
+    with pytest.raises(ParameterError):
+        solve_multi_impact(p, [[0.0, float("nan"), 0.0]])

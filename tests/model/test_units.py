@@ -1,0 +1,114 @@
+"""Quantities with units in machine files are converted to SI exactly as by hand."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rotorcontact import Machine, ParameterError, load_machine
+from rotorcontact.model.units import quantity_in
+
+
+@pytest.mark.parametrize(
+    "text, unit, expected",
+    [
+        ("0.7 mm", "m", 0.7e-3),
+        ("700 um", "m", 0.7e-3),
+        ("12000 rpm", "rad/s", 12000 * 2 * math.pi / 60),
+        ("3000 rpm", "rad/s", 100 * math.pi),
+        ("1.4 kN*s/m", "N s/m", 1400.0),
+        ("980 kN/m", "N/m", 9.8e5),
+        ("0.98 MN/m", "N/m", 9.8e5),
+        ("50000 g", "kg", 50.0),
+        ("180 deg", "rad", math.pi),
+        ("5 mm/s", "m/s", 5e-3),
+        ("0.15", "1", 0.15),
+        ("42", "kg", 42.0),
+    ],
+)
+def test_conversions_match_hand_computation(text, unit, expected):
+    assert quantity_in("x", text, unit) == pytest.approx(expected, rel=1e-14)
+
+
+@pytest.mark.parametrize(
+    "text, unit, fragment",
+    [
+        ("0.7 furlongz", "m", "unknown unit"),
+        ("0.7 kg", "m", "units of [mass]"),
+        ("fast", "rad/s", "unknown unit"),
+        ("1 rpm rpm +", "rad/s", "not a quantity"),
+        ("inf m", "m", "not finite"),
+    ],
+)
+def test_bad_quantities_are_rejected_clearly(text, unit, fragment):
+    with pytest.raises(ParameterError) as err:
+        quantity_in("clearance", text, unit)
+    assert "clearance" in str(err.value) and repr(text) in str(err.value) and fragment in str(err.value)
+
+
+def _write(tmp_path, body: str):
+    path = tmp_path / "m.toml"
+    path.write_text(body, encoding="utf-8")
+    return path
+
+
+GOOD = """
+mass = "50 kg"
+damping = "1.4 kN*s/m"
+stiffness = "980 kN/m"
+eccentricity = "0.3 mm"
+clearance = "0.7 mm"
+rotor_radius = "40 mm"
+unbalance_phase = 0.21
+speed = "1759 rpm"
+friction = 0.15
+restitution = "0.95"
+"""
+
+
+def test_machine_file_with_units_equals_the_si_machine(tmp_path):
+    m = load_machine(_write(tmp_path, GOOD))
+    assert m == Machine(
+        mass=50.0,
+        damping=1400.0,
+        stiffness=9.8e5,
+        eccentricity=0.3e-3,
+        clearance=0.7e-3,
+        rotor_radius=0.04,
+        unbalance_phase=0.21,
+        speed=1759 * 2 * math.pi / 60,
+        friction=0.15,
+        restitution=0.95,
+    )
+
+
+@pytest.mark.parametrize(
+    "old, new, fragment",
+    [
+        ('clearance = "0.7 mm"', 'clearance = "0 mm"', "clearance"),
+        ('mass = "50 kg"', 'mass = "-50 kg"', "mass"),
+        ('clearance = "0.7 mm"', 'clearance = "0.7 parsecz"', "unknown unit"),
+        ('speed = "1759 rpm"', 'speed = "1759 kg"', "speed"),
+        ('mass = "50 kg"\n', "", "missing key 'mass'"),
+    ],
+)
+def test_bad_machine_files_are_rejected(tmp_path, old, new, fragment):
+    with pytest.raises(ParameterError) as err:
+        load_machine(_write(tmp_path, GOOD.replace(old, new)))
+    assert fragment in str(err.value)
+
+
+@pytest.mark.parametrize(
+    "text, unit, expected",
+    [
+        ("50 Hz", "rad/s", 100 * math.pi),          # a frequency of rotation counts revolutions
+        ("50 Hz", "rpm", 3000.0),
+        ("3000 rev/min", "rad/s", 100 * math.pi),
+        ("50 rev/s", "rpm", 3000.0),
+        ("3000 / minute", "rad/s", 100 * math.pi),
+        ("360 deg/s", "rad/s", 2 * math.pi),        # an angular speed stays one
+    ],
+)
+def test_rotation_frequencies_count_revolutions(text, unit, expected):
+    assert quantity_in("speed", text, unit) == pytest.approx(expected, rel=1e-14)

@@ -1,0 +1,279 @@
+"""The batch kernel: the single simulator's results, many at a time, in parallel.
+
+Claims checked here:
+
+* an item of a batch is the single simulator run twice (transient, then the
+  recorded window from the state where the transient stopped), bit for bit;
+* a chain with the state carried along is the same runs one after the other;
+* the parallel (prange) and single-core kernels agree bit for bit;
+* the window's regime is `rotorcontact.simulation.motion.classify`'s verdict on the same
+  window, and the period detection is `motion.detect_period`;
+* ending the transient early (``settle``) changes nothing about where the
+  motion goes, and its contact-free certificate is a true statement about
+  free flight.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rotorcontact import ParameterError, Parameters, simulate
+from rotorcontact.studies.batch import (
+    PARAMETER_ORDER,
+    REGIME_NAMES,
+    BatchSettings,
+    _never_touches,
+    final_state,
+    parameter_array,
+    simulate_batch,
+)
+from rotorcontact.simulation.motion import REGIME_ALIASES, REGIMES, canonical_regime, detect_period
+
+REF = Parameters.reference()
+
+# (gamma, u0, du0): rolling, periodic impacting, rub, kicked starts, no contact
+CASES = [
+    (0.05, 0j, 0j),
+    (0.1, 0j, 0j),
+    (0.15, 0j, 0j),
+    (0.1, 0.3 + 0.2j, -0.5j),
+    (0.2, 0.9 + 0j, 1 + 1j),
+    (0.12, -0.2j, 0.8 + 0j),
+    (0.3, 0.5 + 0.1j, 0j),
+    (0.0825, 0j, 0j),
+]
+
+#: `motion.classify` regimes against the batch's names: one vocabulary
+MOTION_TO_BATCH = {name: name for name in REGIMES}
+
+
+def _two_runs(p, u0, du0, st: BatchSettings):
+    """The reference: the single simulator, transient then window."""
+    tr1 = simulate(p, u0, du0, st.transient_time, max_events=st.n_transient)
+    u, du, _ = final_state(tr1)
+    tr2 = simulate(p, u, du, st.record_time, max_events=st.n_record)
+    return tr1, tr2
+
+
+def _same(a, b) -> bool:
+    """Equal bit for bit, NaN included."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+@pytest.fixture(scope="module")
+def batch_cases():
+    st = BatchSettings(n_transient=400, n_record=100)
+    params = [REF.replace(gamma=g) for g, _, _ in CASES]
+    res = simulate_batch(params, [c[1] for c in CASES], [c[2] for c in CASES], settings=st)
+    return st, res
+
+
+def test_each_item_is_the_single_simulator_bit_for_bit(batch_cases):
+    st, res = batch_cases
+    seen = set()
+    for i, (g, u0, du0) in enumerate(CASES):
+        tr1, tr2 = _two_runs(REF.replace(gamma=g), u0, du0, st)
+        rec = tr2.records[:, :4]
+        n = rec.shape[0]
+        assert res.n_impacts[i] == n and res.transient_impacts[i] == len(tr1.records)
+        for j, name in enumerate(("t", "theta", "rdot", "thetadot")):
+            assert _same(getattr(res, name)[i, :n], rec[:, j]), (g, name)
+        assert np.all(np.isnan(res.theta[i, n:]))
+        u, du, kind = final_state(tr2)
+        assert _same(res.final_u[i], u) and _same(res.final_du[i], du)
+        assert res.t_window[i] == tr2.t_stop and res.t_transient[i] == tr1.t_stop
+        assert res.n_contacts[i] == len(tr2.contact_intervals)
+        seen.add(res.regime_names[i])
+    # the cases cover impacting, rub and rolling motion
+    assert {"periodic-impacting", "forward-rub", "backward-whirl"} <= seen
+
+
+def test_regime_is_motion_classify_on_the_window(batch_cases):
+    st, res = batch_cases
+    for i, (g, u0, du0) in enumerate(CASES):
+        _, tr2 = _two_runs(REF.replace(gamma=g), u0, du0, st)
+        s = tr2.summary
+        expected = MOTION_TO_BATCH[s.regime]
+        if s.motion == "undetermined":
+            expected = "undetermined"
+        assert res.regime_names[i] == expected, (g, s)
+        if s.motion == "periodic-impacting":
+            assert res.impacts_per_period[i] == s.impacts_per_period
+            assert res.period[i] == s.period
+        else:
+            assert res.impacts_per_period[i] == 0 and np.isnan(res.period[i])
+
+
+def test_period_detection_matches_motion_detect_period(batch_cases):
+    st, res = batch_cases
+    for i, (g, u0, du0) in enumerate(CASES):
+        _, tr2 = _two_runs(REF.replace(gamma=g), u0, du0, st)
+        imp = tr2.impacts
+        p, period = detect_period(imp.theta, imp.rdot, imp.thetadot, imp.t)
+        if res.regime_names[i] in ("periodic-impacting", "irregular-impacting", "undetermined"):
+            assert (p or 0) == res.impacts_per_period[i]
+
+
+def test_parallel_and_single_core_kernels_agree_bit_for_bit():
+    st = BatchSettings(n_transient=200, n_record=50)
+    gammas = np.linspace(0.06, 0.2, 12)
+    u0 = np.linspace(-0.5, 0.5, 12) * (1 + 0.5j)
+    a = simulate_batch([REF.replace(gamma=g) for g in gammas], u0, 0j, settings=st, parallel=True)
+    b = simulate_batch([REF.replace(gamma=g) for g in gammas], u0, 0j, settings=st, parallel=False)
+    for name in ("t", "theta", "rdot", "thetadot", "regime", "final_u", "final_du", "period", "contact_time"):
+        assert _same(getattr(a, name), getattr(b, name)), name
+
+
+def test_carried_chain_is_the_runs_one_after_the_other():
+    st = BatchSettings(n_transient=150, n_record=40)
+    gammas = [0.14, 0.16, 0.18, 0.16]
+    res = simulate_batch([REF.replace(gamma=g) for g in gammas], 0.2 + 0.1j, 0j, settings=st, carry=True)
+    u, du = 0.2 + 0.1j, 0j
+    for i, g in enumerate(gammas):
+        _, tr2 = _two_runs(REF.replace(gamma=g), u, du, st)
+        n = len(tr2.records)
+        assert _same(res.theta[i, :n], tr2.records[:, 1])
+        u, du, _ = final_state(tr2)
+        assert _same(res.final_u[i], u) and _same(res.final_du[i], du)
+    # and two chains at once give the same as each chain alone
+    both = simulate_batch(
+        [[REF.replace(gamma=g) for g in gammas], [REF.replace(gamma=g) for g in gammas[::-1]]],
+        [0.2 + 0.1j, 0j], 0j, settings=st, carry=True,
+    )
+    assert _same(both.theta[0], res.theta)
+    alone = simulate_batch([REF.replace(gamma=g) for g in gammas[::-1]], 0j, 0j, settings=st, carry=True)
+    assert _same(both.theta[1], alone.theta)
+
+
+def test_final_state_of_a_flight_is_the_exact_flow():
+    p = REF.replace(gamma=0.3)
+    tr = simulate(p, p.k + 0.05, 0j, 40.0)
+    assert len(tr.impacts) == 0 and len(tr.contacts) == 0
+    u, du, kind = final_state(tr)
+    uu, dd = tr.state(tr.t_stop)
+    assert kind == "flight" and u == uu and du == dd
+
+
+def test_final_state_after_an_impact_is_the_post_impact_state():
+    tr = simulate(REF.replace(gamma=0.1), 0j, 0j, 1e4, max_events=7)
+    assert tr.status == "max-events" and len(tr.impacts) == 7
+    u, du, kind = final_state(tr)
+    assert kind == "flight"
+    assert u == tr.impacts.point[-1] and du == tr.impacts.du_plus[-1]
+
+
+def test_final_state_in_contact_restarts_in_contact_without_a_spurious_impact():
+    p = REF.replace(gamma=0.15)
+    tr = simulate(p, 0j, 0j, 2000.0)
+    u, du, kind = final_state(tr)
+    assert kind == "sliding-forward" and abs(abs(u) - 1.0) < 1e-15
+    again = simulate(p, u, du, 200.0)
+    assert len(again.impacts) == 0
+    assert [c.kind for c in again.contact_intervals] == ["sliding-forward"]
+
+
+def test_final_state_at_the_end_of_an_accumulation_is_where_contact_begins():
+    """A run stopped right after a chatter sequence continues where the full run slides on."""
+    from rotorcontact.simulation.contact import ACCUMULATION
+
+    p = REF.replace(gamma=0.15)
+    full = simulate(p, 0j, 0j, 500.0)
+    i = [j for j, c in enumerate(full.contacts) if int(c[2]) == ACCUMULATION][0]
+    flights_before = int(np.sum(full.flights[:, 0] <= full.contacts[i, 0]))
+    short = simulate(p, 0j, 0j, 500.0, max_events=flights_before - 1)
+    assert int(short.contacts[-1, 2]) == ACCUMULATION
+    u, du, kind = final_state(short)
+    slide = full.path[int(full.contacts[i + 1, 3])]  # first row of the sliding phase that follows
+    assert kind == "accumulation"
+    assert abs(np.angle(u) - slide[1]) < 1e-14
+    assert abs((np.conj(u) * du).imag - slide[2]) < 1e-14
+
+
+def test_settle_reaches_the_same_attractor():
+    """Ending the transient once the impacts repeat leaves the recorded orbit unchanged."""
+    full = BatchSettings(n_transient=2000, n_record=60)
+    early = BatchSettings(n_transient=2000, n_record=60, settle=50)
+    gammas = [0.09, 0.1, 0.12, 0.14, 0.15, 0.05, 0.3]
+    u0 = [0j, 0.5 + 0j, -0.3j, 0.2 + 0.2j, 0j, 0j, 0.3 + 0j]
+    params = [REF.replace(gamma=g) for g in gammas]
+    a = simulate_batch(params, u0, 0j, settings=full)
+    b = simulate_batch(params, u0, 0j, settings=early)
+    assert a.regime_names.tolist() == b.regime_names.tolist()
+    periodic = a.regime == REGIME_NAMES.index("periodic-impacting")
+    assert periodic.sum() >= 3
+    assert np.array_equal(a.impacts_per_period, b.impacts_per_period)
+    # the settled transient is shorter, and the orbit is the same to the period tolerance
+    assert np.all(b.transient_impacts[periodic] < a.transient_impacts[periodic])
+    for name in ("rdot", "thetadot"):
+        diff = np.abs(getattr(a, name)[periodic, -1] - getattr(b, name)[periodic, -1])
+        assert np.all(diff < 1e-5), name
+    assert np.allclose(a.period[periodic], b.period[periodic], rtol=0, atol=1e-6)
+
+
+def test_contact_free_certificate_is_true_and_its_window_is_exact():
+    p = REF.replace(gamma=0.3)
+    pars = tuple(getattr(p, n) for n in ("gamma", "omega", "rho", "phi"))
+    k = p.k
+    rng = np.random.default_rng(3)
+    certified = 0
+    for _ in range(40):
+        u = k + 0.05 * complex(*rng.normal(size=2))
+        du = 0.05 * complex(*rng.normal(size=2))
+        if abs(u) >= 1:
+            continue
+        if _never_touches(u, du, *pars):
+            certified += 1
+            # free flight from there never reaches the stator
+            tr = simulate(p, u, du, 300.0)
+            assert len(tr.impacts) == 0 and len(tr.contacts) == 0
+            r = np.abs(tr.U(np.linspace(0, 300.0, 3001)))
+            assert r.max() < 1.0
+            # and the closed-form window equals the simulator's
+            st = BatchSettings(n_transient=0, n_record=10, t_record=77.0, settle=10)
+            res = simulate_batch(p, u, du, settings=st)
+            uu, dd, kind = final_state(tr if tr.t_stop == 77.0 else simulate(p, u, du, 77.0))
+            assert res.regime_names[0] == "no-contact"
+            assert _same(res.final_u[0], uu) and _same(res.final_du[0], dd)
+    assert certified >= 5
+    # a state that does reach the stator is never certified
+    assert not _never_touches(0.95 + 0j, 0.5 + 0j, *pars)
+
+
+def test_independent_items_and_shapes():
+    st = BatchSettings(n_transient=50, n_record=10, n_keep=3)
+    u0 = np.zeros((2, 3), dtype=complex)
+    res = simulate_batch(REF.replace(gamma=0.1), u0, 0j, settings=st)
+    assert res.shape == (2, 3) and res.theta.shape == (2, 3, 3)
+    # the kept impacts are the last ones of the window
+    single = simulate_batch(REF.replace(gamma=0.1), 0j, 0j, settings=BatchSettings(n_transient=50, n_record=10))
+    assert _same(res.theta[0, 0], single.theta[0, -3:])
+
+
+def test_parameter_rows_and_validation():
+    rows = parameter_array([REF, REF.replace(gamma=0.2)])
+    assert rows.shape == (2, 7) and rows[1, PARAMETER_ORDER.index("gamma")] == 0.2
+    bad = rows.copy()
+    bad[0, PARAMETER_ORDER.index("d")] = 1.5
+    with pytest.raises(ParameterError, match="d = 1.5"):
+        simulate_batch(bad, 0j, 0j, n_transient=1, n_record=1)
+    with pytest.raises(ParameterError, match="outside the clearance"):
+        simulate_batch(REF, 1.2 + 0j, 0j, n_transient=1, n_record=1)
+    with pytest.raises(ParameterError, match="n_record"):
+        BatchSettings(n_record=0)
+    with pytest.raises(ParameterError, match="settle"):
+        BatchSettings(settle=-1)
+    with pytest.raises(ParameterError, match="shape"):
+        simulate_batch(rows, np.zeros(3), 0j, n_transient=1, n_record=1)
+    with pytest.raises(ParameterError, match="rows of 7"):
+        simulate_batch(np.zeros((2, 5)), 0j, 0j)
+
+
+def test_one_vocabulary_of_regimes_with_the_former_names_as_aliases():
+    # the batch kernel's regime names are those of a single simulation (motion.classify)
+    assert REGIME_NAMES[: len(REGIMES)] == REGIMES
+    assert "rub" not in REGIME_NAMES and "rolling" not in REGIME_NAMES
+    assert REGIME_ALIASES == {"rub": "forward-rub", "rolling": "backward-whirl"}
+    assert canonical_regime("rub") == "forward-rub" and canonical_regime("rolling") == "backward-whirl"
+    assert canonical_regime("B1,d") == "B1,d" and canonical_regime("mixed") == "mixed"

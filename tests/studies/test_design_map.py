@@ -1,0 +1,130 @@
+"""Design maps: the classification is the nondimensional analysis, seen in rpm and SI units."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rotorcontact import ParameterError, Parameters, reference_machine
+from rotorcontact.studies.design_map import (
+    classify_machine,
+    plane_map,
+    rad_s_to_rpm,
+    recovery_probability,
+    rpm_to_rad_s,
+    speed_map,
+)
+from rotorcontact.analysis.equilibria import equilibria
+from rotorcontact.maps.impact_map import one_impact_orbits
+
+
+def _analysis(p: Parameters):
+    """Regime and coexisting motions straight from the nondimensional analysis."""
+    eq = equilibria(p)
+    whirl = eq.regular.admissible and eq.regular.stable
+    contact = [o.label for o in one_impact_orbits(p) if o.admissible and o.plausible and o.stable]
+    contact += [ps.name for ps in eq.pseudo if ps.exists and ps.admissible and ps.stable]
+    regime = "contact-certain" if not whirl else ("bistable" if contact else "safe")
+    return regime, tuple(contact)
+
+
+def test_reference_speed_agrees_with_the_nondimensional_analysis():
+    m = reference_machine()
+    pt = classify_machine(m)
+    # MODEL.md: the reference machine gives gamma ~ 0.152, omega ~ 0.76
+    assert pt.gamma == pytest.approx(0.152, abs=5e-4) and pt.omega == pytest.approx(0.76, abs=5e-4)
+    p = Parameters(gamma=1400 / (50 * 184.2), omega=math.sqrt(9.8e5 / (50 * 184.2**2)), rho=3 / 7, mu=0.15,
+                   d=0.95, phi=0.21, r_ratio=0.04 / 0.7e-3)
+    assert (pt.regime, pt.coexisting) == _analysis(p)
+    assert pt.speed_rpm == pytest.approx(184.2 * 60 / (2 * math.pi), rel=1e-14)
+
+
+def test_rpm_conversion_by_hand():
+    assert rpm_to_rad_s(3000) == pytest.approx(100 * math.pi, rel=1e-15)
+    assert rad_s_to_rpm(100 * math.pi) == pytest.approx(3000, rel=1e-15)
+    np.testing.assert_allclose(rpm_to_rad_s([60.0, 120.0]), [2 * math.pi, 4 * math.pi], rtol=1e-15)
+
+
+def test_physical_outputs_in_si():
+    m = reference_machine()
+    pt = classify_machine(m)
+    p = m.parameters()
+    by_name = {mo.name: mo for mo in pt.motions}
+    # contact-free whirl amplitude |k| c_r in micrometres
+    assert by_name["x_R"].amplitude_um == pytest.approx(abs(p.k) * 0.7e-3 * 1e6, rel=1e-12)
+    for orbit in one_impact_orbits(p):
+        if orbit.label in by_name:
+            mo = by_name[orbit.label]
+            # impulse (1 + d) rdot in units of m c_r Omega; one impact per period T / Omega
+            assert mo.impulse_Ns == pytest.approx((1 + 0.95) * orbit.rdot * 50 * 0.7e-3 * 184.2, rel=1e-12)
+            assert mo.impact_rate_hz == pytest.approx(184.2 / orbit.T, rel=1e-12)
+    for ps in equilibria(p).pseudo:
+        if ps.name in by_name:
+            mo = by_name[ps.name]
+            assert mo.contact_force_N == pytest.approx(ps.normal_force * 50 * 0.7e-3 * 184.2**2, rel=1e-12)
+            # friction power mu N v_rel with v_rel = R Omega + c_r Omega (thetadot = 0)
+            v_rel = 0.04 * 184.2 + 0.7e-3 * 184.2
+            assert mo.friction_power_W == pytest.approx(0.15 * mo.contact_force_N * v_rel, rel=1e-12)
+            # a rub of a pseudo-equilibrium is named as the simulator names it
+            assert mo.kind == "forward-rub"
+
+
+def test_each_speed_point_is_the_analysis_at_that_speed():
+    m = reference_machine()
+    dmap = speed_map(m, np.linspace(900, 4000, 12))
+    for pt in dmap.points:
+        assert (pt.regime, pt.coexisting) == _analysis(m.with_speed(rpm_to_rad_s(pt.speed_rpm)).parameters())
+
+
+def test_two_resolutions_give_the_same_boundaries_within_one_grid_step():
+    m = reference_machine()
+    coarse = speed_map(m, np.linspace(1000, 6000, 51))
+    fine = speed_map(m, np.linspace(1000, 6000, 401))
+    step = 5000 / 50
+    bc, bf = coarse.boundaries(), fine.boundaries()
+    assert len(bc) == len(bf) >= 2
+    for (sc, a, b), (sf, c, d) in zip(bc, bf):
+        assert (a, b) == (c, d)
+        assert abs(sc - sf) <= step
+
+
+def test_plane_map_shapes_and_points():
+    m = reference_machine()
+    dmap = plane_map(m, ("stiffness", "damping"), np.linspace(5e5, 1.5e6, 4), np.linspace(500, 3000, 3))
+    assert dmap.shape == (4, 3)
+    assert dmap.regime_codes().shape == (4, 3)
+    pt = dmap.points[1 * 3 + 2]
+    assert pt.stiffness == pytest.approx(5e5 + 1e6 / 3) and pt.damping == pytest.approx(3000)
+    ds = dmap.to_xarray()
+    assert ds["regime"].dims == ("stiffness", "damping")
+    assert ds["stiffness"].attrs["units"] == "N/m"
+
+
+def test_recovery_from_a_small_shock_is_certain():
+    """A kick too small to reach the stator by the all-time bound |k| + |V| < 1 always recovers."""
+    m = reference_machine().with_speed(rpm_to_rad_s(3000))
+    p = m.parameters()
+    assert abs(p.k) < 1
+    nu = math.sqrt(p.omega**2 - p.gamma**2 / 4)
+    # |V(t)| <= |V'(0)| / nu for V(0) = 0 in the inertial frame, so this kick never reaches r = 1
+    kick = 0.5 * (1 - abs(p.k)) * nu
+    shock = kick * m.clearance * m.speed
+    assert recovery_probability(m, shock, directions=8) == 1.0
+
+
+def test_recovery_needs_contact_free_whirl():
+    m = reference_machine().with_speed(rpm_to_rad_s(1400))
+    assert classify_machine(m).regime == "contact-certain"
+    with pytest.raises(ParameterError):
+        recovery_probability(m, 0.01)
+
+
+def test_bad_grids_are_rejected():
+    with pytest.raises(ParameterError):
+        speed_map(reference_machine(), [1000, float("nan")])
+    with pytest.raises(ParameterError):
+        speed_map(reference_machine(), [-5.0, 100.0])
+    with pytest.raises(ParameterError):
+        plane_map(reference_machine(), ("damping", "speed_rpm"), [1.0], [1.0])
