@@ -1,4 +1,4 @@
-"""Basins of attraction: grid points and impacts per second (`rotorcontact.basins`).
+"""Basins of attraction: grid points and impacts per second (`rotorcontact.studies.basins`).
 
 Problem: the reference machine at gamma = 0.1, where the rotor either settles on
 the impacting orbit B1,d, rubs, or returns to contact-free whirl. Two 400 x 400
@@ -33,7 +33,7 @@ from pathlib import Path
 import numba
 
 import rotorcontact as rc
-from rotorcontact.basins import basins, displacement_grid, shock_grid
+from rotorcontact.studies.basins import basins, displacement_grid, shock_grid
 
 
 def main() -> None:

@@ -1,6 +1,6 @@
 """Time to compute all one-impact branches and their events at the reference parameters.
 
-Problem: `rotorcontact.branches.orbit_branches` at the reference machine's
+Problem: `rotorcontact.continuation.branches.orbit_branches` at the reference machine's
 parameters over gamma in [-0.6, 0.25] (periods up to T = 12, the defaults):
 every branch B_n,a..d that crosses one of the 41 seed values, continued
 through its folds, with all events located to 1e-10 in gamma. The target is
@@ -20,7 +20,7 @@ import os
 import time
 
 from rotorcontact import Parameters
-from rotorcontact.branches import orbit_branches
+from rotorcontact.continuation.branches import orbit_branches
 
 
 def main() -> None:

@@ -1,6 +1,6 @@
 """Time to compute the (gamma, omega) two-parameter diagram at the reference parameters.
 
-Problem: `rotorcontact.codim2.codim2_diagram` with the defaults: the fold
+Problem: `rotorcontact.continuation.codim2.codim2_diagram` with the defaults: the fold
 curve gamma_F,1, the DIB curve and the grazing curve of B1,d in the box
 gamma in [0, 0.5], omega in [0.6, 1.25], and their intersections; then the
 classification of a 61 x 61 grid into the regions R1-R4 (as drawn in the
@@ -21,7 +21,7 @@ import os
 import time
 
 from rotorcontact import Parameters
-from rotorcontact.codim2 import classify_plane, codim2_diagram
+from rotorcontact.continuation.codim2 import classify_plane, codim2_diagram
 
 
 def main() -> None:

@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from rotorcontact import reference_machine
-from rotorcontact.design import speed_map
+from rotorcontact.studies.design_map import speed_map
 
 
 def main() -> None:

@@ -10,7 +10,7 @@ import argparse
 import tempfile
 import time
 
-from rotorcontact.reproduce import reproduce
+from rotorcontact.report.reproduce import reproduce
 
 
 def main() -> None:

@@ -1,4 +1,4 @@
-"""Impacts per second of brute-force orbit diagrams (`rotorcontact.sweep`).
+"""Impacts per second of brute-force orbit diagrams (`rotorcontact.studies.sweep`).
 
 Problem: a gamma sweep at the reference parameters, 1000 values of gamma in
 [0.085, 0.145] (where the rotor settles on the impacting orbit B1,d from rest),
@@ -32,7 +32,7 @@ import numba
 import numpy as np
 
 import rotorcontact as rc
-from rotorcontact.sweep import sweep, sweep_values
+from rotorcontact.studies.sweep import sweep, sweep_values
 
 
 def main() -> None:
