@@ -2,11 +2,8 @@
 
 from __future__ import annotations
 
-import json
 import math
 import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
@@ -14,23 +11,9 @@ from rotorcontact import Parameters
 from rotorcontact.cli.main import main
 from rotorcontact.analysis.equilibria import equilibria
 
-EXE = Path(sys.executable).parent / "rotorcontact"
 
-
-def _no_nan(text):
-    def bad(value):
-        raise AssertionError(f"non-finite JSON constant {value}")
-
-    return json.loads(text, parse_constant=bad)
-
-
-def run_json(capsys, *args):
-    assert main(["equilibria", "--json", *args]) == 0
-    return _no_nan(capsys.readouterr().out)
-
-
-def test_json_contract_at_the_reference(capsys):
-    data = run_json(capsys)
+def test_json_contract_at_the_reference(cli):
+    data = cli.json("equilibria")
     assert {"regular", "pseudo", "boundary"} <= set(data)
     reg = data["regular"]
     assert {"r", "theta", "admissible", "stable", "eigenvalues"} <= set(reg)
@@ -51,16 +34,16 @@ def test_json_contract_at_the_reference(capsys):
         assert -math.pi < angle <= math.pi
 
 
-def test_json_reference_classifications(capsys):
-    fold = run_json(capsys, "--omega", "0.76")["boundary"]
+def test_json_reference_classifications(cli):
+    fold = cli.json("equilibria", "--omega", "0.76")["boundary"]
     assert fold["kind"] == "nonsmooth-fold" and fold["partner"] == "P1" and round(fold["gamma_star"], 3) == 0.072
-    pers = run_json(capsys, "--omega", "1")["boundary"]
+    pers = cli.json("equilibria", "--omega", "1")["boundary"]
     assert pers["kind"] == "persistence" and pers["partner"] == "P2"
     assert pers["gamma_star"] == pytest.approx(3 / 7, rel=1e-15)
 
 
-def test_json_without_real_gamma_star_and_without_pseudo_equilibria(capsys):
-    data = run_json(capsys, "--omega", "0.3", "--gamma", "0.9")
+def test_json_without_real_gamma_star_and_without_pseudo_equilibria(cli):
+    data = cli.json("equilibria", "--omega", "0.3", "--gamma", "0.9")
     assert data["boundary"]["gamma_star"] is None
     assert data["boundary"]["kind"] is None and data["boundary"]["partner"] is None
     for pe in data["pseudo"]:
@@ -68,13 +51,13 @@ def test_json_without_real_gamma_star_and_without_pseudo_equilibria(capsys):
         assert pe["stable"] is None and pe["reason"]
 
 
-def test_json_mu_zero_is_defined(capsys):
-    data = run_json(capsys, "--mu", "0")
+def test_json_mu_zero_is_defined(cli):
+    data = cli.json("equilibria", "--mu", "0")
     assert all(isinstance(pe["theta"], float) for pe in data["pseudo"])
 
 
-def test_json_with_a_range_reports_the_events(capsys):
-    data = run_json(capsys, "--omega", "0.76", "--param", "gamma", "--from", "0", "--to", "0.2")
+def test_json_with_a_range_reports_the_events(cli):
+    data = cli.json("equilibria", "--omega", "0.76", "--param", "gamma", "--from", "0", "--to", "0.2")
     events = data["branches"]["events"]
     beb = [e for e in events if e["branch"] == "x_R" and e["kind"] == "admissibility"]
     assert len(beb) == 1 and beb[0]["partner"] == "P1"
@@ -118,10 +101,10 @@ def test_bad_input_exits_2_with_a_message(args, word, capsys, tmp_path, monkeypa
     assert not list(tmp_path.iterdir())
 
 
-def test_subprocess_exit_status():
-    ok = subprocess.run([str(EXE), "equilibria", "--json"], capture_output=True, text=True, timeout=300)
+def test_subprocess_exit_status(cli):
+    ok = subprocess.run([str(cli.exe_path), "equilibria", "--json"], capture_output=True, text=True, timeout=300)
     assert ok.returncode == 0, ok.stderr
-    assert _no_nan(ok.stdout)["boundary"]["kind"] in ("nonsmooth-fold", "persistence")
-    bad = subprocess.run([str(EXE), "equilibria", "--mu", "-1"], capture_output=True, text=True, timeout=300)
+    assert cli.loads(ok.stdout)["boundary"]["kind"] in ("nonsmooth-fold", "persistence")
+    bad = subprocess.run([str(cli.exe_path), "equilibria", "--mu", "-1"], capture_output=True, text=True, timeout=300)
     assert bad.returncode == 2
     assert "mu" in bad.stderr and "Traceback" not in bad.stderr

@@ -2,24 +2,16 @@
 
 from __future__ import annotations
 
-import json
 import math
 
 import pytest
 
 from rotorcontact import Parameters, reference_machine
-from rotorcontact.cli.main import main
 from rotorcontact.analysis.equilibria import equilibria
 from rotorcontact.analysis.lyapunov import lyapunov_spectrum
 
 REF = Parameters.reference()
 MACHINE = reference_machine()
-
-
-def _json(capsys, *args) -> dict:
-    assert main([*args, "--json"]) == 0
-    text = capsys.readouterr().out
-    return json.loads(text, parse_constant=lambda c: pytest.fail(f"non-finite JSON constant {c}"))
 
 
 COMMANDS = [
@@ -36,8 +28,8 @@ COMMANDS = [
 
 
 @pytest.mark.parametrize("args", COMMANDS, ids=lambda a: " ".join(a))
-def test_every_json_output_carries_the_parameters(capsys, args):
-    data = _json(capsys, *args, "--rho=0.45")
+def test_every_json_output_carries_the_parameters(args, cli):
+    data = cli.json(*args, "--rho=0.45")
     gamma = float(args[args.index("--gamma") + 1]) if "--gamma" in args else REF.gamma
     if args[0] == "local":  # the local analysis is made at gamma*
         gamma = data["gamma_star"]
@@ -45,19 +37,19 @@ def test_every_json_output_carries_the_parameters(capsys, args):
     assert next(iter(data)) == "parameters"
 
 
-def test_sweep_basins_and_design_map_json_carry_the_parameters(capsys, tmp_path):
-    sweep = _json(capsys, "sweep", "--param", "gamma", "--from", "0.1", "--to", "0.11", "--n", "2",
+def test_sweep_basins_and_design_map_json_carry_the_parameters(tmp_path, cli):
+    sweep = cli.json("sweep", "--param", "gamma", "--from", "0.1", "--to", "0.11", "--n", "2",
                   "--transient", "20", "--record", "5", "--out", str(tmp_path / "s.nc"), "--no-progress")
     assert sweep["parameters"] == REF.as_dict()
-    basins = _json(capsys, "basins", "--gamma", "0.1", "--grid", "plane:3", "--transient", "20", "--record", "5",
+    basins = cli.json("basins", "--gamma", "0.1", "--grid", "plane:3", "--transient", "20", "--record", "5",
                    "--out", str(tmp_path / "b.nc"), "--no-progress")
     assert basins["parameters"] == REF.replace(gamma=0.1).as_dict()
-    dmap = _json(capsys, "design-map", "--machine", "reference", "--speed", "1500:2000rpm", "--n", "2")
+    dmap = cli.json("design-map", "--machine", "reference", "--speed", "1500:2000rpm", "--n", "2")
     assert dmap["parameters"] == MACHINE.parameters().as_dict() and dmap["machine"] == MACHINE.as_dict()
 
 
-def test_equilibria_with_a_machine_give_micrometres_newtons_and_damping(capsys):
-    data = _json(capsys, "equilibria", "--machine", "reference", "--from", "0.05", "--to", "0.1")
+def test_equilibria_with_a_machine_give_micrometres_newtons_and_damping(cli):
+    data = cli.json("equilibria", "--machine", "reference", "--from", "0.05", "--to", "0.1")
     eq = equilibria(MACHINE.parameters())
     m = MACHINE
     assert data["machine"] == m.as_dict()
@@ -72,13 +64,13 @@ def test_equilibria_with_a_machine_give_micrometres_newtons_and_damping(capsys):
     for e in data["branches"]["events"]:
         assert e["damping_Ns_per_m"] == pytest.approx(e["value"] * m.mass * m.speed, rel=1e-12)
     # without a machine: no SI keys
-    plain = _json(capsys, "equilibria")
+    plain = cli.json("equilibria")
     assert "amplitude_um" not in plain["regular"] and "machine" not in plain
 
 
-def test_branches_local_and_lyapunov_with_a_machine_give_seconds(capsys):
+def test_branches_local_and_lyapunov_with_a_machine_give_seconds(cli):
     m = MACHINE
-    br = _json(capsys, "branches", "--machine", "reference", "--from", "0.17", "--to", "0.19", "--seeds", "3")
+    br = cli.json("branches", "--machine", "reference", "--from", "0.17", "--to", "0.19", "--seeds", "3")
     assert br["events"] and br["machine"] == m.as_dict()
     for e in br["events"]:
         assert e["damping_Ns_per_m"] == pytest.approx(e["value"] * m.mass * m.speed, rel=1e-12)
@@ -89,10 +81,10 @@ def test_branches_local_and_lyapunov_with_a_machine_give_seconds(capsys):
             if g is not None:
                 assert c == pytest.approx(g * m.mass * m.speed, rel=1e-12)
                 assert ts == pytest.approx(t / m.speed, rel=1e-12)
-    loc = _json(capsys, "local", "--machine", "reference")
+    loc = cli.json("local", "--machine", "reference")
     assert loc["damping_star_Ns_per_m"] == pytest.approx(loc["gamma_star"] * m.mass * m.speed, rel=1e-12)
     assert all(o["T_s"] == pytest.approx(o["T"] / m.speed, rel=1e-12) for o in loc["orbits"])
-    ly = _json(capsys, "lyapunov", "--machine", "reference", "--t-end", "200", "--details")
+    ly = cli.json("lyapunov", "--machine", "reference", "--t-end", "200", "--details")
     res = lyapunov_spectrum(m.parameters(), 0j, 0j, 200.0)
     for x, per_s in zip(res.exponents, ly["exponents_per_s"]):
         assert (per_s is None) if not math.isfinite(x) else per_s == pytest.approx(x * m.speed, rel=1e-12)

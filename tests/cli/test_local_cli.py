@@ -2,10 +2,7 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
@@ -15,24 +12,11 @@ from rotorcontact.analysis.equilibria import boundary_gamma
 from rotorcontact.maps.impact_map import f1_zeros
 from rotorcontact.analysis.local import local_analysis
 
-EXE = Path(sys.executable).parent / "rotorcontact"
 ORBIT_KEYS = {"label", "T", "rdot_slope", "thetadot_slope", "theta_slope"}
 
 
-def _no_nan(text):
-    def bad(value):
-        raise AssertionError(f"non-finite JSON constant {value}")
-
-    return json.loads(text, parse_constant=bad)
-
-
-def run_json(capsys, *args):
-    assert main(["local", "--json", *args]) == 0
-    return _no_nan(capsys.readouterr().out)
-
-
-def test_json_contract_at_the_reference(capsys):
-    data = run_json(capsys)
+def test_json_contract_at_the_reference(cli):
+    data = cli.json("local")
     assert set(data) == {"parameters", "gamma_star", "orbits"}
     p = Parameters.reference()
     assert data["gamma_star"] == boundary_gamma(p)
@@ -49,9 +33,9 @@ def test_json_contract_at_the_reference(capsys):
     assert all(o["rdot_slope"] > 0 for o in data["orbits"])
 
 
-def test_gamma_is_replaced_by_gamma_star_and_options_apply(capsys):
-    assert run_json(capsys, "--gamma", "0.3") == run_json(capsys)
-    data = run_json(capsys, "--omega", "0.7565", "--t-max", "40")
+def test_gamma_is_replaced_by_gamma_star_and_options_apply(cli):
+    assert cli.json("local", "--gamma", "0.3") == cli.json("local")
+    data = cli.json("local", "--omega", "0.7565", "--t-max", "40")
     p = Parameters.reference().replace(omega=0.7565)
     assert data["gamma_star"] == pytest.approx(boundary_gamma(p))
     zeros = f1_zeros(p.replace(gamma=data["gamma_star"]), 40.0)
@@ -63,7 +47,7 @@ def test_gamma_is_replaced_by_gamma_star_and_options_apply(capsys):
         assert int(n) == z.n and branch in partner[z.kind]
         assert o["T"] == pytest.approx(z.T, abs=1e-10)
     assert [o["label"] for o in data["orbits"]] == [o.label for o in local_analysis(p, 40.0).orbits]
-    assert run_json(capsys, "--t-max", "0.5")["orbits"] == []  # T0,1,a is about 0.67
+    assert cli.json("local", "--t-max", "0.5")["orbits"] == []  # T0,1,a is about 0.67
 
 
 def test_table_output(capsys):
@@ -90,8 +74,8 @@ def test_bad_input_exits_2_with_a_message(capsys, args, message):
     assert message in captured.err and "Traceback" not in captured.err
 
 
-def test_installed_command_exits_2_without_traceback():
-    proc = subprocess.run([str(EXE), "local", "--json", "--rho", "0.75", "--omega", "0.5"],
+def test_installed_command_exits_2_without_traceback(cli):
+    proc = subprocess.run([str(cli.exe_path), "local", "--json", "--rho", "0.75", "--omega", "0.5"],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
     assert "not asymptotically stable" in proc.stderr and "Traceback" not in proc.stderr

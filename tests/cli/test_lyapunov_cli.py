@@ -2,11 +2,8 @@
 
 from __future__ import annotations
 
-import json
 import math
 import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
@@ -14,23 +11,9 @@ from rotorcontact import Parameters
 from rotorcontact.cli.main import main
 from rotorcontact.analysis.lyapunov import lyapunov_spectrum
 
-EXE = Path(sys.executable).parent / "rotorcontact"
 
-
-def _no_nan(text):
-    def bad(value):
-        raise AssertionError(f"non-finite JSON constant {value}")
-
-    return json.loads(text, parse_constant=bad)
-
-
-def run_json(capsys, *args):
-    assert main(["lyapunov", "--json", *args]) == 0
-    return _no_nan(capsys.readouterr().out)
-
-
-def test_json_contract_on_the_stable_one_impact_orbit(capsys):
-    data = run_json(capsys, "--gamma", "0.1", "--u0", "0,0", "--du0", "0,0", "--t-end", "800")
+def test_json_contract_on_the_stable_one_impact_orbit(cli):
+    data = cli.json("lyapunov", "--gamma", "0.1", "--u0", "0,0", "--du0", "0,0", "--t-end", "800")
     assert set(data) == {"parameters", "exponents"}
     ex = data["exponents"]
     assert len(ex) == 4 and all(isinstance(x, float) for x in ex)
@@ -40,19 +23,19 @@ def test_json_contract_on_the_stable_one_impact_orbit(capsys):
     assert ex[0] == pytest.approx(0.0, abs=1e-6) and ex[1] < 0.0
 
 
-def test_annihilated_directions_are_null(capsys):
+def test_annihilated_directions_are_null(cli):
     args = ("--gamma", "0.065", "--t-end", "300", "--t-transient", "150")
-    ex = run_json(capsys, *args)["exponents"]
+    ex = cli.json("lyapunov", *args)["exponents"]
     assert ex[0] == pytest.approx(0.0, abs=1e-12) and ex[1:] == [None, None, None]
-    details = run_json(capsys, *args, "--details")
+    details = cli.json("lyapunov", *args, "--details")
     assert details["exponents"] == ex
     assert details["collapsed"] == 3 and details["coordinates"] == ["Re U", "Im U", "Re U'", "Im U'"]
     assert details["t_start"] == 150.0 and details["t_stop"] == 300.0 and details["status"] == "completed"
 
 
-def test_options_reach_the_library(capsys):
+def test_options_reach_the_library(cli):
     p = Parameters.reference().replace(gamma=0.15, omega=0.7)
-    ex = run_json(capsys, "--gamma", "0.15", "--omega", "0.7", "--u0", "0.2,-0.1", "--du0", "0.3,0.4",
+    ex = cli.json("lyapunov", "--gamma", "0.15", "--omega", "0.7", "--u0", "0.2,-0.1", "--du0", "0.3,0.4",
                   "--t-end", "300", "--t-transient", "100", "--qr-interval", "0.5")["exponents"]
     lib = lyapunov_spectrum(p, 0.2 - 0.1j, 0.3 + 0.4j, 300.0, t_transient=100.0, qr_interval=0.5)
     assert ex == [x if math.isfinite(x) else None for x in lib.exponents]
@@ -83,7 +66,7 @@ def test_bad_input_exits_2_without_traceback(capsys, args):
     assert "error" in captured.err and "Traceback" not in captured.err
 
 
-def test_bad_input_from_the_shell():
-    proc = subprocess.run([str(EXE), "lyapunov", "--du0", "x,1"], capture_output=True, text=True)
+def test_bad_input_from_the_shell(cli):
+    proc = subprocess.run([str(cli.exe_path), "lyapunov", "--du0", "x,1"], capture_output=True, text=True)
     assert proc.returncode == 2
     assert "--du0" in proc.stderr and "Traceback" not in proc.stderr

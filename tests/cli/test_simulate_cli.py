@@ -4,19 +4,13 @@ and the stable JSON contract of ``--json``."""
 
 from __future__ import annotations
 
-import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from rotorcontact import Parameters, load_machine, simulate
-from rotorcontact.cli.main import main
 
-EXE = Path(sys.executable).with_name("rotorcontact")
 
 TOML_RIG = """\
 mass = 50.0
@@ -35,29 +29,6 @@ restitution = 0.95
 def replace_line(text, key, new_line):
     lines = [new_line if line.split("=")[0].strip() == key else line for line in text.splitlines()]
     return "\n".join(lines) + "\n"
-
-
-def run_main(argv, capsys):
-    """main(argv) in process: (exit status, stdout, stderr)."""
-    try:
-        code = main(argv)
-    except SystemExit as exc:  # argparse's own errors
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def run_exe(argv, cwd=None):
-    assert EXE.exists(), EXE
-    proc = subprocess.run([str(EXE), *argv], capture_output=True, text=True, timeout=120, cwd=cwd)
-    return proc.returncode, proc.stdout, proc.stderr
-
-
-def no_nan_loads(text):
-    def bad(name):
-        raise ValueError(f"non-finite number {name} in JSON")
-
-    return json.loads(text, parse_constant=bad)
 
 
 # ---------------------------------------------------------------------------
@@ -92,9 +63,9 @@ BAD_OPTIONS = [
 
 
 @pytest.mark.parametrize("argv,needles", BAD_OPTIONS, ids=[" ".join(a) for a, _ in BAD_OPTIONS])
-def test_bad_options_in_process(capsys, argv, needles):
+def test_bad_options_in_process(argv, needles, cli):
     extra = [] if any(a.startswith("--t-end") for a in argv) else ["--t-end=1"]
-    code, out, err = run_main(["simulate", *argv, *extra], capsys)
+    code, out, err = cli.run("simulate", *argv, *extra)
     assert code == 2, (code, err)
     assert "Traceback" not in err
     assert out == ""
@@ -128,17 +99,17 @@ BAD_MACHINES = [
 
 
 @pytest.mark.parametrize("text,needles", BAD_MACHINES)
-def test_bad_machine_files_in_process(tmp_path, capsys, text, needles):
+def test_bad_machine_files_in_process(tmp_path, text, needles, cli):
     path = machine_file(tmp_path, text)
-    code, out, err = run_main(["simulate", "--machine", str(path), "--t-end=1"], capsys)
+    code, out, err = cli.run("simulate", "--machine", str(path), "--t-end=1")
     assert code == 2, (code, err)
     assert "Traceback" not in err and out == ""
     for needle in needles:
         assert needle in err, (needle, err)
 
 
-def test_missing_machine_file(tmp_path, capsys):
-    code, out, err = run_main(["simulate", f"--machine={tmp_path / 'none.toml'}"], capsys)
+def test_missing_machine_file(tmp_path, cli):
+    code, out, err = cli.run("simulate", f"--machine={tmp_path / 'none.toml'}")
     assert code == 2 and "none.toml" in err and "Traceback" not in err
 
 
@@ -151,8 +122,8 @@ def test_missing_machine_file(tmp_path, capsys):
         (["simulate", "--t-end", "-1"], ["t-end", "-1"]),
     ],
 )
-def test_bad_input_through_the_installed_command(argv, needles):
-    code, out, err = run_exe(argv)
+def test_bad_input_through_the_installed_command(argv, needles, cli):
+    code, out, err = cli.exe(*argv)
     assert code == 2, (code, err)
     assert "Traceback" not in err
     assert out == ""
@@ -160,27 +131,27 @@ def test_bad_input_through_the_installed_command(argv, needles):
         assert needle in err
 
 
-def test_bad_machine_file_through_the_installed_command(tmp_path):
+def test_bad_machine_file_through_the_installed_command(tmp_path, cli):
     path = machine_file(tmp_path, replace_line(TOML_RIG, "restitution", "restitution = -0.5"))
-    code, out, err = run_exe(["simulate", "--machine", str(path)])
+    code, out, err = cli.exe("simulate", "--machine", str(path))
     assert code == 2 and "restitution" in err and "-0.5" in err and "Traceback" not in err
 
 
-def test_argparse_errors_exit_2_without_traceback(capsys):
+def test_argparse_errors_exit_2_without_traceback(cli):
     for argv in (["simulate", "--bogus", "1"], ["simulate", "--gamma"], ["nosuchcommand"]):
-        code, out, err = run_main(argv, capsys)
+        code, out, err = cli.run(*argv)
         assert code == 2 and "Traceback" not in err
 
 
-def test_undamped_resonance_is_not_a_traceback(capsys):
-    code, out, err = run_exe(["simulate", "--gamma", "0", "--omega", "1", "--t-end", "5"])
+def test_undamped_resonance_is_not_a_traceback(cli):
+    code, out, err = cli.exe("simulate", "--gamma", "0", "--omega", "1", "--t-end", "5")
     assert "Traceback" not in err
     assert code in (0, 2)
 
 
-def test_machine_with_underflowing_groups_is_not_a_traceback(tmp_path):
+def test_machine_with_underflowing_groups_is_not_a_traceback(tmp_path, cli):
     path = machine_file(tmp_path, replace_line(TOML_RIG, "speed", "speed = 1e-170"))
-    code, out, err = run_exe(["simulate", "--machine", str(path), "--t-end", "1"])
+    code, out, err = cli.exe("simulate", "--machine", str(path), "--t-end", "1")
     assert "Traceback" not in err
     assert code == 2
 
@@ -190,11 +161,10 @@ def test_machine_with_underflowing_groups_is_not_a_traceback(tmp_path):
 # ---------------------------------------------------------------------------
 
 
-def test_equals_form_with_negative_values(capsys):
-    code, out, err = run_main(["simulate", "--gamma=0.1", "--u0=-0.2,0.1", "--du0=-1.2,0.4", "--t-end=20", "--json"],
-                              capsys)
+def test_equals_form_with_negative_values(cli):
+    code, out, err = cli.run("simulate", "--gamma=0.1", "--u0=-0.2,0.1", "--du0=-1.2,0.4", "--t-end=20", "--json")
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     assert data["initial_state"]["du0"] == [-1.2, 0.4]
     assert data["initial_state"]["u0"] == [-0.2, 0.1]
     p = Parameters.reference().replace(gamma=0.1)
@@ -202,25 +172,25 @@ def test_equals_form_with_negative_values(capsys):
     assert [row["t"] for row in data["impacts"]] == list(traj.impacts.t)
 
 
-def test_equals_form_through_the_installed_command():
-    code, out, err = run_exe(["simulate", "--du0=-1.2,0.4", "--gamma=0.1", "--t-end=20", "--json"])
+def test_equals_form_through_the_installed_command(cli):
+    code, out, err = cli.exe("simulate", "--du0=-1.2,0.4", "--gamma=0.1", "--t-end=20", "--json")
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     assert data["initial_state"]["du0"] == [-1.2, 0.4]
     assert data["parameters"]["gamma"] == 0.1
 
 
-def test_default_parameters_are_the_reference_machine(capsys):
-    code, out, err = run_main(["simulate", "--t-end=5", "--json"], capsys)
+def test_default_parameters_are_the_reference_machine(cli):
+    code, out, err = cli.run("simulate", "--t-end=5", "--json")
     assert code == 0
-    assert no_nan_loads(out)["parameters"] == Parameters.reference().as_dict()
+    assert cli.loads(out)["parameters"] == Parameters.reference().as_dict()
 
 
-def test_machine_file_and_overrides(tmp_path, capsys):
+def test_machine_file_and_overrides(tmp_path, cli):
     path = machine_file(tmp_path, TOML_RIG.replace("damping = 1400.0", "damping = 921.0"))
-    code, out, err = run_main(["simulate", "--machine", str(path), "--t-end=30", "--json"], capsys)
+    code, out, err = cli.run("simulate", "--machine", str(path), "--t-end=30", "--json")
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     m = load_machine(path)
     assert data["parameters"] == m.parameters().as_dict()
     assert data["parameters"]["gamma"] == pytest.approx(921.0 / (50.0 * 184.2), rel=1e-15)
@@ -228,23 +198,23 @@ def test_machine_file_and_overrides(tmp_path, capsys):
     for row in data["impacts"]:
         assert row["t_s"] == pytest.approx(row["t"] / 184.2, rel=1e-15)
     # an override replaces one parameter and keeps the machine's others
-    code, out, err = run_main(["simulate", "--machine", str(path), "--mu=0.3", "--t-end=30", "--json"], capsys)
+    code, out, err = cli.run("simulate", "--machine", str(path), "--mu=0.3", "--t-end=30", "--json")
     assert code == 0
-    data2 = no_nan_loads(out)
+    data2 = cli.loads(out)
     assert data2["parameters"]["mu"] == 0.3
     assert data2["parameters"]["gamma"] == data["parameters"]["gamma"]
 
 
-def test_text_output(capsys):
-    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=1000"], capsys)
+def test_text_output(cli):
+    code, out, err = cli.run("simulate", "--gamma=0.1", "--t-end=1000")
     assert code == 0
     assert "1000" in out and "periodic-impacting" in out
     assert "T = 2.86351" in out
 
 
-def test_plot_option_writes_a_png(tmp_path, capsys):
+def test_plot_option_writes_a_png(tmp_path, cli):
     path = tmp_path / "fig.png"
-    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=40", f"--plot={path}"], capsys)
+    code, out, err = cli.run("simulate", "--gamma=0.1", "--t-end=40", f"--plot={path}")
     assert code == 0, err
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
@@ -284,28 +254,28 @@ def check_contract(data, traj):
         (["--gamma=0.3", "--t-end=50", "--u0=0.1,0.1"], (0.3, 0.1 + 0.1j, 0j, 50.0)),
     ],
 )
-def test_json_contract_in_process(capsys, argv, args):
-    code, out, err = run_main(["simulate", *argv, "--json"], capsys)
+def test_json_contract_in_process(argv, args, cli):
+    code, out, err = cli.run("simulate", *argv, "--json")
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     gamma, u0, du0, t_end = args
     traj = simulate(Parameters.reference().replace(gamma=gamma), u0, du0, t_end)
     check_contract(data, traj)
 
 
-def test_json_contract_at_chatter(capsys):
-    code, out, err = run_main(["simulate", "--gamma=0.2", "--t-end=100", "--on-chatter=stop", "--json"], capsys)
+def test_json_contract_at_chatter(cli):
+    code, out, err = cli.run("simulate", "--gamma=0.2", "--t-end=100", "--on-chatter=stop", "--json")
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     assert data["status"] == "chatter"
     traj = simulate(Parameters.reference().replace(gamma=0.2), 0j, 0j, 100.0, on_chatter="stop")
     check_contract(data, traj)
 
 
-def test_json_contract_through_the_installed_command(tmp_path):
-    code, out, err = run_exe(["simulate", "--gamma", "0.1", "--t-end", "300", "--json"], cwd=tmp_path)
+def test_json_contract_through_the_installed_command(tmp_path, cli):
+    code, out, err = cli.exe("simulate", "--gamma", "0.1", "--t-end", "300", "--json", cwd=tmp_path)
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     check_contract(data, simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, 300.0))
     assert data["summary"]["motion"] == "periodic-impacting"
     assert data["summary"]["impacts_per_period"] == 1
@@ -318,17 +288,17 @@ SMALL_RUN_KEYS = {"parameters", "status", "message", "t_end", "t_stop", "initial
                   "contact_intervals", "summary"}
 
 
-def test_json_of_a_small_run_keeps_its_keys(capsys):
-    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=200", "--json"], capsys)
+def test_json_of_a_small_run_keeps_its_keys(cli):
+    code, out, err = cli.run("simulate", "--gamma=0.1", "--t-end=200", "--json")
     assert code == 0, err
-    assert set(no_nan_loads(out)) == SMALL_RUN_KEYS
+    assert set(cli.loads(out)) == SMALL_RUN_KEYS
 
 
-def test_json_of_a_long_run_is_proportionate(capsys):
+def test_json_of_a_long_run_is_proportionate(cli):
     # about 1050 impacts: past the 1000 listed
-    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=3000", "--json"], capsys)
+    code, out, err = cli.run("simulate", "--gamma=0.1", "--t-end=3000", "--json")
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     traj = simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, 3000.0)
     n = len(traj.impacts)
     assert n > 1000
@@ -337,15 +307,15 @@ def test_json_of_a_long_run_is_proportionate(capsys):
     ts = [row["t"] for row in data["impacts"]]
     assert ts == list(traj.impacts.t[:500]) + list(traj.impacts.t[-500:])
     # --all-impacts: every impact, with the keys of a small run
-    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=3000", "--json", "--all-impacts"], capsys)
+    code, out, err = cli.run("simulate", "--gamma=0.1", "--t-end=3000", "--json", "--all-impacts")
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     assert set(data) == SMALL_RUN_KEYS
     check_contract(data, traj)
 
 
-def test_max_events_stops_the_run(capsys):
-    code, out, err = run_main(["simulate", "--gamma=0.1", "--t-end=3000", "--max-events=50", "--json"], capsys)
+def test_max_events_stops_the_run(cli):
+    code, out, err = cli.run("simulate", "--gamma=0.1", "--t-end=3000", "--max-events=50", "--json")
     assert code == 0, err
-    data = no_nan_loads(out)
+    data = cli.loads(out)
     assert data["status"] == "max-events" and len(data["impacts"]) <= 50

@@ -7,19 +7,14 @@ MODEL.md and the scales m c_r Omega^2 (force), m c_r Omega (impulse) and c_r Ome
 
 from __future__ import annotations
 
-import json
 import math
 import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from rotorcontact import Parameters, load_machine, simulate
-from rotorcontact.cli.main import main
 
-EXE = Path(sys.executable).with_name("rotorcontact")
 KINDS = {"sliding-forward", "rolling", "sliding-backward"}
 REGIMES = {"no-contact", "periodic-impacting", "irregular-impacting", "forward-rub", "backward-whirl", "mixed"}
 
@@ -38,18 +33,6 @@ restitution = 0.95
 """
 
 
-def no_nan_loads(text):
-    def bad(name):
-        raise ValueError(f"non-finite number {name} in JSON")
-
-    return json.loads(text, parse_constant=bad)
-
-
-def run_json(capsys, *argv):
-    code = main(["simulate", *argv, "--json"])
-    out, err = capsys.readouterr()
-    assert code == 0, err
-    return no_nan_loads(out)
 
 
 def normal(p, theta, thetadot):
@@ -78,8 +61,8 @@ def check_intervals(data):
     ("0.5", "forward-rub", ["sliding-forward"]),
     ("0.95", "backward-whirl", ["sliding-forward", "rolling"]),
 ])
-def test_json_contact_intervals_and_regime(capsys, d, regime, kinds):
-    data = run_json(capsys, "--gamma=0.05", f"--d={d}", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=120")
+def test_json_contact_intervals_and_regime(d, regime, kinds, cli):
+    data = cli.json("simulate", "--gamma=0.05", f"--d={d}", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=120")
     assert data["status"] == "completed"
     ci = check_intervals(data)
     assert [row["kind"] for row in ci] == kinds
@@ -97,14 +80,14 @@ def test_json_contact_intervals_and_regime(capsys, d, regime, kinds):
     (["--gamma=0.1", "--t-end=300"], "periodic-impacting"),
     (["--gamma=0.5", "--t-end=100"], "no-contact"),
 ])
-def test_json_regime_without_contact(capsys, argv, regime):
-    data = run_json(capsys, *argv)
+def test_json_regime_without_contact(argv, regime, cli):
+    data = cli.json("simulate", *argv)
     assert data["contact_intervals"] == []
     assert data["summary"]["regime"] == regime
 
 
-def test_json_chatter_stop_has_the_regime_key(capsys):
-    data = run_json(capsys, "--gamma=0.05", "--d=0.5", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=120",
+def test_json_chatter_stop_has_the_regime_key(cli):
+    data = cli.json("simulate", "--gamma=0.05", "--d=0.5", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=120",
                     "--on-chatter=stop")
     assert data["status"] == "chatter"
     assert "regime" in data["summary"]
@@ -153,10 +136,10 @@ def _check_si(data, machine):
     return ci
 
 
-def test_json_with_a_machine_file_has_finite_si_values(tmp_path, capsys):
+def test_json_with_a_machine_file_has_finite_si_values(tmp_path, cli):
     path = tmp_path / "low_damping.toml"
     path.write_text(TOML_LOW_DAMPING)
-    data = run_json(capsys, f"--machine={path}", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=60")
+    data = cli.json("simulate", f"--machine={path}", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=60")
     machine = load_machine(path)
     assert data["machine"] == machine.as_dict()
     assert machine.parameters().gamma == pytest.approx(0.05, rel=1e-12)
@@ -171,32 +154,32 @@ def test_json_with_a_machine_file_has_finite_si_values(tmp_path, capsys):
     assert ci[0]["mean_friction_power_W"] > 0
 
 
-def test_json_with_the_reference_machine(capsys):
+def test_json_with_the_reference_machine(cli):
     """--machine reference: a rub started on the stator near x_P2, and an impacting run."""
     from rotorcontact.analysis.equilibria import pseudo_equilibria
 
     machine = load_machine("reference")
     th = pseudo_equilibria(machine.parameters())[1].theta + 0.1
-    data = run_json(capsys, "--machine=reference", f"--u0={math.cos(th)!r},{math.sin(th)!r}", "--du0=0,0",
+    data = cli.json("simulate", "--machine=reference", f"--u0={math.cos(th)!r},{math.sin(th)!r}", "--du0=0,0",
                     "--t-end=50")
     ci = _check_si(data, machine)
     assert [row["kind"] for row in ci] == ["sliding-forward"]
     assert data["summary"]["regime"] == "forward-rub"
-    data = run_json(capsys, "--machine=reference", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=60")
+    data = cli.json("simulate", "--machine=reference", "--u0=0.5,0", "--du0=0.8,0.3", "--t-end=60")
     assert len(data["impacts"]) > 10 and data["contact_intervals"] == []
     for row in data["impacts"]:
         assert math.isfinite(row["normal_impulse_Ns"]) and row["normal_impulse_Ns"] > 0
 
 
-def test_json_contact_through_the_installed_command(tmp_path):
-    assert EXE.exists(), EXE
+def test_json_contact_through_the_installed_command(tmp_path, cli):
+    assert cli.exe_path.exists(), cli.exe_path
     proc = subprocess.run(
-        [str(EXE), "simulate", "--gamma", "0.05", "--u0", "0.5,0", "--du0", "0.8,0.3", "--t-end", "60",
+        [str(cli.exe_path), "simulate", "--gamma", "0.05", "--u0", "0.5,0", "--du0", "0.8,0.3", "--t-end", "60",
          "--on-chatter", "contact", "--json"],
         capture_output=True, text=True, timeout=120, cwd=tmp_path,
     )
     assert proc.returncode == 0, proc.stderr
-    data = no_nan_loads(proc.stdout)
+    data = cli.loads(proc.stdout)
     ci = check_intervals(data)
     assert [row["kind"] for row in ci] == ["sliding-forward", "rolling"]
     assert data["summary"]["regime"] == "backward-whirl"
