@@ -61,8 +61,9 @@ from .engine import (
     ContinuationSettings,
     CorrectionError,
     LocatedEvent,
-    continue_curve,
+    continue_both_ways,
     correct_fixed,
+    corrected_crossings,
 )
 from ..errors import ParameterError
 from ..maps.impact_map import f1_zeros, rdot_roots
@@ -115,24 +116,8 @@ def _mark_covered(system: OneImpactSystem, points: np.ndarray, seeds: list[_Seed
     for s in seeds:
         if not s.covered:
             by_value.setdefault(s.value, []).append(s)
-    if not by_value:
-        return
-    lam = points[:, 2]
     for v, group in by_value.items():
-        hits = []
-        near = np.abs(lam - v) <= 1e-9 * (1.0 + abs(v))
-        side = np.where(near, 0.0, np.sign(lam - v))
-        guesses = [points[i].copy() for i in np.flatnonzero(near)]
-        for i in np.flatnonzero(side[:-1] * side[1:] < 0):
-            a, b = points[i], points[i + 1]
-            u = (v - a[2]) / (b[2] - a[2])
-            guesses.append(a + u * (b - a))
-        for guess in guesses:
-            guess[2] = v
-            try:
-                hits.append(correct_fixed(system.residual, guess, 2, jacobian=system.jacobian, settings=settings))
-            except CorrectionError:
-                hits.append(guess)
+        hits = list(corrected_crossings(system.residual, points, 2, v, jacobian=system.jacobian, settings=settings))
         for s in group:
             for h in hits:
                 if abs(h[0] - s.T) <= 1e-6 * (1.0 + s.T) and abs(h[1] - s.rdot) <= 1e-6 * (1.0 + abs(s.rdot)):
@@ -251,21 +236,13 @@ def orbit_branches(
             continue
         seed.covered = True
         y0 = np.array([seed.T, seed.rdot, seed.value])
-        runs = []
-        for direction in (1.0, -1.0):
-            try:
-                res = continue_curve(system.residual, y0, jacobian=system.jacobian, direction=direction,
-                                     events=funcs, settings=settings, weights=weights, param_index=2)
-            except CorrectionError:
-                continue
-            runs.append(res)
-            if res.status == "closed":
-                break
-        if not runs:
+        both = continue_both_ways(system.residual, y0, jacobian=system.jacobian, events=funcs, settings=settings,
+                                  weights=weights, param_index=2)
+        if both is None:
             continue
-        for res in runs:
+        for res in both.runs:
             _mark_covered(system, res.points, seeds, settings)
-        curve, evs = _assemble(system, runs, weights, param)
+        curve, evs = _assemble(system, list(both.runs), weights, param)
         curves.append(curve)
         raw_events.extend(evs)
 

@@ -54,12 +54,12 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .engine import (
-    ContinuationResult,
     ContinuationSettings,
     CorrectionError,
     EventFunction,
+    continue_both_ways,
     continue_curve,
-    correct_fixed,
+    corrected_crossings,
 )
 from ..errors import ParameterError
 from ..model.flow import propagate
@@ -300,26 +300,14 @@ def _trace(
         if covered[i]:
             continue
         covered[i] = True
-        runs: list[ContinuationResult] = []
-        for direction in (1.0, -1.0):
-            try:
-                res = continue_curve(residual, seed, direction=direction, events=events, settings=settings,
-                                     weights=weights, param_index=-1, correct_start=False)
-            except CorrectionError:
-                continue
-            runs.append(res)
-            if res.status == "closed":
-                break
-        if not runs:
+        both = continue_both_ways(residual, seed, events=events, settings=settings, weights=weights,
+                                  param_index=-1, correct_start=False)
+        if both is None:
             continue
-        if len(runs) == 2:
-            pts = np.vstack([runs[1].points[::-1], runs[0].points[1:]])
-        else:
-            pts = runs[0].points
+        pts = both.points
         pieces.append(pts)
-        ends.extend(r.message for r in runs)
-        for r in runs:
-            found.extend(r.events)
+        ends.extend(both.messages)
+        found.extend(both.events)
         _cover(residual, pts, seeds, covered, settings)
     return pieces, ends, found
 
@@ -329,20 +317,7 @@ def _cover(residual, pts: np.ndarray, seeds: list[tuple[np.ndarray, int]], cover
     for i, (seed, index) in enumerate(seeds):
         if covered[i]:
             continue
-        lam = pts[:, index]
-        v = seed[index]
-        near = np.abs(lam - v) <= 1e-9 * (1.0 + abs(v))
-        side = np.where(near, 0.0, np.sign(lam - v))
-        guesses = [pts[j].copy() for j in np.flatnonzero(near)]
-        for j in np.flatnonzero(side[:-1] * side[1:] < 0):
-            a, b = pts[j], pts[j + 1]
-            guesses.append(a + (v - a[index]) / (b[index] - a[index]) * (b - a))
-        for g in guesses:
-            g[index] = v
-            try:
-                g = correct_fixed(residual, g, index % len(g), settings=settings)
-            except CorrectionError:
-                pass
+        for g in corrected_crossings(residual, pts, index, seed[index], settings=settings):
             if np.all(np.abs(g - seed) <= 1e-6 * (1.0 + np.abs(seed))):
                 covered[i] = True
                 break

@@ -51,7 +51,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Literal, Sequence
+from typing import Callable, Iterator, Literal, Sequence
 
 import numpy as np
 
@@ -67,6 +67,9 @@ __all__ = [
     "null_vector",
     "correct_fixed",
     "continue_curve",
+    "TwoWayCurve",
+    "continue_both_ways",
+    "corrected_crossings",
 ]
 
 Residual = Callable[[np.ndarray], np.ndarray]
@@ -760,3 +763,134 @@ def continue_curve(
         message=message,
         param_index=pidx,
     )
+
+
+# ---------------------------------------------------------------------------
+# Both directions from a seed, and the seeds a computed curve meets
+# ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class TwoWayCurve:
+    """The continuation of one seed in both directions.
+
+    Attributes
+    ----------
+    runs : tuple of ContinuationResult
+        The runs that started, in the order tried: the run in the direction
+        ``+1`` first, then the one in ``-1``; the second is missing when the
+        first closed on its start (a loop) or when one could not start.
+    points : numpy.ndarray
+        The whole curve: the second run reversed, then the first one (their
+        shared start once).
+    """
+
+    runs: tuple[ContinuationResult, ...]
+    points: np.ndarray = field(repr=False)
+
+    @property
+    def messages(self) -> tuple[str, ...]:
+        """Why each run ended, in the order of `runs`."""
+        return tuple(r.message for r in self.runs)
+
+    @property
+    def events(self) -> tuple[LocatedEvent, ...]:
+        """The located events of the runs, in the order of `runs`."""
+        return tuple(e for r in self.runs for e in r.events)
+
+
+def continue_both_ways(
+    residual: Residual,
+    y0: Sequence[float],
+    *,
+    jacobian: Jacobian | None = None,
+    events: Sequence[EventFunction] = (),
+    settings: ContinuationSettings | None = None,
+    weights: Sequence[float] | None = None,
+    param_index: int = -1,
+    correct_start: bool = True,
+) -> TwoWayCurve | None:
+    """Follow the curve through ``y0`` in both directions, and join the two runs.
+
+    `continue_curve` is run with ``direction=+1`` and then ``direction=-1``
+    (skipped when the first run closed on its start: the loop is complete). A
+    direction whose start fails to correct is left out.
+
+    Parameters
+    ----------
+    residual, y0, jacobian, events, settings, weights, param_index, correct_start
+        As in `continue_curve`.
+
+    Returns
+    -------
+    TwoWayCurve or None
+        None when neither run could start.
+    """
+    runs: list[ContinuationResult] = []
+    for direction in (1.0, -1.0):
+        try:
+            res = continue_curve(residual, y0, jacobian=jacobian, direction=direction, events=events,
+                                 settings=settings, weights=weights, param_index=param_index,
+                                 correct_start=correct_start)
+        except CorrectionError:
+            continue
+        runs.append(res)
+        if res.status == "closed":
+            break
+    if not runs:
+        return None
+    if len(runs) == 2:
+        points = np.vstack([runs[1].points[::-1], runs[0].points[1:]])
+    else:
+        points = runs[0].points
+    return TwoWayCurve(runs=tuple(runs), points=points)
+
+
+def corrected_crossings(
+    residual: Residual,
+    points: np.ndarray,
+    index: int,
+    value: float,
+    *,
+    jacobian: Jacobian | None = None,
+    settings: ContinuationSettings | None = None,
+) -> Iterator[np.ndarray]:
+    """The points where a computed curve meets the hyperplane ``y[index] = value``, corrected onto the curve.
+
+    Points of ``points`` within 1e-9 (relative) of the hyperplane come first,
+    then the linear interpolations across each segment that crosses it; each
+    is put on the hyperplane and corrected with `correct_fixed` (holding
+    ``y[index]``). A guess whose correction fails is yielded uncorrected. The
+    points are produced one at a time, so a caller that stops early corrects
+    no more than it uses.
+
+    Parameters
+    ----------
+    residual : callable
+        F of the curve.
+    points : numpy.ndarray, shape (m, n + 1)
+        The computed curve.
+    index : int
+        The component held (negative counts from the end).
+    value : float
+        Its value on the hyperplane.
+    jacobian : callable, optional
+    settings : ContinuationSettings, optional
+
+    Yields
+    ------
+    numpy.ndarray
+    """
+    lam = points[:, index]
+    near = np.abs(lam - value) <= 1e-9 * (1.0 + abs(value))
+    side = np.where(near, 0.0, np.sign(lam - value))
+    guesses = [points[j].copy() for j in np.flatnonzero(near)]
+    for j in np.flatnonzero(side[:-1] * side[1:] < 0):
+        a, b = points[j], points[j + 1]
+        guesses.append(a + (value - a[index]) / (b[index] - a[index]) * (b - a))
+    for guess in guesses:
+        guess[index] = value
+        try:
+            yield correct_fixed(residual, guess, index % len(guess), jacobian=jacobian, settings=settings)
+        except CorrectionError:
+            yield guess

@@ -18,10 +18,9 @@ import numpy as np
 
 from .engine import (
     ContinuationSettings,
-    CorrectionError,
     EventFunction,
-    continue_curve,
-    correct_fixed,
+    continue_both_ways,
+    corrected_crossings,
 )
 from ..errors import ParameterError
 from ..maps.impact_map import f1_zeros
@@ -168,19 +167,12 @@ def f1_zero_curves(
         if seed[2]:
             continue
         seed[2] = True
-        runs = []
-        for direction in (1.0, -1.0):
-            try:
-                runs.append(continue_curve(residual, seed[:2], direction=direction, events=events,
-                                           settings=settings, weights=weights, param_index=1))
-            except CorrectionError:
-                continue
-            if runs[-1].status == "closed":
-                break
-        if not runs:
+        both = continue_both_ways(residual, seed[:2], events=events, settings=settings, weights=weights,
+                                  param_index=1)
+        if both is None:
             continue
-        pts = runs[0].points if len(runs) == 1 else np.vstack([runs[1].points[::-1], runs[0].points[1:]])
-        for r in runs:
+        pts = both.points
+        for r in both.runs:
             folds.extend((float(e.y[1]), float(e.y[0])) for e in r.events if e.name == "fold" and e.continuous)
         _cover(residual, pts, seeds, settings)
         kinds = np.array(["a" if slope(y) < 0 else "b" for y in pts])
@@ -207,23 +199,10 @@ def _pair(p: Parameters, T: float, kind: str, t_max: float) -> int:
 
 
 def _cover(residual, pts: np.ndarray, seeds: list, settings) -> None:
-    lam = pts[:, 1]
     for seed in seeds:
         if seed[2]:
             continue
-        v = seed[1]
-        near = np.abs(lam - v) <= 1e-9 * (1.0 + abs(v))
-        side = np.where(near, 0.0, np.sign(lam - v))
-        guesses = [pts[j].copy() for j in np.flatnonzero(near)]
-        for j in np.flatnonzero(side[:-1] * side[1:] < 0):
-            a, b = pts[j], pts[j + 1]
-            guesses.append(a + (v - a[1]) / (b[1] - a[1]) * (b - a))
-        for g in guesses:
-            g[1] = v
-            try:
-                g = correct_fixed(residual, g, 1, settings=settings)
-            except CorrectionError:
-                pass
+        for g in corrected_crossings(residual, pts, 1, seed[1], settings=settings):
             if abs(g[0] - seed[0]) <= 1e-6 * (1.0 + seed[0]):
                 seed[2] = True
                 break
