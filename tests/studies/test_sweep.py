@@ -302,12 +302,12 @@ def test_a_chunk_folder_without_chunks_does_not_block_another_study(tmp_path):
 
 
 def test_a_missing_output_folder_is_refused_before_any_computation(tmp_path, monkeypatch):
-    import rotorcontact.studies.sweep as sweep_module
+    import rotorcontact.studies.driver as driver_module
 
     def no_computation(*args, **kwargs):  # pragma: no cover - must not be reached
         raise AssertionError("computed before the output was checked")
 
-    monkeypatch.setattr(sweep_module, "run_waves", no_computation)
+    monkeypatch.setattr(driver_module, "run_waves", no_computation)
     with pytest.raises(ParameterError, match="does not exist"):
         sweep(REF, "gamma", sweep_values(0.1, 0.11, 2), mode="up", n_transient=20, n_record=5, progress=False,
               out=tmp_path / "missing" / "s.nc")

@@ -3,15 +3,14 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import re
 import sys
 from typing import Any
 
-import numpy as np
 
 from ..errors import ParameterError
+from ..io.json import dump_json
 from ..model.params import Machine, Parameters, check_range, check_velocity, load_machine, reference_machine
 
 PARAM_NAMES = ("gamma", "omega", "rho", "mu", "d", "phi", "r_ratio")
@@ -214,26 +213,6 @@ def renamed(exc: Exception, names: dict[str, str]) -> ParameterError:
     return ParameterError(text)
 
 
-def jsonable(obj: Any) -> Any:
-    """Plain JSON data: complex as [re, im], non-finite numbers as null."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return [jsonable(v) for v in obj.tolist()]
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (complex, np.complexfloating)):
-        return [jsonable(float(obj.real)), jsonable(float(obj.imag))]
-    if isinstance(obj, (float, np.floating)):
-        value = float(obj)
-        return value if math.isfinite(value) else None
-    return obj
-
-
 def json_result(params: Parameters, data: dict[str, Any], machine: Machine | None = None) -> dict[str, Any]:
     """The object a subcommand prints with ``--json``: its ``"parameters"`` first, then ``data``.
 
@@ -258,6 +237,5 @@ def json_result(params: Parameters, data: dict[str, Any], machine: Machine | Non
 
 
 def print_json(data: Any) -> None:
-    """Write ``data`` as JSON on stdout."""
-    json.dump(jsonable(data), sys.stdout, indent=2, allow_nan=False)
-    sys.stdout.write("\n")
+    """Write ``data`` as JSON on stdout (`rotorcontact.io.json.dump_json`)."""
+    dump_json(data, sys.stdout)

@@ -12,7 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..errors import ParameterError  # noqa: E402
-from ..studies.execution import check_output_folder  # noqa: E402
+from ..io.netcdf import check_output_folder  # noqa: E402
 
 CLEARANCE_COLOR = "0.6"
 

@@ -527,7 +527,7 @@ def _quantities(report: dict[str, Any], stated: dict[str, str]) -> list[Quantity
 
 
 def _jsonable(obj: Any) -> Any:
-    from ..cli.options import jsonable
+    from ..io.json import jsonable
 
     return jsonable(obj)
 

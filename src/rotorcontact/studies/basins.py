@@ -49,24 +49,17 @@ from .batch import (
     ROLL,
     RUB,
     UNDETERMINED,
+    NSUM,
     BatchResult,
     BatchSettings,
     parameter_array,
 )
 from ..errors import ParameterError
 from ..model.params import MAX_VELOCITY, Machine, Parameters, check_finite
-from .execution import (
-    ChunkStore,
-    ChunkTask,
-    check_output_path,
-    chunk_folder,
-    make_executor,
-    progress_bar,
-    read_finished,
-    run_waves,
-    study_digest,
-    write_netcdf,
-)
+from ..model.validation import check_int, check_params
+from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
+from .driver import run_study
+from .execution import ChunkTask, study_digest
 
 __all__ = [
     "GRID_KINDS",
@@ -196,8 +189,7 @@ class BasinGrid:
 def _axis(name: str, lo: float, hi: float, n: int) -> np.ndarray:
     lo = check_finite(f"{name} start", lo)
     hi = check_finite(f"{name} stop", hi)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ParameterError(f"{name} count = {n!r} is invalid; allowed: an integer >= 1")
+    n = check_int(f"{name} count", n, 1)
     if n > 1 and not lo < hi:
         raise ParameterError(f"{name}: start {lo!r} must be smaller than stop {hi!r}")
     return np.linspace(lo, hi, int(n))
@@ -452,8 +444,7 @@ def basins(
     -------
     BasinResult
     """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    check_params(params)
     if isinstance(grid, str):
         grid = parse_grid(grid)
     if not isinstance(grid, BasinGrid):
@@ -461,9 +452,7 @@ def basins(
     match_tol = float(check_finite("match_tol", match_tol))
     if match_tol <= 0:
         raise ParameterError(f"match_tol = {match_tol!r} must be > 0")
-    if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1:
-        raise ParameterError(f"chunk_size = {chunk_size!r} is invalid; allowed: an integer >= 1")
-    chunk_size = int(chunk_size)
+    chunk_size = check_int("chunk_size", chunk_size, 1)
     if settings is None:
         settings = BatchSettings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
                                  t_record=t_record, n_keep=1, settle=settle)
@@ -484,27 +473,18 @@ def basins(
     # the finished file also depends on the naming of the orbits, the machine and the version
     digest = study_digest({**manifest, "match_tol": match_tol, "version": __version__,
                            "machine": None if machine is None else machine.as_dict()})
-    store = None
-    reused = 0
-    if out is not None:
-        out = check_output_path(out)
-        finished = read_finished(out, digest) if resume else None
-        if finished is not None:
-            return _result_from_file(finished, out, n_valid)
-        # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
-        store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
-        chunk_size = int(store.layout["chunk_size"])
-    n_chunks = math.ceil(n_valid / chunk_size) if n_valid else 0
-    keys = [f"basin-{c:06d}" for c in range(n_chunks)]
     u_flat, du_flat = u0.ravel(), du0.ravel()
 
-    def waves():
+    def keys(size: int) -> list[str]:
+        return [f"basin-{c:06d}" for c in range(math.ceil(n_valid / size))]
+
+    def waves(size: int, sink: dict[str, dict[str, np.ndarray]]):
         tasks = []
-        for c in range(n_chunks):
-            idx = flat[c * chunk_size : (c + 1) * chunk_size]
+        for c, key in enumerate(keys(size)):
+            idx = flat[c * size : (c + 1) * size]
             m = idx.size
             tasks.append(ChunkTask(
-                key=keys[c],
+                key=key,
                 params=np.broadcast_to(row, (m, 1, row.size)).copy(),
                 u0=u_flat[idx].reshape(m, 1).copy(),
                 du0=du_flat[idx].reshape(m, 1).copy(),
@@ -513,27 +493,40 @@ def basins(
             ))
         yield tasks
 
-    if store is not None:
-        reused = sum(store.done(k) for k in keys)
-    sink: dict[str, dict[str, np.ndarray]] = {}
-    with make_executor(n_jobs, scheduler, processes=processes) as executor, \
-            progress_bar(n_valid, "basins", progress) as bar:
-        computed = run_waves(executor, waves(), store, bar, sink)
+    def assemble(size: int, load):
+        n_all = inside.size
+        sections = np.full((n_all, settings.keep, 4), np.nan)
+        summary = np.zeros((n_all, NSUM))
+        for c, key in enumerate(keys(size)):
+            res = load(key)
+            idx = flat[c * size : (c + 1) * size]
+            sections[idx] = res["sections"][:, 0]
+            summary[idx] = res["summary"][:, 0]
+        shape = grid.shape
+        result = BatchResult.from_arrays(sections.reshape(shape + (settings.keep, 4)),
+                                         summary.reshape(shape + (NSUM,)), settings)
+        return _classified(result, params, grid, inside, u0, du0, match_tol, size, machine), result.impacts_simulated
 
-    from .batch import NSUM
+    run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n_valid, desc="basins",
+                    chunk_size=chunk_size, out=out, resume=resume, keep_chunks=keep_chunks, n_jobs=n_jobs,
+                    scheduler=scheduler, processes=processes, progress=progress)
+    ds = run.dataset
+    names = tuple(str(n) for n in ds["class_name"].values)
+    return BasinResult(
+        dataset=ds,
+        classes=names,
+        fractions=_fractions(names, ds["count"].values, ds["fraction"].values),
+        path=run.path,
+        chunks_computed=run.chunks_computed,
+        chunks_reused=run.chunks_reused,
+        impacts_simulated=run.impacts_simulated,
+        reused_file=run.reused_file,
+    )
 
-    keep = settings.keep
-    n_all = inside.size
-    sections = np.full((n_all, keep, 4), np.nan)
-    summary = np.zeros((n_all, NSUM))
-    for c in range(n_chunks):
-        res = store.load(keys[c]) if store is not None else sink[keys[c]]
-        idx = flat[c * chunk_size : (c + 1) * chunk_size]
-        sections[idx] = res["sections"][:, 0]
-        summary[idx] = res["summary"][:, 0]
-    shape = grid.shape
-    result = BatchResult.from_arrays(sections.reshape(shape + (keep, 4)), summary.reshape(shape + (NSUM,)), settings)
 
+def _classified(result: BatchResult, params: Parameters, grid: BasinGrid, inside: np.ndarray, u0: np.ndarray,
+                du0: np.ndarray, match_tol: float, chunk_size: int, machine: Machine | None):
+    """The basins dataset: the attractor of every grid point, named after the one-impact orbits it matches."""
     one = (result.regime == PERIODIC) & (result.impacts_per_period == 1) & inside
     t_max = 12.0
     if one.any():
@@ -543,23 +536,9 @@ def basins(
     codes[~inside] = 0
     names = class_names([o.label for o in orbits])
     counts = np.bincount(codes[inside].ravel(), minlength=len(names)).astype(np.int32)
-    fractions = counts / max(n_valid, 1)
-    ds = _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol,
-                  chunk_size, machine)
-    ds.attrs["study_digest"] = digest
-    if out is not None:
-        write_netcdf(ds, out)
-        if not keep_chunks:
-            store.remove()
-    return BasinResult(
-        dataset=ds,
-        classes=names,
-        fractions=_fractions(names, counts, fractions),
-        path=out,
-        chunks_computed=computed,
-        chunks_reused=reused,
-        impacts_simulated=int(result.impacts_simulated),
-    )
+    fractions = counts / max(int(inside.sum()), 1)
+    return _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol,
+                    chunk_size, machine)
 
 
 def _fractions(names, counts, fractions) -> dict[str, float]:
@@ -567,27 +546,9 @@ def _fractions(names, counts, fractions) -> dict[str, float]:
     return {str(names[i]): float(fractions[i]) for i in range(len(names)) if counts[i] > 0 and i > 0}
 
 
-def _result_from_file(ds, out: Path, n_valid: int) -> BasinResult:
-    """The result of a finished study read back from its file (`rotorcontact.studies.execution.read_finished`)."""
-    names = tuple(str(n) for n in ds["class_name"].values)
-    chunk_size = int(ds.attrs["chunk_size"])
-    return BasinResult(
-        dataset=ds,
-        classes=names,
-        fractions=_fractions(names, ds["count"].values, ds["fraction"].values),
-        path=out,
-        chunks_computed=0,
-        chunks_reused=math.ceil(n_valid / chunk_size),
-        impacts_simulated=int(ds["n_impacts"].values.sum() + ds["transient_impacts"].values.sum()),
-        reused_file=True,
-    )
-
-
 def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol, chunk_size,
              machine=None):
     import xarray as xr
-
-    from .sweep import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 
     a0, a1 = grid.names
     dims = (a1, a0)

@@ -100,23 +100,23 @@ def _chatter_criteria() -> dict[str, float]:
 #: The chatter criteria of the simulator and their default values.
 CHATTER_DEFAULTS = _chatter_criteria()
 
-# columns of the per-item summary array
-_S_STATUS = 0
-_S_TRANSIENT_STATUS = 1
-_S_REGIME = 2
-_S_P = 3
-_S_PERIOD = 4
-_S_N_IMPACTS = 5
-_S_N_CONTACTS = 6
-_S_CONTACT_TIME = 7
-_S_FINAL_KIND = 8
-_S_U_RE = 9
-_S_U_IM = 10
-_S_DU_RE = 11
-_S_DU_IM = 12
-_S_T_TRANSIENT = 13
-_S_T_WINDOW = 14
-_S_TRANSIENT_IMPACTS = 15
+#: Columns of the per-item summary array of the kernel (`run_lanes`), ``NSUM`` of them.
+S_STATUS = 0
+S_TRANSIENT_STATUS = 1
+S_REGIME = 2
+S_P = 3
+S_PERIOD = 4
+S_N_IMPACTS = 5
+S_N_CONTACTS = 6
+S_CONTACT_TIME = 7
+S_FINAL_KIND = 8
+S_U_RE = 9
+S_U_IM = 10
+S_DU_RE = 11
+S_DU_IM = 12
+S_T_TRANSIENT = 13
+S_T_WINDOW = 14
+S_TRANSIENT_IMPACTS = 15
 NSUM = 16
 
 DEFAULT_TIME_PER_EVENT = 5.0
@@ -319,23 +319,23 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
     gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
     u, du, tr_status, t_tr, tr_impacts = _transient(p, u0, du0, n_transient, t_transient, settle, chatter)
     sec[:, :] = math.nan
-    summ[_S_TRANSIENT_STATUS] = tr_status
-    summ[_S_T_TRANSIENT] = t_tr
-    summ[_S_TRANSIENT_IMPACTS] = tr_impacts
+    summ[S_TRANSIENT_STATUS] = tr_status
+    summ[S_T_TRANSIENT] = t_tr
+    summ[S_TRANSIENT_IMPACTS] = tr_impacts
     if tr_status == FAILED:
-        summ[_S_STATUS] = FAILED
-        summ[_S_REGIME] = FAILED_REGIME
-        summ[_S_P] = 0
-        summ[_S_PERIOD] = math.nan
-        summ[_S_N_IMPACTS] = 0
-        summ[_S_N_CONTACTS] = 0
-        summ[_S_CONTACT_TIME] = 0.0
-        summ[_S_FINAL_KIND] = -1
-        summ[_S_U_RE] = u.real
-        summ[_S_U_IM] = u.imag
-        summ[_S_DU_RE] = du.real
-        summ[_S_DU_IM] = du.imag
-        summ[_S_T_WINDOW] = 0.0
+        summ[S_STATUS] = FAILED
+        summ[S_REGIME] = FAILED_REGIME
+        summ[S_P] = 0
+        summ[S_PERIOD] = math.nan
+        summ[S_N_IMPACTS] = 0
+        summ[S_N_CONTACTS] = 0
+        summ[S_CONTACT_TIME] = 0.0
+        summ[S_FINAL_KIND] = -1
+        summ[S_U_RE] = u.real
+        summ[S_U_IM] = u.imag
+        summ[S_DU_RE] = du.real
+        summ[S_DU_IM] = du.imag
+        summ[S_T_WINDOW] = 0.0
         return u, du
     if settle > 0 and _never_touches(u, du, gamma, omega, rho, phi):
         # the window is one free flight to t_record: the simulator's own result,
@@ -370,19 +370,19 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
             if int(ct[j, 2]) != ACCUMULATION:  # the tail of a chatter sequence is not a contact phase
                 n_ct += 1
                 contact_time += min(ct[j, 1], t_stop) - ct[j, 0]
-    summ[_S_STATUS] = status
-    summ[_S_REGIME] = regime
-    summ[_S_P] = per_p
-    summ[_S_PERIOD] = period
-    summ[_S_N_IMPACTS] = n_imp
-    summ[_S_N_CONTACTS] = n_ct
-    summ[_S_CONTACT_TIME] = contact_time
-    summ[_S_FINAL_KIND] = kind
-    summ[_S_U_RE] = u.real
-    summ[_S_U_IM] = u.imag
-    summ[_S_DU_RE] = du.real
-    summ[_S_DU_IM] = du.imag
-    summ[_S_T_WINDOW] = t_stop
+    summ[S_STATUS] = status
+    summ[S_REGIME] = regime
+    summ[S_P] = per_p
+    summ[S_PERIOD] = period
+    summ[S_N_IMPACTS] = n_imp
+    summ[S_N_CONTACTS] = n_ct
+    summ[S_CONTACT_TIME] = contact_time
+    summ[S_FINAL_KIND] = kind
+    summ[S_U_RE] = u.real
+    summ[S_U_IM] = u.imag
+    summ[S_DU_RE] = du.real
+    summ[S_DU_IM] = du.imag
+    summ[S_T_WINDOW] = t_stop
     return u, du
 
 
@@ -608,20 +608,20 @@ class BatchResult:
             theta=sections[..., 1],
             rdot=sections[..., 2],
             thetadot=sections[..., 3],
-            status=as_int(_S_STATUS),
-            transient_status=as_int(_S_TRANSIENT_STATUS),
-            regime=as_int(_S_REGIME),
-            impacts_per_period=as_int(_S_P),
-            period=s[..., _S_PERIOD].copy(),
-            n_impacts=as_int(_S_N_IMPACTS),
-            n_contacts=as_int(_S_N_CONTACTS),
-            transient_impacts=as_int(_S_TRANSIENT_IMPACTS),
-            contact_time=s[..., _S_CONTACT_TIME].copy(),
-            final_kind=as_int(_S_FINAL_KIND),
-            final_u=s[..., _S_U_RE] + 1j * s[..., _S_U_IM],
-            final_du=s[..., _S_DU_RE] + 1j * s[..., _S_DU_IM],
-            t_transient=s[..., _S_T_TRANSIENT].copy(),
-            t_window=s[..., _S_T_WINDOW].copy(),
+            status=as_int(S_STATUS),
+            transient_status=as_int(S_TRANSIENT_STATUS),
+            regime=as_int(S_REGIME),
+            impacts_per_period=as_int(S_P),
+            period=s[..., S_PERIOD].copy(),
+            n_impacts=as_int(S_N_IMPACTS),
+            n_contacts=as_int(S_N_CONTACTS),
+            transient_impacts=as_int(S_TRANSIENT_IMPACTS),
+            contact_time=s[..., S_CONTACT_TIME].copy(),
+            final_kind=as_int(S_FINAL_KIND),
+            final_u=s[..., S_U_RE] + 1j * s[..., S_U_IM],
+            final_du=s[..., S_DU_RE] + 1j * s[..., S_DU_IM],
+            t_transient=s[..., S_T_TRANSIENT].copy(),
+            t_window=s[..., S_T_WINDOW].copy(),
             settings=settings,
         )
 

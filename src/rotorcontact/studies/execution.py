@@ -51,6 +51,7 @@ import numpy as np
 
 from .batch import BatchSettings, run_lanes
 from ..errors import ParameterError
+from .netcdf import read_finished, umask_permissions, write_netcdf
 
 __all__ = ["ChunkTask", "ChunkStore", "available_cores", "local_workers", "make_executor", "progress_bar", "run_task",
            "study_digest", "write_netcdf", "read_finished"]
@@ -556,7 +557,7 @@ class ChunkStore:
                 np.savez(fh, **arrays)
                 fh.flush()
                 os.fsync(fh.fileno())
-            _umask_permissions(tmp)
+            umask_permissions(tmp)
             os.replace(tmp, self._file(key))
         except BaseException:
             if os.path.exists(tmp):
@@ -577,18 +578,11 @@ class ChunkStore:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
-def _umask_permissions(path: str | Path) -> None:
-    """Give a file made by `tempfile.mkstemp` (mode 0600) the permissions of an ordinary new file (0666 & ~umask)."""
-    mask = os.umask(0)
-    os.umask(mask)
-    os.chmod(path, 0o666 & ~mask)
-
-
 def _atomic_write_text(path: Path, text: str) -> None:
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
     with os.fdopen(fd, "w", encoding="utf-8") as fh:
         fh.write(text)
-    _umask_permissions(tmp)
+    umask_permissions(tmp)
     os.replace(tmp, path)
 
 
@@ -596,78 +590,6 @@ def chunk_folder(out: str | Path) -> Path:
     """The folder of chunk files that goes with the output file ``out`` (``out`` + ``.chunks``)."""
     out = Path(out)
     return out.with_name(out.name + ".chunks")
-
-
-def write_netcdf(ds, out: str | Path) -> Path:
-    """Write an xarray Dataset to NetCDF (netCDF3 64-bit offset through scipy), atomically.
-
-    The folder must exist (`ParameterError` otherwise). The file gets the
-    permissions of an ordinary new file (0666 less the umask, usually 0644).
-    """
-    out = check_output_path(out)
-    fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent)
-    os.close(fd)
-    try:
-        ds.to_netcdf(tmp, engine="scipy", format="NETCDF3_64BIT")
-        _umask_permissions(tmp)
-        os.replace(tmp, out)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return out
-
-
-def read_finished(out: str | Path, digest: str):
-    """The dataset in the NetCDF file ``out`` when it is the finished result of the study ``digest``.
-
-    A study writes its `study_digest` into its file as the attribute
-    ``study_digest``; running the same study again can then return the file
-    instead of computing it afresh.
-
-    Returns
-    -------
-    xarray.Dataset or None
-        None when the file is missing, unreadable or of another study.
-    """
-    out = Path(out)
-    if not out.is_file():
-        return None
-    import xarray as xr
-
-    try:
-        ds = xr.load_dataset(out, engine="scipy")
-    except (OSError, ValueError, TypeError):
-        return None
-    return ds if ds.attrs.get("study_digest") == digest else None
-
-
-def check_output_path(out: str | Path) -> Path:
-    """Check that ``out`` is a ``.nc`` path in an existing folder.
-
-    Raises
-    ------
-    ParameterError
-        For another suffix, a folder in its place, or a folder that is missing
-        or is a file (folders are not created: make them first).
-    """
-    out = Path(out)
-    if out.suffix.lower() != ".nc":
-        raise ParameterError(f"output file {str(out)!r} must end in .nc (NetCDF)")
-    if out.exists() and out.is_dir():
-        raise ParameterError(f"output file {str(out)!r} is a folder")
-    check_output_folder(out)
-    return out
-
-
-def check_output_folder(path: str | Path) -> None:
-    """Check that the folder of the output file ``path`` exists (`ParameterError` otherwise)."""
-    parent = Path(path).parent
-    if not parent.exists():
-        raise ParameterError(f"the folder {str(parent)!r} of the output file {str(path)!r} does not exist; "
-                             "create it first")
-    if not parent.is_dir():
-        raise ParameterError(f"output folder {str(parent)!r} is not a folder")
 
 
 # ---------------------------------------------------------------------------

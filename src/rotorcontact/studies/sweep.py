@@ -33,33 +33,31 @@ from typing import Any, Sequence
 import numpy as np
 
 from .. import __version__
+from ..errors import ParameterError
+from ..model.params import Machine, Parameters, check_finite, check_velocity
+from ..model.validation import check_int, check_params
+from .attributes import (
+    PARAMETER_LONG_NAMES,
+    PARAMETER_UNITS,
+    RATE_UNITS,
+    parameter_attrs,
+    settings_attrs,
+    summary_variables,
+)
 from .batch import (
-    _S_DU_IM,
-    _S_DU_RE,
-    _S_U_IM,
-    _S_U_RE,
-    FINAL_KIND_NAMES,
+    NSUM,
     PARAMETER_ORDER,
     REGIME_NAMES,
+    S_DU_IM,
+    S_DU_RE,
+    S_U_IM,
+    S_U_RE,
     BatchResult,
     BatchSettings,
     parameter_array,
 )
-from ..errors import ParameterError
-from ..model.params import Machine, Parameters, check_finite, check_velocity
-from .execution import (
-    ChunkStore,
-    ChunkTask,
-    check_output_path,
-    chunk_folder,
-    make_executor,
-    progress_bar,
-    read_finished,
-    run_waves,
-    study_digest,
-    write_netcdf,
-)
-from ..simulation.simulator import STATUS_NAMES
+from .driver import run_study
+from .execution import ChunkTask, study_digest
 
 __all__ = [
     "SWEEP_PARAMETERS",
@@ -78,30 +76,8 @@ __all__ = [
 SWEEP_PARAMETERS = PARAMETER_ORDER
 #: Sweep modes and the directions they run.
 MODES = {"both": ("up", "down"), "up": ("up",), "down": ("down",), "independent": ("independent",)}
-#: Units of the dimensionless parameters.
-PARAMETER_UNITS = {
-    "gamma": "1",
-    "omega": "1",
-    "rho": "1",
-    "mu": "1",
-    "d": "1",
-    "phi": "rad",
-    "r_ratio": "1",
-}
-PARAMETER_LONG_NAMES = {
-    "gamma": "damping c / (m Omega)",
-    "omega": "stiffness ratio sqrt(k / (m Omega^2))",
-    "rho": "eccentricity over clearance e_c / c_r",
-    "mu": "Coulomb friction coefficient",
-    "d": "Newton restitution coefficient",
-    "phi": "unbalance phase",
-    "r_ratio": "rotor radius over clearance R / c_r",
-}
 DEFAULT_CHUNK_CARRY = 20
 DEFAULT_CHUNK_INDEPENDENT = 64
-
-#: Units of an angular velocity in dimensionless time (thetadot): a rate, not an angle.
-RATE_UNITS = dict(units="1", description="radians per unit of dimensionless time t = Omega tau")
 
 SECTION_ATTRS = {
     "t": dict(long_name="time of the impact since the start of the recorded window", units="1",
@@ -113,46 +89,11 @@ SECTION_ATTRS = {
 }
 
 
-#: Note on the regime names stored with the flags (files of earlier versions used the former names).
-REGIME_COMMENT = "forward-rub and backward-whirl were formerly named rub and rolling"
-
-
-def _flag_attrs(names: Sequence[str], values: Sequence[int] | None = None, **extra: str) -> dict[str, Any]:
-    vals = list(range(len(names))) if values is None else list(values)
-    return dict(flag_values=np.asarray(vals, dtype=np.int32), flag_meanings=" ".join(names), **extra)
-
-
-SUMMARY_ATTRS: dict[str, dict[str, Any]] = {
-    "regime": _flag_attrs(REGIME_NAMES, long_name="regime of the recorded window", comment=REGIME_COMMENT),
-    "impacts_per_period": dict(long_name="impacts per period of a periodic impacting window (0: none)", units="1"),
-    "period": dict(long_name="period of a periodic impacting window", units="1"),
-    "n_impacts": dict(long_name="impacts in the recorded window", units="1"),
-    "n_contacts": dict(long_name="contact phases in the recorded window", units="1"),
-    "transient_impacts": dict(long_name="impacts in the transient", units="1"),
-    "contact_time": dict(long_name="time in continuous contact during the recorded window", units="1"),
-    "final_kind": _flag_attrs(list(FINAL_KIND_NAMES.values()), list(FINAL_KIND_NAMES.keys()),
-                              long_name="motion at the end of the window"),
-    "status": _flag_attrs(list(STATUS_NAMES.values()), list(STATUS_NAMES.keys()),
-                          long_name="how the recorded window ended"),
-    "transient_status": _flag_attrs(list(STATUS_NAMES.values()), list(STATUS_NAMES.keys()),
-                                    long_name="how the transient ended"),
-    "t_transient": dict(long_name="duration of the transient", units="1"),
-    "t_window": dict(long_name="duration of the recorded window", units="1"),
-    "final_u_re": dict(long_name="real part of U at the end of the window", units="1"),
-    "final_u_im": dict(long_name="imaginary part of U at the end of the window", units="1"),
-    "final_du_re": dict(long_name="real part of U' at the end of the window", units="1"),
-    "final_du_im": dict(long_name="imaginary part of U' at the end of the window", units="1"),
-}
-_INT_FIELDS = ("regime", "impacts_per_period", "n_impacts", "n_contacts", "transient_impacts", "final_kind", "status",
-               "transient_status")
-
-
 def sweep_values(start: float, stop: float, n: int) -> np.ndarray:
     """``n`` equally spaced values from ``start`` to ``stop`` (both included)."""
     start = check_finite("from", start)
     stop = check_finite("to", stop)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
-        raise ParameterError(f"n = {n!r} is invalid; allowed: an integer >= 1")
+    n = check_int("n", n, 1)
     if n > 1 and not start < stop:
         raise ParameterError(f"from = {start!r} must be smaller than to = {stop!r}")
     return np.linspace(start, stop, int(n))
@@ -248,6 +189,14 @@ class SweepResult:
         codes = self.dataset["regime"].sel(direction=direction).values
         return [REGIME_NAMES[int(c)] for c in codes]
 
+    def regime_counts(self) -> dict[str, dict[str, int]]:
+        """How many values end in each regime, per direction: ``{direction: {regime: count}}``, regimes sorted."""
+        counts = {}
+        for d in self.dataset.direction.values:
+            names = self.regimes(str(d))
+            counts[str(d)] = {name: names.count(name) for name in sorted(set(names))}
+        return counts
+
 
 def _lane_orders(directions: tuple[str, ...], n: int) -> list[np.ndarray]:
     return [np.arange(n)[::-1] if d == "down" else np.arange(n) for d in directions]
@@ -334,8 +283,7 @@ def sweep(
     ParameterError
         On invalid input.
     """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    check_params(params)
     if param not in SWEEP_PARAMETERS:
         raise ParameterError(f"param = {param!r} is invalid; allowed: {', '.join(SWEEP_PARAMETERS)}")
     if mode not in MODES:
@@ -347,9 +295,7 @@ def sweep(
     carry = mode != "independent"
     if chunk_size is None:
         chunk_size = DEFAULT_CHUNK_CARRY if carry else DEFAULT_CHUNK_INDEPENDENT
-    if isinstance(chunk_size, bool) or not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1:
-        raise ParameterError(f"chunk_size = {chunk_size!r} is invalid; allowed: an integer >= 1")
-    chunk_size = int(chunk_size)
+    chunk_size = check_int("chunk_size", chunk_size, 1)
     n = vals.size
     rows = parameter_array([params.replace(**{param: float(v)}) for v in vals])  # validates every value
     directions = MODES[mode]
@@ -388,150 +334,103 @@ def sweep(
     # the finished file also records how the start was given and the machine, and depends on the version
     digest = study_digest({**manifest, "start": start_name, "version": __version__,
                            "machine": None if machine is None else machine.as_dict()})
-    store = None
-    reused_before = 0
-    if out is not None:
-        out = check_output_path(out)
-        finished = read_finished(out, digest) if resume else None
-        if finished is not None:
-            n_chunks = math.ceil(n / int(finished.attrs["chunk_size"])) * len(directions)
-            return SweepResult(dataset=finished, param=param, path=out, chunks_computed=0, chunks_reused=n_chunks,
-                               impacts_simulated=int(finished["n_impacts"].sum() + finished["transient_impacts"].sum()),
-                               reused_file=True)
-        # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
-        store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
-        chunk_size = int(store.layout["chunk_size"])
 
     # chunks: (direction, block of consecutive steps)
+    def keys(size: int) -> list[str]:
+        return [key for ks in _sweep_keys(directions, n, size) for key in ks]
+
+    def waves(size: int, sink: dict[str, dict[str, np.ndarray]]):
+        return _sweep_waves(rows, starts, orders, directions, carry, settings, size, sink)
+
+    def assemble(size: int, load):
+        result = _assemble(load, orders, directions, carry, settings, size)
+        ds = _dataset(result, params, param, vals, directions, mode, start_name, starts, size, machine)
+        return ds, result.impacts_simulated
+
+    run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n * len(directions),
+                    desc=f"sweep {param}", chunk_size=chunk_size, out=out, resume=resume, keep_chunks=keep_chunks,
+                    n_jobs=n_jobs, scheduler=scheduler, processes=processes, progress=progress)
+    return SweepResult(dataset=run.dataset, param=param, path=run.path, chunks_computed=run.chunks_computed,
+                       chunks_reused=run.chunks_reused, impacts_simulated=run.impacts_simulated,
+                       reused_file=run.reused_file)
+
+
+def _blocks(n: int, chunk_size: int) -> list[slice]:
+    """The steps of each chunk of a direction: consecutive blocks of ``chunk_size``."""
+    return [slice(b * chunk_size, min(n, (b + 1) * chunk_size)) for b in range(math.ceil(n / chunk_size))]
+
+
+def _sweep_keys(directions: Sequence[str], n: int, chunk_size: int) -> list[list[str]]:
+    """Chunk keys per direction: ``"up-000000"``, ``"up-000001"``, ..."""
     n_blocks = math.ceil(n / chunk_size)
-    keys = [[f"{d}-{b:06d}" for b in range(n_blocks)] for d in directions]
+    return [[f"{d}-{b:06d}" for b in range(n_blocks)] for d in directions]
 
-    def block(b: int) -> slice:
-        return slice(b * chunk_size, min(n, (b + 1) * chunk_size))
 
-    sink: dict[str, dict[str, np.ndarray]] = {}
+def _sweep_waves(rows, starts, orders, directions, carry: bool, settings: BatchSettings, chunk_size: int,
+                 sink: dict[str, dict[str, np.ndarray]]):
+    """The waves of a sweep: one wave of every chunk, or, with the state carried, a wave per block of steps.
 
-    def waves():
-        if not carry:
-            tasks = []
-            z0 = np.array([s[0] for s in starts], dtype=complex)
-            dz0 = np.array([s[1] for s in starts], dtype=complex)
-            for b in range(n_blocks):
-                steps = orders[0][block(b)]
-                m = steps.size
-                tasks.append(ChunkTask(
-                    key=keys[0][b],
-                    params=rows[steps].reshape(m, 1, -1),
-                    u0=z0[steps].reshape(m, 1),
-                    du0=dz0[steps].reshape(m, 1),
-                    carry=False,
-                    settings=settings,
-                ))
-            yield tasks
-            return
-        state = list(starts)
-        for b in range(n_blocks):
-            tasks = []
-            for li, d in enumerate(directions):
-                if b > 0:
-                    prev = sink[keys[li][b - 1]]["summary"]
-                    last = prev[0, -1]
-                    state[li] = (complex(last[_S_U_RE], last[_S_U_IM]), complex(last[_S_DU_RE], last[_S_DU_IM]))
-                steps = orders[li][block(b)]
-                m = steps.size
-                z0, dz0 = state[li]
-                tasks.append(ChunkTask(
-                    key=keys[li][b],
-                    params=rows[steps].reshape(1, m, -1),
-                    u0=np.full((1, m), z0, dtype=complex),
-                    du0=np.full((1, m), dz0, dtype=complex),
-                    carry=True,
-                    settings=settings,
-                ))
-            yield tasks
+    With the state carried, the chunk of block b of a direction starts where the chunk of block b - 1
+    ended (read from ``sink``).
+    """
+    n = rows.shape[0]
+    blocks = _blocks(n, chunk_size)
+    keys = _sweep_keys(directions, n, chunk_size)
+    if not carry:
+        tasks = []
+        z0 = np.array([s[0] for s in starts], dtype=complex)
+        dz0 = np.array([s[1] for s in starts], dtype=complex)
+        for b, block in enumerate(blocks):
+            steps = orders[0][block]
+            m = steps.size
+            tasks.append(ChunkTask(
+                key=keys[0][b],
+                params=rows[steps].reshape(m, 1, -1),
+                u0=z0[steps].reshape(m, 1),
+                du0=dz0[steps].reshape(m, 1),
+                carry=False,
+                settings=settings,
+            ))
+        yield tasks
+        return
+    state = list(starts)
+    for b, block in enumerate(blocks):
+        tasks = []
+        for li in range(len(directions)):
+            if b > 0:
+                last = sink[keys[li][b - 1]]["summary"][0, -1]
+                state[li] = (complex(last[S_U_RE], last[S_U_IM]), complex(last[S_DU_RE], last[S_DU_IM]))
+            steps = orders[li][block]
+            m = steps.size
+            z0, dz0 = state[li]
+            tasks.append(ChunkTask(
+                key=keys[li][b],
+                params=rows[steps].reshape(1, m, -1),
+                u0=np.full((1, m), z0, dtype=complex),
+                du0=np.full((1, m), dz0, dtype=complex),
+                carry=True,
+                settings=settings,
+            ))
+        yield tasks
 
-    if store is not None:
-        reused_before = sum(store.done(k) for ks in keys for k in ks)
-    total = n * len(directions)
-    with make_executor(n_jobs, scheduler, processes=processes) as executor, \
-            progress_bar(total, f"sweep {param}", progress) as bar:
-        computed = run_waves(executor, waves(), store, bar, sink)
 
-    # assemble (from the chunk files when there are any, so a resumed run is identical)
-    keep = settings.keep
-    sections = np.full((len(directions), n, keep, 4), np.nan)
-    summary = np.empty((len(directions), n, sink[keys[0][0]]["summary"].shape[-1]))
+def _assemble(load, orders, directions, carry: bool, settings: BatchSettings, chunk_size: int) -> BatchResult:
+    """The batch result of a sweep from its finished chunks (``load(key)``), in the order of the values."""
+    n = orders[0].size
+    keys = _sweep_keys(directions, n, chunk_size)
+    sections = np.full((len(directions), n, settings.keep, 4), np.nan)
+    summary = np.empty((len(directions), n, NSUM))
     for li in range(len(directions)):
-        for b in range(n_blocks):
-            res = store.load(keys[li][b]) if store is not None else sink[keys[li][b]]
-            steps = orders[li][block(b)]
+        for b, block in enumerate(_blocks(n, chunk_size)):
+            res = load(keys[li][b])
+            steps = orders[li][block]
             if carry:
                 sections[li, steps] = res["sections"][0]
                 summary[li, steps] = res["summary"][0]
             else:
                 sections[li, steps] = res["sections"][:, 0]
                 summary[li, steps] = res["summary"][:, 0]
-    result = BatchResult.from_arrays(sections, summary, settings)
-    ds = _dataset(result, params, param, vals, directions, mode, start_name, starts, chunk_size, machine)
-    ds.attrs["study_digest"] = digest
-    if out is not None:
-        write_netcdf(ds, out)
-        if not keep_chunks:
-            store.remove()
-    return SweepResult(
-        dataset=ds,
-        param=param,
-        path=out,
-        chunks_computed=computed,
-        chunks_reused=reused_before,
-        impacts_simulated=result.impacts_simulated,
-    )
-
-
-def parameter_attrs(params: Parameters, skip: str | None = None, machine: Machine | None = None) -> dict[str, Any]:
-    """Attributes holding the model parameters and their units, and the machine in SI units if given."""
-    attrs: dict[str, Any] = {}
-    for name in PARAMETER_ORDER:
-        if name == skip:
-            continue
-        attrs[name] = float(getattr(params, name))
-        attrs[f"{name}_units"] = PARAMETER_UNITS[name]
-    if machine is not None:
-        units = machine.units()
-        for name, value in machine.as_dict().items():
-            attrs[f"machine_{name}"] = float(value)
-            attrs[f"machine_{name}_units"] = units[name]
-    return attrs
-
-
-def settings_attrs(settings: BatchSettings) -> dict[str, Any]:
-    """Attributes holding the transient and window settings."""
-    s = settings.as_dict()
-    return {
-        "n_transient": np.int32(s["n_transient"]),
-        "n_record": np.int32(s["n_record"]),
-        "t_transient": float(s["t_transient"]),
-        "t_record": float(s["t_record"]),
-        "n_keep": np.int32(s["n_keep"]),
-        "settle": np.int32(s["settle"]),
-        "transient_definition": "events (flights and contact phases) or time, whichever ends first",
-        **{name: float(value) for name, value in settings.chatter},
-    }
-
-
-def summary_variables(result: BatchResult, dims: tuple[str, ...]) -> dict[str, Any]:
-    """Per-item variables of a batch result for an xarray Dataset (netCDF3 types)."""
-    out: dict[str, Any] = {}
-    for name in ("regime", "impacts_per_period", "period", "n_impacts", "n_contacts", "transient_impacts",
-                 "contact_time", "final_kind", "status", "transient_status", "t_transient", "t_window"):
-        arr = getattr(result, name)
-        arr = arr.astype(np.int32) if name in _INT_FIELDS else arr.astype(float)
-        out[name] = (dims, arr, SUMMARY_ATTRS[name])
-    out["final_u_re"] = (dims, result.final_u.real.copy(), SUMMARY_ATTRS["final_u_re"])
-    out["final_u_im"] = (dims, result.final_u.imag.copy(), SUMMARY_ATTRS["final_u_im"])
-    out["final_du_re"] = (dims, result.final_du.real.copy(), SUMMARY_ATTRS["final_du_re"])
-    out["final_du_im"] = (dims, result.final_du.imag.copy(), SUMMARY_ATTRS["final_du_im"])
-    return out
+    return BatchResult.from_arrays(sections, summary, settings)
 
 
 def _dataset(result: BatchResult, params: Parameters, param: str, vals: np.ndarray, directions, mode: str,

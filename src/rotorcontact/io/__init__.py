@@ -1,0 +1,1 @@
+"""Reading and writing results: NetCDF files of the studies and JSON data."""

@@ -1,0 +1,157 @@
+"""The driver of a chunked study: resume, run, assemble, write.
+
+A study (a brute-force diagram, a basin of attraction) describes itself by
+
+* a *manifest*, everything that defines its chunks (the chunk folder of an
+  interrupted run is resumed only for the same manifest), and a *digest* of
+  everything that defines its finished file (`rotorcontact.studies.execution.study_digest`);
+* its chunk keys and its waves of `rotorcontact.studies.execution.ChunkTask`
+  for a chunk size;
+* an *assemble* function that builds its xarray Dataset from the finished chunks.
+
+`run_study` does the rest, the same way for every study: it returns an output
+file that already holds the finished study as it is, resumes the chunks of an
+interrupted run with the chunk size they were cut with, runs the waves on the
+executor asked for with a progress bar, assembles the result from the chunk
+files (so that a resumed run is identical to an uninterrupted one), writes the
+NetCDF file and removes the chunk folder.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Iterable
+
+import numpy as np
+
+from .netcdf import check_output_path, read_finished, write_netcdf
+from .execution import ChunkStore, ChunkTask, chunk_folder, make_executor, progress_bar, run_waves
+
+__all__ = ["StudyRun", "run_study"]
+
+#: The chunks of a study as a function of the chunk size: their keys, in order.
+Keys = Callable[[int], list[str]]
+#: The waves of chunks for a chunk size; a wave may read the finished chunks of earlier waves in ``sink``.
+Waves = Callable[[int, dict[str, dict[str, np.ndarray]]], Iterable[list[ChunkTask]]]
+#: The dataset of the study and the impacts it simulated, from the chunk size and a loader of finished chunks.
+Assemble = Callable[[int, Callable[[str], dict[str, np.ndarray]]], tuple[Any, int]]
+
+
+@dataclass(frozen=True)
+class StudyRun:
+    """What `run_study` did.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        The study, with its digest as the attribute ``study_digest``.
+    path : pathlib.Path or None
+        The NetCDF file written (or read back), if any.
+    chunk_size : int
+        The chunk size used (that of an interrupted run when one was resumed).
+    chunks_computed, chunks_reused : int
+        Chunks computed by this call, and finished chunks found from an
+        earlier, interrupted call (or all chunks, when `reused_file`).
+    impacts_simulated : int
+        Impacts computed (transients and windows, including reused chunks).
+    reused_file : bool
+        The output file already held this finished study and was returned as it is.
+    """
+
+    dataset: Any = field(repr=False)
+    path: Path | None
+    chunk_size: int
+    chunks_computed: int
+    chunks_reused: int
+    impacts_simulated: int
+    reused_file: bool = False
+
+
+def dataset_impacts(ds) -> int:
+    """Impacts simulated for a study's dataset: its windows' and its transients' (``n_impacts``, ``transient_impacts``)."""
+    return int(ds["n_impacts"].values.sum() + ds["transient_impacts"].values.sum())
+
+
+def run_study(
+    manifest: dict[str, Any],
+    digest: str,
+    *,
+    keys: Keys,
+    waves: Waves,
+    assemble: Assemble,
+    n_items: int,
+    desc: str,
+    chunk_size: int,
+    out: str | Path | None = None,
+    resume: bool = True,
+    keep_chunks: bool = False,
+    n_jobs: int | None = None,
+    scheduler: Any = None,
+    processes: bool = True,
+    progress: bool = True,
+) -> StudyRun:
+    """Run a chunked study (see the module docstring).
+
+    Parameters
+    ----------
+    manifest : dict
+        Everything that defines the chunks (`rotorcontact.studies.execution.ChunkStore`).
+    digest : str
+        `rotorcontact.studies.execution.study_digest` of everything that defines the finished file.
+    keys : callable
+        ``keys(chunk_size)``: the keys of all chunks.
+    waves : callable
+        ``waves(chunk_size, sink)``: the waves of chunk tasks (`rotorcontact.studies.execution.run_waves`).
+    assemble : callable
+        ``assemble(chunk_size, load)``: the dataset and the impacts simulated, where ``load(key)``
+        gives the arrays of a finished chunk.
+    n_items : int
+        Simulations of the study (the length of the progress bar).
+    desc : str
+        Label of the progress bar.
+    chunk_size : int
+        Chunk size asked for; an interrupted run is resumed with its own.
+    out : path, optional
+        NetCDF file to write; chunks go to ``out + ".chunks"`` meanwhile.
+    resume : bool
+        Continue from the chunks of an interrupted run with the same manifest,
+        and return ``out`` as it is when it already holds this finished study;
+        False computes afresh.
+    keep_chunks : bool
+        Keep the chunk folder after the merge.
+    n_jobs, scheduler, processes
+        The executor (`rotorcontact.studies.execution.make_executor`).
+    progress : bool
+        Show a progress bar on stderr.
+
+    Returns
+    -------
+    StudyRun
+    """
+    store = None
+    if out is not None:
+        out = check_output_path(out)
+        finished = read_finished(out, digest) if resume else None
+        if finished is not None:
+            used = int(finished.attrs["chunk_size"])
+            return StudyRun(dataset=finished, path=out, chunk_size=used, chunks_computed=0,
+                            chunks_reused=len(keys(used)), impacts_simulated=dataset_impacts(finished),
+                            reused_file=True)
+        # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
+        store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
+        chunk_size = int(store.layout["chunk_size"])
+    reused = sum(store.done(k) for k in keys(chunk_size)) if store is not None else 0
+    sink: dict[str, dict[str, np.ndarray]] = {}
+    with make_executor(n_jobs, scheduler, processes=processes) as executor, \
+            progress_bar(n_items, desc, progress) as bar:
+        computed = run_waves(executor, waves(chunk_size, sink), store, bar, sink)
+    # assemble from the chunk files when there are any, so that a resumed run is identical
+    ds, impacts = assemble(chunk_size, store.load if store is not None else sink.__getitem__)
+    ds.attrs["study_digest"] = digest
+    if out is not None:
+        write_netcdf(ds, out)
+        if not keep_chunks:
+            store.remove()
+    return StudyRun(dataset=ds, path=out, chunk_size=chunk_size, chunks_computed=computed, chunks_reused=reused,
+                    impacts_simulated=int(impacts))
