@@ -277,3 +277,15 @@ def test_one_vocabulary_of_regimes_with_the_former_names_as_aliases():
     assert REGIME_ALIASES == {"rub": "forward-rub", "rolling": "backward-whirl"}
     assert canonical_regime("rub") == "forward-rub" and canonical_regime("rolling") == "backward-whirl"
     assert canonical_regime("B1,d") == "B1,d" and canonical_regime("mixed") == "mixed"
+
+
+def test_the_chatter_criteria_are_the_kernel_arguments_with_the_defaults_of_simulate():
+    import inspect
+
+    from rotorcontact.simulation.simulator import CHATTER_DEFAULTS, simulate_kernel
+
+    names = list(inspect.signature(simulate_kernel.py_func).parameters)
+    assert list(CHATTER_DEFAULTS) == names[names.index("max_events") + 1 : names.index("stop_on_chatter")]
+    front = inspect.signature(simulate).parameters
+    assert {name: front[name].default for name in CHATTER_DEFAULTS} == CHATTER_DEFAULTS
+    assert dict(BatchSettings().chatter) == CHATTER_DEFAULTS

@@ -31,7 +31,6 @@ the stop time; in contact, the point on the stator with its angular velocity.
 
 from __future__ import annotations
 
-import inspect
 import math
 from dataclasses import dataclass, field, fields
 from typing import Any, Sequence
@@ -45,7 +44,15 @@ from ..model.flow import equilibrium_point, propagate
 from ..simulation.motion import MAX_PERIOD_IMPACTS, MIN_IRREGULAR, REGIMES, REPEAT_TOL, WINDOW
 from ..model.params import Parameters, check_range
 from ..model.impact_law import polar_velocity
-from ..simulation.simulator import BOUNDARY_TOL, COMPLETED, FAILED, MAX_EVENTS, STATUS_NAMES, simulate, simulate_kernel
+from ..simulation.simulator import (
+    BOUNDARY_TOL,
+    CHATTER_DEFAULTS,
+    COMPLETED,
+    FAILED,
+    MAX_EVENTS,
+    STATUS_NAMES,
+    simulate_kernel,
+)
 from ..simulation.contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_FORWARD
 
 __all__ = [
@@ -84,21 +91,6 @@ REGIME_NAMES = (*REGIMES, "undetermined", "failed")
 FINAL_KIND_NAMES = {-1: "flight", **{i: name for i, name in enumerate(KIND_NAMES)}}
 
 
-
-def _chatter_criteria() -> dict[str, float]:
-    """The simulator's criteria for an accumulation of impacts, in the kernel's order, with their defaults.
-
-    They are the kernel's arguments between ``max_events`` and
-    ``stop_on_chatter``; their defaults are those of `rotorcontact.simulation.simulator`.
-    """
-    names = list(inspect.signature(simulate_kernel.py_func).parameters)
-    front = inspect.signature(simulate).parameters
-    chosen = names[names.index("max_events") + 1 : names.index("stop_on_chatter")]
-    return {name: float(front[name].default) for name in chosen}
-
-
-#: The chatter criteria of the simulator and their default values.
-CHATTER_DEFAULTS = _chatter_criteria()
 
 #: Columns of the per-item summary array of the kernel (`run_lanes`), ``NSUM`` of them.
 S_STATUS = 0
