@@ -45,6 +45,9 @@ CHATTER = 1
 MAX_EVENTS = 2
 FAILED = 3
 STATUS_NAMES = {COMPLETED: "completed", CHATTER: "chatter", MAX_EVENTS: "max-events", FAILED: "failed"}
+#: The criteria for an accumulation of impacts (chatter) and their defaults in `simulate`, in the order of
+#: `simulate_kernel`'s arguments.
+CHATTER_DEFAULTS = {"chatter_tol": 1e-11, "chatter_rdot": 1e-5, "chatter_height": 0.0, "chatter_dt": 1e-3}
 
 NCOL = len(COLUMNS)
 BOUNDARY_TOL = 1e-12
@@ -359,10 +362,10 @@ def simulate(
     *,
     on_chatter: str = "contact",
     max_events: int = 10_000_000,
-    chatter_tol: float = 1e-11,
-    chatter_rdot: float = 1e-5,
-    chatter_height: float = 0.0,
-    chatter_dt: float = 1e-3,
+    chatter_tol: float = CHATTER_DEFAULTS["chatter_tol"],
+    chatter_rdot: float = CHATTER_DEFAULTS["chatter_rdot"],
+    chatter_height: float = CHATTER_DEFAULTS["chatter_height"],
+    chatter_dt: float = CHATTER_DEFAULTS["chatter_dt"],
     machine: Machine | None = None,
 ) -> Trajectory:
     """Simulate the rotor from (U, U') = (u0, du0) at t = 0 up to t_end.
