@@ -128,3 +128,18 @@ def test_bad_grids_are_rejected():
         speed_map(reference_machine(), [-5.0, 100.0])
     with pytest.raises(ParameterError):
         plane_map(reference_machine(), ("damping", "speed_rpm"), [1.0], [1.0])
+
+
+def test_design_map_draws_the_map_of_the_settings_given_ranges():
+    from rotorcontact.studies.design_map import OUTCOMES, REGIMES, design_map
+
+    machine = reference_machine()
+    dmap = design_map(machine, {"speed": (2000.0, 4000.0)}, 5)
+    assert dmap.axes == ("speed_rpm",) and dmap.shape == (5,)
+    assert dmap.points == speed_map(machine, np.linspace(2000.0, 4000.0, 5)).points
+    plane = design_map(machine, {"stiffness": (5e5, 1e6), "damping": (500.0, 1500.0)}, 100)
+    assert plane.axes == ("stiffness", "damping") and plane.shape == (60, 60)
+    assert sum(plane.outcome_counts().values()) == 3600 and tuple(plane.outcome_counts()) == OUTCOMES
+    assert REGIMES == OUTCOMES
+    with pytest.raises(ParameterError, match="give no map"):
+        design_map(machine, {"damping": (500.0, 1500.0)}, 5)

@@ -7,9 +7,8 @@ import itertools
 import sys
 from pathlib import Path
 
-import numpy as np
 
-from ..studies.design_map import DesignMap, plane_map, speed_map
+from ..studies.design_map import MAP_AXES, DesignMap, design_map
 from ..errors import ParameterError
 from ..model.params import load_machine
 from ..model.units import quantity_in
@@ -150,20 +149,12 @@ def build_map(args: argparse.Namespace) -> DesignMap:
         if getattr(args, name) is not None
     }
     _check_corners(machine, ranges, args)
-    grids = {name: np.linspace(a, b, n if len(ranges) == 1 else min(n, 60)) for name, (a, b) in ranges.items()}
+    if frozenset(ranges) not in MAP_AXES:
+        raise ParameterError(
+            "choose the map: --speed A:B; or --speed with --stiffness or --damping; or --stiffness with --damping"
+        )
     progress = bool(getattr(args, "progress", True)) and shock is not None
-    if set(ranges) == {"speed"}:
-        return speed_map(machine, grids["speed"], shock=shock, progress=progress)
-    if set(ranges) in ({"speed", "stiffness"}, {"speed", "damping"}):
-        other = "stiffness" if "stiffness" in ranges else "damping"
-        return plane_map(machine, ("speed_rpm", other), grids["speed"], grids[other], shock=shock,
-                         progress=progress)
-    if set(ranges) == {"stiffness", "damping"}:
-        return plane_map(machine, ("stiffness", "damping"), grids["stiffness"], grids["damping"], shock=shock,
-                         progress=progress)
-    raise ParameterError(
-        "choose the map: --speed A:B; or --speed with --stiffness or --damping; or --stiffness with --damping"
-    )
+    return design_map(machine, ranges, n, shock=shock, progress=progress)
 
 
 def _table(dmap: DesignMap) -> str:
@@ -178,8 +169,7 @@ def _table(dmap: DesignMap) -> str:
     if len(dmap.axes) == 1:
         for speed, before, after in dmap.boundaries():
             lines.append(f"boundary near {speed:.1f} rpm: {before} -> {after}")
-    counts = {r: sum(pt.regime == r for pt in dmap.points) for r in ("safe", "bistable", "contact-certain")}
-    lines.append("points: " + ", ".join(f"{r} {c}" for r, c in counts.items()))
+    lines.append("points: " + ", ".join(f"{r} {c}" for r, c in dmap.outcome_counts().items()))
     return "\n".join(lines)
 
 

@@ -110,10 +110,7 @@ def run(args: argparse.Namespace) -> int:
     elapsed = time.perf_counter() - t0
     note_reuse(res, execution.get("chunk_size"))
     ds = res.dataset
-    regimes = {}
-    for d in ds.direction.values:
-        names = res.regimes(str(d))
-        regimes[str(d)] = {name: names.count(name) for name in sorted(set(names))}
+    regimes = res.regime_counts()
     overlay_kind = None
     if args.plot is not None:
         from ..plotting.sweep import save_sweep_figure

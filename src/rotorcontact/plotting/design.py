@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib.colors import ListedColormap
 from matplotlib.patches import Patch
 
-from ..studies.design_map import REGIMES, DesignMap, rpm_to_rad_s
+from ..studies.design_map import OUTCOMES, DesignMap, rpm_to_rad_s
 from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
 from .style import new_axes, save_figure
@@ -18,7 +18,7 @@ _LABELS = {"speed_rpm": "speed (rpm)", "stiffness": "bearing stiffness k (N/m)",
 
 def _legend(ax) -> None:
     ax.legend(
-        handles=[Patch(color=REGIME_COLORS[r], alpha=0.5, label=r) for r in REGIMES],
+        handles=[Patch(color=REGIME_COLORS[r], alpha=0.5, label=r) for r in OUTCOMES],
         loc="upper right",
         fontsize=8,
     )
@@ -41,8 +41,8 @@ def plot_speed_regimes(dmap: DesignMap, ax=None):
     ax.set_xlabel("speed (rpm)")
     ax.set_ylabel("whirl amplitude (µm)")
     handles, labels = ax.get_legend_handles_labels()
-    handles += [Patch(color=REGIME_COLORS[r], alpha=0.5) for r in REGIMES]
-    labels += list(REGIMES)
+    handles += [Patch(color=REGIME_COLORS[r], alpha=0.5) for r in OUTCOMES]
+    labels += list(OUTCOMES)
     ax.legend(handles, labels, fontsize=8, loc="upper left")
     ax.set_title("regimes against speed")
     return fig, ax
@@ -59,7 +59,7 @@ def plot_operating_line(dmap: DesignMap, ax=None):
     gam = np.array([pt.gamma for pt in dmap.points])
     om = np.array([pt.omega for pt in dmap.points])
     ax.plot(gam, om, "-", color="0.5", lw=1, zorder=1)
-    for regime in REGIMES:
+    for regime in OUTCOMES:
         sel = np.array([pt.regime == regime for pt in dmap.points])
         if sel.any():
             ax.plot(gam[sel], om[sel], "o", ms=3, color=REGIME_COLORS[regime], label=regime, zorder=2)
@@ -79,8 +79,8 @@ def plot_plane(dmap: DesignMap, ax=None):
     fig, ax = new_axes(ax, figsize=(6, 4.5))
     a, b = dmap.values
     codes = dmap.regime_codes().T
-    cmap = ListedColormap([REGIME_COLORS[r] for r in REGIMES])
-    ax.pcolormesh(a, b, codes, cmap=cmap, vmin=-0.5, vmax=len(REGIMES) - 0.5, shading="nearest", alpha=0.75)
+    cmap = ListedColormap([REGIME_COLORS[r] for r in OUTCOMES])
+    ax.pcolormesh(a, b, codes, cmap=cmap, vmin=-0.5, vmax=len(OUTCOMES) - 0.5, shading="nearest", alpha=0.75)
     m = dmap.machine
     own = {"speed_rpm": m.speed * 60 / (2 * np.pi), "stiffness": m.stiffness, "damping": m.damping}
     ax.plot([own[dmap.axes[0]]], [own[dmap.axes[1]]], "k*", ms=12, label="machine setting")

@@ -10,10 +10,12 @@ that can persist are collected from the analysis (no simulation):
   physically plausible and stable (MODEL.md §5, `rotorcontact.maps.impact_map`);
 - forward rubs: pseudo-equilibria P1, P2 that are admissible and stable (MODEL.md §4).
 
-The point's regime is ``"safe"`` (whirl admissible, no stable contact motion),
-``"bistable"`` (whirl admissible and a stable contact motion coexists, so a
-touchdown can persist after a disturbance) or ``"contact-certain"`` (no
-admissible contact-free whirl). Orbits with several impacts per period, rolling
+The point's *outcome* (`OUTCOMES`; reported under the key ``"regime"``) is
+``"safe"`` (whirl admissible, no stable contact motion), ``"bistable"`` (whirl
+admissible and a stable contact motion coexists, so a touchdown can persist
+after a disturbance) or ``"contact-certain"`` (no admissible contact-free
+whirl). It is not a contact regime of a motion
+(`rotorcontact.simulation.motion.REGIMES`) but a verdict on a machine setting. Orbits with several impacts per period, rolling
 and chaotic motions are not found by this analysis; `recovery_probability`
 samples disturbances with the simulator, which sees all of them.
 """
@@ -30,22 +32,37 @@ from ..analysis.equilibria import equilibria
 from ..errors import ParameterError
 from ..maps.impact_map import one_impact_orbits
 from ..model.params import Machine, check_range
+from ..model.validation import check_int
 from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
 
 __all__ = [
-    "REGIMES",
+    "OUTCOMES",
+    "MAP_AXES",
     "Motion",
     "MapPoint",
     "DesignMap",
     "classify_machine",
     "speed_map",
     "plane_map",
+    "design_map",
     "recovery_probability",
     "rpm_to_rad_s",
     "rad_s_to_rpm",
 ]
 
-REGIMES = ("safe", "bistable", "contact-certain")
+#: The outcomes of a machine setting (see the module docstring), stored under the name ``regime``.
+OUTCOMES = ("safe", "bistable", "contact-certain")
+#: Former name of `OUTCOMES`.
+REGIMES = OUTCOMES
+#: The maps `design_map` draws: the axes of the map for the settings given ranges.
+MAP_AXES = {
+    frozenset({"speed"}): ("speed_rpm",),
+    frozenset({"speed", "stiffness"}): ("speed_rpm", "stiffness"),
+    frozenset({"speed", "damping"}): ("speed_rpm", "damping"),
+    frozenset({"stiffness", "damping"}): ("stiffness", "damping"),
+}
+#: Largest number of points along each side of a plane map.
+MAX_PLANE_SIDE = 60
 RPM = 2.0 * math.pi / 60.0
 
 
@@ -110,7 +127,7 @@ class MapPoint:
     gamma, omega : float
         Its dimensionless parameters.
     regime : str
-        One of `REGIMES`.
+        The outcome, one of `OUTCOMES`.
     whirl_admissible : bool
         Contact-free whirl x_R lies inside the clearance.
     coexisting : tuple of str
@@ -235,8 +252,7 @@ def recovery_probability(
     from .basins import basins, shock_grid
 
     shock = check_range("shock", shock, low=0.0)
-    if isinstance(directions, bool) or not isinstance(directions, int) or directions < 1:
-        raise ParameterError(f"directions = {directions!r} is invalid; allowed: an integer >= 1")
+    directions = check_int("directions", directions, 1)
     p = machine.parameters()
     if abs(p.k) >= 1.0:
         raise ParameterError(
@@ -280,8 +296,12 @@ class DesignMap:
         return tuple(len(v) for v in self.values)
 
     def regime_codes(self) -> np.ndarray:
-        """Regimes as integer codes (index into `REGIMES`), shaped like the grid."""
-        return np.array([REGIMES.index(pt.regime) for pt in self.points]).reshape(self.shape)
+        """Outcomes as integer codes (index into `OUTCOMES`), shaped like the grid."""
+        return np.array([OUTCOMES.index(pt.regime) for pt in self.points]).reshape(self.shape)
+
+    def outcome_counts(self) -> dict[str, int]:
+        """How many points have each outcome, in the order of `OUTCOMES`."""
+        return {name: sum(pt.regime == name for pt in self.points) for name in OUTCOMES}
 
     def boundaries(self) -> list[tuple[float, str, str]]:
         """For a speed map: (speed_rpm, regime before, regime after) where the regime changes."""
@@ -319,7 +339,7 @@ class DesignMap:
         ).reshape(shape)
         ds = xr.Dataset(
             {
-                "regime": (dims, self.regime_codes(), {"flag_values": "0 1 2", "flag_meanings": " ".join(REGIMES)}),
+                "regime": (dims, self.regime_codes(), {"flag_values": "0 1 2", "flag_meanings": " ".join(OUTCOMES)}),
                 "gamma": (dims, grid("gamma"), {"units": "1"}),
                 "omega": (dims, grid("omega"), {"units": "1"}),
                 "whirl_admissible": (dims, grid("whirl_admissible", np.int8), {"units": "1"}),
@@ -396,3 +416,37 @@ def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], s
                     changes[name] = val
             machines.append(replace(machine, **changes))
     return DesignMap(machine, tuple(axes), (a, b), _classify_all(machines, shock, t_max, progress), shock)
+
+
+def design_map(machine: Machine, ranges: dict[str, tuple[float, float]], n: int, *, shock: float | None = None,
+               t_max: float = 12.0, progress: bool = False) -> DesignMap:
+    """The map over the settings given ranges: a speed map, or a plane of two settings.
+
+    Parameters
+    ----------
+    machine : Machine
+        The base machine; the settings without a range keep its values.
+    ranges : dict
+        ``(first, last)`` for one or two of ``"speed"`` (rpm), ``"stiffness"`` (N/m) and
+        ``"damping"`` (N s/m), in a combination of `MAP_AXES`.
+    n : int
+        Points along the range of a speed map; a plane has ``min(n, MAX_PLANE_SIDE)`` along each side.
+    shock, t_max, progress
+        As for `speed_map` and `plane_map`.
+
+    Raises
+    ------
+    ParameterError
+        For another combination of settings.
+    """
+    axes = MAP_AXES.get(frozenset(ranges))
+    if axes is None:
+        allowed = "; ".join(" and ".join(sorted(k)) for k in MAP_AXES)
+        raise ParameterError(f"ranges of {', '.join(sorted(ranges)) or 'nothing'} give no map; allowed: {allowed}")
+    n = check_int("n", n, 1)
+    side = n if len(ranges) == 1 else min(n, MAX_PLANE_SIDE)
+    grids = {name: np.linspace(a, b, side) for name, (a, b) in ranges.items()}
+    first, *second = [grids["speed" if axis == "speed_rpm" else axis] for axis in axes]
+    if not second:
+        return speed_map(machine, first, shock=shock, t_max=t_max, progress=progress)
+    return plane_map(machine, axes, first, second[0], shock=shock, t_max=t_max, progress=progress)
