@@ -13,7 +13,7 @@ import pytest
 from rotorcontact import Parameters
 from rotorcontact.cli.main import main
 from rotorcontact.maps.impact_map import impact_map
-from rotorcontact.maps.multi_impact import multi_impact_orbits
+from rotorcontact.continuation.multi_impact_branches import multi_impact_orbits
 
 EXE = Path(sys.executable).parent / "rotorcontact"
 KEYS = {"label", "impacts", "period", "points", "multipliers", "stable", "plausible"}

@@ -16,12 +16,11 @@ import pytest
 
 from rotorcontact import ParameterError, Parameters, simulate
 from rotorcontact.maps.impact_map import impact_map, one_impact_orbits
+from rotorcontact.continuation.multi_impact_branches import continue_multi_impact, multi_impact_orbits
 from rotorcontact.maps.multi_impact import (
     MultiImpactOrbit,
     NewtonFailure,
-    continue_multi_impact,
     find_period_doubling,
-    multi_impact_orbits,
     orbits_from_simulation,
     period_doubled_orbit,
     periodic_residual,

@@ -2,7 +2,7 @@
 
 Without ``--impacts`` (or with ``--impacts 1``) it lists the orbits with one
 impact per period (MODEL.md §5). With ``--impacts p`` (p >= 2) it lists the
-orbits with p impacts per period of `rotorcontact.maps.multi_impact.multi_impact_orbits`:
+orbits with p impacts per period of `rotorcontact.continuation.multi_impact_branches.multi_impact_orbits`:
 each as {"label", "impacts", "period", "points", "multipliers", "stable",
 "plausible"}, the points as {"theta", "rdot", "thetadot", "dt"} with dt the
 time to the next impact.
@@ -14,7 +14,8 @@ import argparse
 
 from ..errors import ParameterError
 from ..maps.impact_map import ImpactOrbit, one_impact_orbits
-from ..maps.multi_impact import MultiImpactOrbit, multi_impact_orbits
+from ..continuation.multi_impact_branches import multi_impact_orbits
+from ..maps.multi_impact import MultiImpactOrbit
 from ..model.params import Machine
 from ..model.si import orbit_si, rate_scale, times_si, velocity_scale
 from ..simulation.motion import MAX_PERIOD_IMPACTS

@@ -55,7 +55,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .events import BranchAnalyser, at_turning_point, branch_event_functions, report_events, turning_points
-from .results import EVENT_TYPES, LabelBranch, OrbitBranches, OrbitCurve, OrbitEvent
+from .results import EVENT_TYPES, BranchEvent, LabelBranch, OrbitBranches, OrbitCurve, OrbitEvent
 from .engine import (
     ContinuationResult,
     ContinuationSettings,
@@ -73,6 +73,7 @@ from ..model.params import Parameters, check_finite, check_range
 __all__ = [
     "EVENT_TYPES",
     "BRANCH_PARAMETERS",
+    "BranchEvent",
     "OrbitEvent",
     "OrbitCurve",
     "LabelBranch",
@@ -247,8 +248,8 @@ def orbit_branches(
         raw_events.extend(evs)
 
     events = report_events(raw_events, an, system)
-    return OrbitBranches(param=param, start=start, stop=stop, base=params, t_max=t_max,
-                         curves=tuple(curves), events=events)
+    return OrbitBranches(param=param, events=events, start=start, stop=stop, base=params, t_max=t_max,
+                         curves=tuple(curves))
 
 
 def _assemble(system: OneImpactSystem, runs: list[ContinuationResult], weights: np.ndarray,

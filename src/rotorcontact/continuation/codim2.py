@@ -48,7 +48,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
-from typing import Any, Callable, Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 from scipy.optimize import brentq
@@ -62,6 +62,7 @@ from .engine import (
     corrected_crossings,
 )
 from ..errors import ParameterError
+from .results import BranchEvent, BranchResult
 from ..model.flow import propagate
 from ..maps.impact_map import IDEAL, f1_zeros, flight_extrema, one_impact_orbits, post_impact_state, rdot_roots
 from ..maps.orbit_system import BRANCH_PARAMETERS, orbit_angles, regularised_residual, with_parameters
@@ -108,30 +109,14 @@ def _settings() -> ContinuationSettings:
 # ---------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class Codim2Point:
-    """An intersection of two curves.
+#: An intersection of two curves is a `BranchEvent`: ``kind`` one of `POINT_TYPES`, ``param`` the plane
+#: (p1, p2), ``value`` (p1, p2) at the point, ``T`` the period of the orbit involved (None without one).
+Codim2Point = BranchEvent
 
-    Attributes
-    ----------
-    type : str
-        One of `POINT_TYPES`.
-    params : tuple of str
-        (p1, p2).
-    values : tuple of float
-        (p1, p2) at the point.
-    T : float or None
-        Period of the orbit involved (None for points without one).
-    """
 
-    type: str
-    params: tuple[str, str]
-    values: tuple[float, float]
-    T: float | None = None
-
-    def to_dict(self) -> dict[str, Any]:
-        """``{"type": ..., p1: ..., p2: ...}`` (the ``codim2 --json`` contract)."""
-        return {"type": self.type, self.params[0]: self.values[0], self.params[1]: self.values[1]}
+def _point(kind: str, params: tuple[str, str], v1: float, v2: float, T: float | None = None) -> BranchEvent:
+    """The intersection point of type ``kind`` at (p1, p2) = (v1, v2)."""
+    return BranchEvent(kind=kind, value=(v1, v2), param=params, T=T)
 
 
 @dataclass(frozen=True)
@@ -179,32 +164,39 @@ class Codim2Curve:
 
 
 @dataclass(frozen=True)
-class Codim2Diagram:
+class Codim2Diagram(BranchResult):
     """Curves and their intersections in a plane of two parameters.
 
     Attributes
     ----------
-    params : tuple of str
+    param : tuple of str
+        The plane (p1, p2).
+    events : tuple of BranchEvent
+        The intersection points.
     ranges : tuple of (float, float)
         The box.
     base : Parameters
         The other parameters.
     curves : dict of str -> Codim2Curve
-    points : tuple of Codim2Point
     """
 
-    params: tuple[str, str]
     ranges: tuple[tuple[float, float], tuple[float, float]]
     base: Parameters
     curves: dict[str, Codim2Curve] = field(repr=False)
-    points: tuple[Codim2Point, ...]
 
-    def to_dict(self) -> dict[str, Any]:
-        """The ``codim2 --json`` contract."""
-        return {
-            "curves": {name: c.to_list() for name, c in self.curves.items()},
-            "points": [p.to_dict() for p in self.points],
-        }
+    @property
+    def params(self) -> tuple[str, str]:
+        """The plane (`param`)."""
+        return self.param  # type: ignore[return-value]
+
+    @property
+    def points(self) -> tuple[BranchEvent, ...]:
+        """The intersection points (`events`)."""
+        return self.events
+
+    def curves_dict(self) -> dict[str, list]:
+        """Per curve, [[p1, p2], ...] with null between pieces."""
+        return {name: c.to_list() for name, c in self.curves.items()}
 
 
 # ---------------------------------------------------------------------------
@@ -418,7 +410,7 @@ def fold_curve(
     n_seeds: int = 7,
     n_scan: int = 41,
     settings: ContinuationSettings | None = None,
-) -> tuple[Codim2Curve, tuple[Codim2Point, ...]]:
+) -> tuple[Codim2Curve, tuple[BranchEvent, ...]]:
     """The fold curve of the pair n (gamma_F,n in the (gamma, omega) plane), and where it meets the DIB curve.
 
     Parameters
@@ -442,7 +434,7 @@ def fold_curve(
     Returns
     -------
     curve : Codim2Curve
-    points : tuple of Codim2Point
+    points : tuple of BranchEvent
         The ``fold-dib`` points.
     """
     plane = _Plane(params, params2, ranges)
@@ -470,7 +462,7 @@ def fold_curve(
     weights = np.array([1.0, 1.0 / plane.span(0), 1.0 / plane.span(1)])
     pieces, ends, found = _trace(residual, seeds, events, weights, settings)
     points = tuple(
-        Codim2Point("fold-dib", plane.params, (float(e.y[1]), float(e.y[2])), float(e.y[0]))
+        _point("fold-dib", plane.params, float(e.y[1]), float(e.y[2]), float(e.y[0]))
         for e in found
         if e.name == "dib" and e.continuous and not e.terminal
     )
@@ -554,7 +546,7 @@ def grazing_curve(
     n_seeds: int = 7,
     n_scan: int = 41,
     settings: ContinuationSettings | None = None,
-) -> tuple[Codim2Curve, tuple[Codim2Point, ...]]:
+) -> tuple[Codim2Curve, tuple[BranchEvent, ...]]:
     """The grazing curve of one orbit: its largest interior maximum of r equals 1.
 
     Parameters as in `fold_curve`, and
@@ -566,7 +558,7 @@ def grazing_curve(
     -------
     curve : Codim2Curve
         Named ``"grazing_B1d"`` (the label without its comma).
-    points : tuple of Codim2Point
+    points : tuple of BranchEvent
         ``grazing-dib`` and ``fold-grazing`` points.
     """
     plane = _Plane(params, params2, ranges)
@@ -629,9 +621,9 @@ def grazing_curve(
         if not e.continuous:
             continue
         if e.name == "dib":
-            points.append(Codim2Point("grazing-dib", plane.params, (float(e.y[3]), float(e.y[4])), float(e.y[0])))
+            points.append(_point("grazing-dib", plane.params, float(e.y[3]), float(e.y[4]), float(e.y[0])))
         elif e.name == "fold":
-            points.append(Codim2Point("fold-grazing", plane.params, (float(e.y[3]), float(e.y[4])), float(e.y[0])))
+            points.append(_point("fold-grazing", plane.params, float(e.y[3]), float(e.y[4]), float(e.y[0])))
     name = "grazing_" + orbit.replace(",", "")
     curve = Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=tuple(pieces), ends=tuple(ends))
     return curve, _unique(tuple(points))
@@ -681,7 +673,7 @@ def codim2_diagram(
     for n in folds:
         _check_int("folds", n, 1)
     curves: dict[str, Codim2Curve] = {}
-    points: list[Codim2Point] = []
+    points: list[BranchEvent] = []
     kw = dict(t_max=t_max, n_seeds=n_seeds, n_scan=n_scan, settings=settings)
     for n in folds:
         c, pts = fold_curve(params, plane.params, plane.ranges, n=n, **kw)
@@ -693,8 +685,8 @@ def codim2_diagram(
         c, pts = grazing_curve(params, plane.params, plane.ranges, orbit=label, **kw)
         curves[c.name] = c
         points.extend(pts)
-    pts = sorted(_unique(tuple(points)), key=lambda q: (q.type, q.values))
-    return Codim2Diagram(params=plane.params, ranges=plane.ranges, base=params, curves=curves, points=tuple(pts))
+    pts = sorted(_unique(tuple(points)), key=lambda q: (q.kind, q.value))
+    return Codim2Diagram(param=plane.params, events=tuple(pts), ranges=plane.ranges, base=params, curves=curves)
 
 
 # ---------------------------------------------------------------------------
@@ -770,11 +762,11 @@ def _check_int(name: str, value, low: int) -> int:
     return int(value)
 
 
-def _unique(points: tuple[Codim2Point, ...]) -> tuple[Codim2Point, ...]:
-    out: list[Codim2Point] = []
+def _unique(points: tuple[BranchEvent, ...]) -> tuple[BranchEvent, ...]:
+    out: list[BranchEvent] = []
     for p in points:
-        if any(q.type == p.type and abs(q.values[0] - p.values[0]) <= 1e-8 * (1 + abs(p.values[0]))
-               and abs(q.values[1] - p.values[1]) <= 1e-8 * (1 + abs(p.values[1])) for q in out):
+        if any(q.kind == p.kind and abs(q.value[0] - p.value[0]) <= 1e-8 * (1 + abs(p.value[0]))
+               and abs(q.value[1] - p.value[1]) <= 1e-8 * (1 + abs(p.value[1])) for q in out):
             continue
         out.append(p)
     return tuple(out)

@@ -32,7 +32,7 @@ import numpy as np
 from .engine import EventFunction, LocatedEvent
 from ..maps.impact_map import IDEAL, flight_extrema, impact_map_jacobian
 from ..maps.orbit_system import OneImpactSystem, label_of, orbit_angles, regularised_residual
-from .results import OrbitEvent
+from .results import BranchEvent
 
 __all__ = ["BranchAnalyser", "at_turning_point", "branch_event_functions", "classify_event", "report_events",
            "turning_points"]
@@ -227,10 +227,10 @@ def at_turning_point(y: np.ndarray, turning: list[np.ndarray]) -> bool:
                for t in turning)
 
 
-def report_events(raw: list[LocatedEvent], an: BranchAnalyser, system: OneImpactSystem) -> tuple[OrbitEvent, ...]:
+def report_events(raw: list[LocatedEvent], an: BranchAnalyser, system: OneImpactSystem) -> tuple[BranchEvent, ...]:
     """The reported events (typed, labelled, sorted by value, without duplicates) from the located ones."""
     turning = turning_points(raw)
-    out: list[OrbitEvent] = []
+    out: list[BranchEvent] = []
     for e in raw:
         kind = classify_event(e, an, system)
         if kind is None:
@@ -247,13 +247,13 @@ def report_events(raw: list[LocatedEvent], an: BranchAnalyser, system: OneImpact
             n, b = label_of(p, float(yy[0]), float(yy[1]))
             labels.add((n, b))
         orbits = tuple(f"B{n},{b}" for n, b in sorted(labels))
-        out.append(OrbitEvent(type=typ, value=float(e.parameter), orbits=orbits, T=float(e.y[0]),
-                              rdot=float(e.y[1]), detail=detail, accuracy=float(e.bracket)))
+        out.append(BranchEvent(kind=typ, value=float(e.parameter), param=system.param, orbits=orbits,
+                               T=float(e.y[0]), rdot=float(e.y[1]), detail=detail, accuracy=float(e.bracket)))
     # the same event met by two runs (a seed's two directions share their start)
-    out.sort(key=lambda ev: (ev.value, ev.type, ev.orbits))
-    unique: list[OrbitEvent] = []
+    out.sort(key=lambda ev: (ev.value, ev.kind, ev.orbits))
+    unique: list[BranchEvent] = []
     for ev in out:
-        if any(u.type == ev.type and u.orbits == ev.orbits and abs(u.value - ev.value) <= 1e-8
+        if any(u.kind == ev.kind and u.orbits == ev.orbits and abs(u.value - ev.value) <= 1e-8
                and abs(u.T - ev.T) <= 1e-6 * (1.0 + abs(ev.T)) for u in unique):
             continue
         unique.append(ev)

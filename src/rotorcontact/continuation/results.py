@@ -1,7 +1,15 @@
-"""Result types of the branches of one-impact orbits (`rotorcontact.continuation.branches`).
+"""Result types of the continuation layer: special points and branch results.
 
-`OrbitBranches` holds the computed curves (`OrbitCurve`: the orbits along
-one continuation) and the located events (`OrbitEvent`). `OrbitBranches.branch`
+`BranchEvent` is the one type of a special point met along a continued curve:
+a bifurcation along a branch of orbits (`rotorcontact.continuation.branches`,
+`rotorcontact.continuation.multi_impact_branches`), a fold of the zeros of F1
+(`rotorcontact.continuation.zero_curves`) or an intersection of curves in a
+plane of two parameters (`rotorcontact.continuation.codim2`). `BranchResult`
+is the base of every branch result: the continuation parameter(s), the
+special points, and one serialisation, `branch_to_dict`.
+
+`OrbitBranches` holds the computed curves of one-impact orbits (`OrbitCurve`:
+the orbits along one continuation) and their events. `OrbitBranches.branch`
 regroups the points by orbit label (`LabelBranch`), in connected pieces; its
 ``to_dict`` is the ``rotorcontact branches --json`` contract.
 """
@@ -18,9 +26,18 @@ from ..errors import ParameterError
 from ..maps.impact_map import ImpactOrbit
 from ..model.params import Parameters
 
-__all__ = ["EVENT_TYPES", "OrbitEvent", "OrbitCurve", "LabelBranch", "OrbitBranches"]
+__all__ = [
+    "EVENT_TYPES",
+    "BranchEvent",
+    "BranchResult",
+    "branch_to_dict",
+    "OrbitEvent",
+    "OrbitCurve",
+    "LabelBranch",
+    "OrbitBranches",
+]
 
-#: Types of the events reported along branches.
+#: Types of the events reported along branches of one-impact orbits.
 EVENT_TYPES = (
     "fold",
     "nsfh",
@@ -34,38 +51,126 @@ EVENT_TYPES = (
 
 
 @dataclass(frozen=True)
-class OrbitEvent:
-    """A bifurcation or change of character along a branch.
+class BranchEvent:
+    """A special point along a continued curve.
 
     Attributes
     ----------
-    type : str
-        One of `EVENT_TYPES`.
-    value : float
-        The parameter there.
+    kind : str
+        What happens there: along branches of one-impact orbits one of
+        `EVENT_TYPES`; along branches of multi-impact orbits ``"fold"``,
+        ``"period-doubling"``, ``"neimark-sacker"``, ``"grazing"`` or
+        ``"slip"``; ``"fold"`` for the zeros of F1; in a plane of two
+        parameters one of `rotorcontact.continuation.codim2.POINT_TYPES`.
+    value : float or tuple of float
+        The continuation parameter there (one value per name of ``param``).
+    param : str or tuple of str
+        The continuation parameter, or the two parameters of the plane.
     orbits : tuple of str
         Labels of the orbits involved (both sides of a fold or coalescence).
-    T : float
-        Period at the event.
-    rdot : float
-        Impact velocity at the event.
     detail : str
         A short description (for example the stability on either side).
+    T : float or None
+        Period of the orbit at the event (the double zero for a fold of F1).
+    rdot : float or None
+        Impact velocity at the event.
     accuracy : float
         Width of the final bracket in the parameter.
+    n : int or None
+        Index of the pair of zeros of F1 (folds of the zeros of F1).
+    orbit : object or None
+        The computed orbit at the event (multi-impact branches; None where it
+        could not be built).
     """
 
-    type: str
-    value: float
-    orbits: tuple[str, ...]
-    T: float
-    rdot: float
+    kind: str
+    value: float | tuple[float, ...]
+    param: str | tuple[str, ...]
+    orbits: tuple[str, ...] = ()
     detail: str = ""
+    T: float | None = None
+    rdot: float | None = None
     accuracy: float = 0.0
+    n: int | None = None
+    orbit: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def type(self) -> str:
+        """`kind` (the name used by the JSON output)."""
+        return self.kind
+
+    @property
+    def params(self) -> tuple[str, ...]:
+        """`param` as a tuple (the plane of a two-parameter point)."""
+        return (self.param,) if isinstance(self.param, str) else tuple(self.param)
+
+    @property
+    def values(self) -> tuple[float, ...]:
+        """`value` as a tuple, one entry per name of `params`."""
+        return (self.value,) if isinstance(self.value, (int, float)) else tuple(self.value)
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``branches --json`` event: type, value, orbits."""
-        return {"type": self.type, "value": self.value, "orbits": list(self.orbits)}
+        """The JSON object of the event (see `event_to_dict`)."""
+        return event_to_dict(self)
+
+
+def event_to_dict(event: BranchEvent) -> dict[str, Any]:
+    """The JSON object of a special point.
+
+    Along one parameter (the ``branches --json`` contract) ``{"type", "value",
+    "orbits"}``; in a plane of two parameters (the ``codim2 --json``
+    contract) ``{"type", p1: value1, p2: value2}``.
+    """
+    out: dict[str, Any] = {"type": event.kind}
+    if isinstance(event.param, str):
+        out["value"] = event.value
+        out["orbits"] = list(event.orbits)
+    else:
+        out.update(zip(event.param, event.value))
+    return out
+
+
+#: The former name of `BranchEvent` along branches of one-impact orbits.
+OrbitEvent = BranchEvent
+
+
+@dataclass(frozen=True)
+class BranchResult:
+    """What every branch result holds: the continuation parameter(s) and the special points.
+
+    Attributes
+    ----------
+    param : str or tuple of str
+        The continuation parameter (a tuple of two names for a plane of two parameters).
+    events : tuple of BranchEvent
+        The special points, in the order of the result.
+    """
+
+    param: str | tuple[str, ...]
+    events: tuple[BranchEvent, ...]
+
+    def curves_dict(self) -> Any:
+        """The curves in JSON form (the part of `to_dict` beside the special points)."""
+        raise NotImplementedError
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for JSON (`branch_to_dict`)."""
+        return branch_to_dict(self)
+
+
+def branch_to_dict(result: BranchResult) -> dict[str, Any]:
+    """The JSON object of a branch result.
+
+    Along one parameter: ``{"param", "events", "branches"}`` (the ``branches
+    --json`` contract for `OrbitBranches`); in a plane of two parameters:
+    ``{"curves", "points"}`` (the ``codim2 --json`` contract). Events are
+    written by `event_to_dict`.
+    """
+    events = [event_to_dict(e) for e in result.events]
+    curves = result.curves_dict()
+    if isinstance(result.param, str):
+        return {"param": result.param, "events": events, "branches": curves}
+    return {"curves": curves, "points": events}
 
 
 @dataclass(frozen=True)
@@ -151,12 +256,14 @@ class LabelBranch:
 
 
 @dataclass(frozen=True)
-class OrbitBranches:
+class OrbitBranches(BranchResult):
     """Branches of one-impact orbits along a parameter range, with their events.
 
     Attributes
     ----------
     param : str
+    events : tuple of BranchEvent
+        Sorted by value.
     start, stop : float
         The parameter range.
     base : Parameters
@@ -164,17 +271,13 @@ class OrbitBranches:
     t_max : float
         Largest period followed.
     curves : tuple of OrbitCurve
-    events : tuple of OrbitEvent
-        Sorted by value.
     """
 
-    param: str
     start: float
     stop: float
     base: Parameters
     t_max: float
     curves: tuple[OrbitCurve, ...] = field(repr=False)
-    events: tuple[OrbitEvent, ...]
 
     def params_at(self, value: float) -> Parameters:
         """The parameters at ``value`` of the varied parameter."""
@@ -186,10 +289,10 @@ class OrbitBranches:
         found = {o.label: (o.n, o.branch) for c in self.curves for o in c.orbits}
         return tuple(sorted(found, key=lambda lab: found[lab]))
 
-    def select(self, type: str | None = None, orbit: str | None = None) -> tuple[OrbitEvent, ...]:
+    def select(self, type: str | None = None, orbit: str | None = None) -> tuple[BranchEvent, ...]:
         """The events of one type and/or involving one orbit."""
         return tuple(
-            e for e in self.events if (type is None or e.type == type) and (orbit is None or orbit in e.orbits)
+            e for e in self.events if (type is None or e.kind == type) and (orbit is None or orbit in e.orbits)
         )
 
     def branch(self, label: str) -> LabelBranch:
@@ -227,8 +330,8 @@ class OrbitBranches:
             extrema=[None if r is None else r[2] for r in rows],
         )
 
-    def to_dict(self) -> dict[str, Any]:
-        """The ``branches --json`` contract (breaks between pieces as null)."""
+    def curves_dict(self) -> dict[str, dict[str, list]]:
+        """Per label: the parameter, T, rdot, thetadot and stable along it (breaks between pieces as null)."""
         branches = {}
         for label in self.labels:
             b = self.branch(label)
@@ -239,7 +342,7 @@ class OrbitBranches:
                 "thetadot": [None if math.isnan(v) else float(v) for v in b.thetadot],
                 "stable": [None if s is None else bool(s) for s in b.stable],
             }
-        return {"param": self.param, "events": [e.to_dict() for e in self.events], "branches": branches}
+        return branches
 
 
 def _label_pieces(curve: OrbitCurve, label: str) -> list[list[int]]:

@@ -23,6 +23,7 @@ from .engine import (
     corrected_crossings,
 )
 from ..errors import ParameterError
+from .results import BranchEvent, BranchResult
 from ..maps.impact_map import f1_zeros
 from ..maps.orbit_system import OneImpactSystem, regularised_residual
 from ..model.params import Parameters, check_finite, check_range
@@ -30,23 +31,10 @@ from ..model.params import Parameters, check_finite, check_range
 __all__ = ["ZeroFold", "ZeroCurve", "F1ZeroCurves", "f1_zero_curves"]
 
 
-@dataclass(frozen=True)
-class ZeroFold:
-    """A fold of the zeros of F1: T0,n,a and T0,n,b merge.
-
-    Attributes
-    ----------
-    value : float
-        The parameter there (gamma_F,n when the parameter is gamma).
-    T : float
-        The double zero.
-    n : int
-        The pair.
-    """
-
-    value: float
-    T: float
-    n: int
+#: A fold of the zeros of F1 is a `BranchEvent` of kind ``"fold"``: ``value`` the parameter there
+#: (gamma_F,n when the parameter is gamma), ``T`` the double zero, ``n`` the pair, ``orbits`` the two
+#: zeros that merge (``("T0,n,a", "T0,n,b")``).
+ZeroFold = BranchEvent
 
 
 @dataclass(frozen=True)
@@ -70,31 +58,39 @@ class ZeroCurve:
 
 
 @dataclass(frozen=True)
-class F1ZeroCurves:
+class F1ZeroCurves(BranchResult):
     """Zeros of F1 against a parameter.
 
     Attributes
     ----------
     param : str
+    events : tuple of BranchEvent
+        The folds, sorted by n, then value.
     start, stop : float
     base : Parameters
     t_max : float
     curves : tuple of ZeroCurve
-    folds : tuple of ZeroFold
-        Sorted by n, then value.
     """
 
-    param: str
     start: float
     stop: float
     base: Parameters
     t_max: float
     curves: tuple[ZeroCurve, ...] = field(repr=False)
-    folds: tuple[ZeroFold, ...]
+
+    @property
+    def folds(self) -> tuple[BranchEvent, ...]:
+        """The folds (`events`)."""
+        return self.events
 
     def fold_values(self, n: int) -> tuple[float, ...]:
         """Parameter values of the folds of pair n."""
-        return tuple(f.value for f in self.folds if f.n == n)
+        return tuple(f.value for f in self.events if f.n == n)
+
+    def curves_dict(self) -> list[dict[str, list]]:
+        """Per curve: the parameter, the zero T, its kind and its pair along the curve."""
+        return [{self.param: c.values.tolist(), "T": c.T.tolist(), "kind": c.kinds.tolist(), "n": c.n.tolist()}
+                for c in self.curves]
 
 
 def f1_zero_curves(
@@ -178,15 +174,16 @@ def f1_zero_curves(
         kinds = np.array(["a" if slope(y) < 0 else "b" for y in pts])
         ns = np.array([_pair(at(y[1]), y[0], k, t_max) for y, k in zip(pts, kinds)])
         curves.append(ZeroCurve(values=pts[:, 1].copy(), T=pts[:, 0].copy(), kinds=kinds, n=ns))
-    out_folds: list[ZeroFold] = []
+    out_folds: list[BranchEvent] = []
     for value, T in sorted(folds):
         if any(abs(f.value - value) <= 1e-8 and abs(f.T - T) <= 1e-6 for f in out_folds):
             continue
         n = _pair(at(value), T, "a", t_max)
-        out_folds.append(ZeroFold(value=value, T=T, n=n))
+        out_folds.append(BranchEvent(kind="fold", value=value, param=param, orbits=(f"T0,{n},a", f"T0,{n},b"),
+                                     T=T, n=n))
     out_folds.sort(key=lambda f: (f.n, f.value))
-    return F1ZeroCurves(param=param, start=start, stop=stop, base=params, t_max=t_max,
-                        curves=tuple(curves), folds=tuple(out_folds))
+    return F1ZeroCurves(param=param, events=tuple(out_folds), start=start, stop=stop, base=params, t_max=t_max,
+                        curves=tuple(curves))
 
 
 def _pair(p: Parameters, T: float, kind: str, t_max: float) -> int:

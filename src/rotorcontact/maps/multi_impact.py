@@ -52,14 +52,9 @@ a continued branch keep the order of the branch: first the image of x* + a v).
 
 Continuation
 ------------
-`continue_multi_impact` follows an orbit in one parameter with the
-pseudo-arclength continuation of `rotorcontact.continuation.engine` (folds are
-passed), on the unknowns (x_0, ..., x_{p-1}, lambda), and locates the events
-of MODEL.md §5 along the branch: a multiplier leaving the unit circle
-(classified as fold at +1, period doubling at -1 or Neimark-Sacker for a
-complex pair), grazing of an interior maximum of r, and a change of the
-slipping condition. The continuation stops at a grazing (P_I is
-discontinuous there).
+The continuation of these orbits in one parameter, and the search of every
+orbit at given parameters (which follows the period-doubled branches), are in
+`rotorcontact.continuation.multi_impact_branches`.
 """
 
 from __future__ import annotations
@@ -70,12 +65,6 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..continuation.engine import (
-    ContinuationSettings,
-    CorrectionError,
-    EventFunction,
-    continue_curve,
-)
 from ..model.angles import wrap_angle
 from ..errors import ParameterError
 from .impact_map import (
@@ -88,6 +77,7 @@ from .impact_map import (
 )
 from ..simulation.motion import detect_period
 from ..model.params import Parameters, check_range
+from ..model.validation import check_choice, check_int, check_params
 from ..simulation.simulator import simulate
 
 __all__ = [
@@ -95,16 +85,12 @@ __all__ = [
     "ImpactPoint",
     "MultiImpactOrbit",
     "PeriodDoubling",
-    "BranchEvent",
-    "MultiImpactBranch",
     "NewtonFailure",
     "periodic_residual",
     "solve_multi_impact",
     "orbits_from_simulation",
     "find_period_doubling",
     "period_doubled_orbit",
-    "continue_multi_impact",
-    "multi_impact_orbits",
 ]
 
 #: Parameters in which multi-impact orbits can be continued.
@@ -114,8 +100,6 @@ NEWTON_TOL = 1e-12
 MAX_NEWTON = 40
 HORIZON = 1000.0
 SAME_TOL = 1e-7
-PARAMETER_WEIGHT = 100.0
-GRAZING_MARGIN = 1e-2
 DETECT_TOL = 1e-3
 TWO_PI = 2.0 * math.pi
 
@@ -440,11 +424,10 @@ def solve_multi_impact(
         When Newton's method fails, or converges to an orbit whose least
         period has fewer impacts than the guess.
     """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    check_params(params)
     x = _check_guess(guess)
     tol = check_range("tol", tol, low=0.0, low_open=True)
-    x = _newton(params, x, tol, int(max_iter))
+    x = _newton(params, x, tol, check_int("max_iter", max_iter, 1))
     p = x.shape[0]
     q = _least_period(x)
     if q < p:
@@ -518,9 +501,8 @@ def orbits_from_simulation(
     -------
     tuple of MultiImpactOrbit
     """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
-    p = _check_impacts(impacts, low=1)
+    check_params(params)
+    p = check_int("impacts", impacts, 1)
     t_transient = check_range("t_transient", t_transient, low=0.0)
     t_record = check_range("t_record", t_record, low=0.0, low_open=True)
     found: list[MultiImpactOrbit] = []
@@ -564,8 +546,8 @@ class PeriodDoubling:
     ----------
     parent : str
         Label of the one-impact orbit (``"B1,d"``).
-    parameter : str
-        The parameter varied.
+    param : str
+        The parameter varied (also readable as ``parameter``).
     value : float
         Its value at the period doubling.
     orbit : ImpactOrbit
@@ -579,26 +561,21 @@ class PeriodDoubling:
     """
 
     parent: str
-    parameter: str
+    param: str
     value: float
     orbit: ImpactOrbit = field(repr=False)
     eigenvector: np.ndarray = field(repr=False)
     multiplier: float
     unstable_side: float
 
-
-def _check_parameter(parameter: str) -> str:
-    if parameter not in CONTINUATION_PARAMETERS:
-        raise ParameterError(
-            f"parameter = {parameter!r} is invalid; allowed: {', '.join(CONTINUATION_PARAMETERS)}"
-        )
-    return parameter
+    @property
+    def parameter(self) -> str:
+        """`param` (its former name)."""
+        return self.param
 
 
-def _check_impacts(impacts, low: int = 2) -> int:
-    if isinstance(impacts, bool) or not isinstance(impacts, (int, np.integer)) or impacts < low:
-        raise ParameterError(f"impacts = {impacts!r} is invalid; allowed: an integer >= {low}")
-    return int(impacts)
+def _check_parameter(param: str) -> str:
+    return check_choice("param", param, CONTINUATION_PARAMETERS)
 
 
 def _one_impact(params: Parameters, label: str, t_max: float) -> ImpactOrbit | None:
@@ -632,7 +609,7 @@ def _has_real_flip(orbit: ImpactOrbit | None) -> bool:
 def find_period_doubling(
     params: Parameters,
     label: str = "B1,d",
-    parameter: str = "gamma",
+    param: str = "gamma",
     *,
     lo: float,
     hi: float,
@@ -642,7 +619,7 @@ def find_period_doubling(
 ) -> PeriodDoubling:
     """Locate where a one-impact orbit loses stability through a multiplier -1.
 
-    The interval [lo, hi] of ``parameter`` is scanned at ``n_scan + 1``
+    The interval [lo, hi] of ``param`` is scanned at ``n_scan + 1``
     points for a sign change of max |lambda| - 1 over the multipliers of the
     orbit ``label`` in the left half-plane; the change is then bisected to
     ``tol``. It is a period doubling when the multiplier on the unit circle
@@ -655,9 +632,8 @@ def find_period_doubling(
         When no such change is found in [lo, hi], or when the change found is
         a complex pair crossing the unit circle (a Neimark-Sacker bifurcation).
     """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
-    parameter = _check_parameter(parameter)
+    check_params(params)
+    param = _check_parameter(param)
     lo = float(lo)
     hi = float(hi)
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
@@ -665,11 +641,11 @@ def find_period_doubling(
 
     def measure(v: float) -> float | None:
         try:
-            return _flip_measure(_one_impact(params.replace(**{parameter: v}), label, t_max))
+            return _flip_measure(_one_impact(params.replace(**{param: v}), label, t_max))
         except ParameterError:
             return None
 
-    grid = np.linspace(lo, hi, int(n_scan) + 1)
+    grid = np.linspace(lo, hi, check_int("n_scan", n_scan, 1) + 1)
     vals = [measure(v) for v in grid]
     bracket = None
     for i in range(len(grid) - 1):
@@ -679,7 +655,7 @@ def find_period_doubling(
             break
     if bracket is None:
         raise ParameterError(
-            f"no period doubling of {label} found for {parameter} in [{lo:g}, {hi:g}]; "
+            f"no period doubling of {label} found for {param} in [{lo:g}, {hi:g}]; "
             "allowed: an interval where its multiplier crosses -1"
         )
     a, fa, b, fb = bracket
@@ -696,15 +672,15 @@ def find_period_doubling(
         else:
             b, fb = m, fm
     value = 0.5 * (a + b)
-    p_pd = params.replace(**{parameter: value})
+    p_pd = params.replace(**{param: value})
     orbit = _one_impact(p_pd, label, t_max)
     if orbit is None:
-        raise ParameterError(f"{label} does not exist at {parameter} = {value:g}")
+        raise ParameterError(f"{label} does not exist at {param} = {value:g}")
     ev, vec = np.linalg.eig(orbit.jacobian())
     i = int(np.argmin(np.abs(ev + 1.0)))
     if abs(ev[i] + 1.0) > 1e-4:
         raise ParameterError(
-            f"{label} loses stability at {parameter} = {value:.12g} through the multipliers "
+            f"{label} loses stability at {param} = {value:.12g} through the multipliers "
             f"{ev[i]:.6g} (not -1: a Neimark-Sacker bifurcation, not a period doubling)"
         )
     v = np.real(vec[:, i])
@@ -713,7 +689,7 @@ def find_period_doubling(
         v = -v
     return PeriodDoubling(
         parent=label,
-        parameter=parameter,
+        param=param,
         value=float(value),
         orbit=orbit,
         eigenvector=v,
@@ -729,7 +705,7 @@ def period_doubled_orbit(
     amplitudes: Sequence[float] = (1e-3, 3e-3, 1e-2, 3e-2, 1e-1),
     t_max: float = 12.0,
 ) -> MultiImpactOrbit:
-    """The period-2 orbit born at a period doubling, at ``parameter = pd.value + offset``.
+    """The period-2 orbit born at a period doubling, at ``pd.param = pd.value + offset``.
 
     Newton on P_I^2 starts from x* + a v, x* - a v (x* the one-impact orbit at
     the new parameter value, v the eigenvector of -1), for each amplitude a
@@ -749,10 +725,10 @@ def period_doubled_orbit(
     offset = check_range("offset", offset)
     if offset == 0.0:
         raise ParameterError("offset = 0.0 is invalid; allowed: a nonzero offset from the bifurcation")
-    params = pd.orbit.params.replace(**{pd.parameter: pd.value + offset})
+    params = pd.orbit.params.replace(**{pd.param: pd.value + offset})
     parent = _one_impact(params, pd.parent, t_max)
     if parent is None:
-        raise NewtonFailure(f"{pd.parent} does not exist at {pd.parameter} = {pd.value + offset:g}")
+        raise NewtonFailure(f"{pd.parent} does not exist at {pd.param} = {pd.value + offset:g}")
     x_star = parent.state
     v = pd.eigenvector
     last = "no amplitude tried"
@@ -762,331 +738,4 @@ def period_doubled_orbit(
             return solve_multi_impact(params, guess, label=f"{pd.parent}/PD", canonical=False)
         except NewtonFailure as exc:
             last = str(exc)
-    raise NewtonFailure(f"no period-2 orbit near {pd.parent} at {pd.parameter} = {pd.value + offset:g}: {last}")
-
-
-# ---------------------------------------------------------------------------
-# Continuation
-# ---------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class BranchEvent:
-    """An event located along a branch of multi-impact orbits.
-
-    Attributes
-    ----------
-    kind : str
-        ``"fold"``, ``"period-doubling"``, ``"neimark-sacker"`` (a multiplier
-        leaves or enters the unit circle at +1, -1, or as a complex pair),
-        ``"grazing"`` (an interior maximum of r reaches 1) or ``"slip"``
-        (the slipping condition changes).
-    value : float
-        The parameter there.
-    orbit : MultiImpactOrbit or None
-        The orbit at the event (None where it could not be built).
-    """
-
-    kind: str
-    value: float
-    orbit: MultiImpactOrbit | None = field(repr=False)
-
-
-@dataclass(frozen=True)
-class MultiImpactBranch:
-    """A continued branch of orbits with p impacts per period.
-
-    Attributes
-    ----------
-    parameter : str
-        The continuation parameter.
-    values : numpy.ndarray
-        Its values along the branch.
-    orbits : tuple of MultiImpactOrbit
-        The orbits at those values.
-    events : tuple of BranchEvent
-        Located events, in order.
-    status, message : str
-        How the continuation ended: the statuses of
-        `rotorcontact.continuation.engine.ContinuationResult`, or ``"grazing"`` when
-        the steps failed with an interior maximum of r within
-        `GRAZING_MARGIN` of 1.
-    """
-
-    parameter: str
-    values: np.ndarray = field(repr=False)
-    orbits: tuple[MultiImpactOrbit, ...] = field(repr=False)
-    events: tuple[BranchEvent, ...]
-    status: str
-    message: str
-
-
-class _System:
-    """(x_0 .. x_{p-1}, lambda) -> G as a continuation problem."""
-
-    def __init__(self, base: Parameters, parameter: str, p: int, fd_step: float = 1e-7):
-        self.base = base
-        self.parameter = parameter
-        self.p = p
-        self.fd_step = fd_step
-
-    def params_at(self, value: float) -> Parameters:
-        return self.base.replace(**{self.parameter: float(value)})
-
-    def residual(self, y: np.ndarray) -> np.ndarray:
-        return periodic_residual(self.params_at(y[-1]), y[:-1].reshape(self.p, 3))[0]
-
-    def jacobian(self, y: np.ndarray) -> np.ndarray:
-        lam = float(y[-1])
-        x = y[:-1].reshape(self.p, 3)
-        _res, jx = periodic_residual(self.params_at(lam), x)
-        h = self.fd_step * max(1.0, abs(lam))
-        rp = periodic_residual(self.params_at(lam + h), x)[0]
-        rm = periodic_residual(self.params_at(lam - h), x)[0]
-        return np.column_stack([jx, (rp - rm) / (2.0 * h)])
-
-    def orbit(self, y: np.ndarray, label: str) -> MultiImpactOrbit:
-        params = self.params_at(y[-1])
-        x = y[:-1].reshape(self.p, 3).copy()
-        try:
-            x = _newton(params, x, NEWTON_TOL, 8)
-        except NewtonFailure:
-            pass
-        return _build_orbit(params, x, label)
-
-    def max_multiplier(self, y: np.ndarray) -> float | None:
-        try:
-            _im, _t, jacs, _s = _chain(self.params_at(y[-1]), y[:-1].reshape(self.p, 3))
-        except (_MapFailure, ParameterError):
-            return None
-        m = np.eye(3)
-        for j in jacs:
-            m = j @ m
-        return float(np.max(np.abs(np.linalg.eigvals(m)))) - 1.0
-
-    def grazing(self, y: np.ndarray) -> float | None:
-        params = self.params_at(y[-1])
-        x = y[:-1].reshape(self.p, 3)
-        try:
-            _im, times, _j, _s = _chain(params, x)
-            r_max = None
-            for i in range(self.p):
-                ext = flight_extrema(params, x[i], float(times[i]), law=SLIP_BOUNDED)
-                if ext.r_max is not None:
-                    r_max = ext.r_max if r_max is None else max(r_max, ext.r_max)
-        except (_MapFailure, ParameterError, RuntimeError):
-            return None
-        return None if r_max is None else 1.0 - r_max
-
-    def slipping(self, y: np.ndarray) -> int | None:
-        params = self.params_at(y[-1])
-        x = y[:-1].reshape(self.p, 3)
-        return int(np.all(params.r_ratio + 1.0 + x[:, 2] > params.mu * (1.0 + params.d) * x[:, 1]))
-
-
-def _classify_stability_event(orbit: MultiImpactOrbit) -> str:
-    m = min(orbit.multipliers, key=lambda z: abs(abs(z) - 1.0))
-    if abs(m.imag) > 1e-6 * (1.0 + abs(m)):
-        return "neimark-sacker"
-    return "fold" if m.real > 0.0 else "period-doubling"
-
-
-def continue_multi_impact(
-    orbit: MultiImpactOrbit,
-    parameter: str,
-    stop: float,
-    *,
-    step: float = 1e-3,
-    max_step: float = 0.02,
-    max_points: int = 2000,
-) -> MultiImpactBranch:
-    """Follow a multi-impact orbit in one parameter up to ``stop``.
-
-    Pseudo-arclength continuation (`rotorcontact.continuation.engine.continue_curve`)
-    of (x_0, ..., x_{p-1}, lambda), starting in the direction of ``stop``.
-    It ends at ``stop`` (a terminal event), at a grazing (terminal: P_I
-    is discontinuous there), or when the step fails (for example where the
-    branch returns onto a one-impact orbit at a period doubling).
-
-    Parameters
-    ----------
-    orbit : MultiImpactOrbit
-        Starting orbit.
-    parameter : str
-        One of `CONTINUATION_PARAMETERS`.
-    stop : float
-        The parameter value to reach.
-    step, max_step : float
-        First and largest step of the (scaled) arclength.
-    max_points : int
-        Largest number of steps.
-
-    Returns
-    -------
-    MultiImpactBranch
-    """
-    if not isinstance(orbit, MultiImpactOrbit):
-        raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
-    parameter = _check_parameter(parameter)
-    stop = check_range("stop", stop)
-    step = check_range("step", step, low=0.0, low_open=True)
-    max_step = max(check_range("max_step", max_step, low=0.0, low_open=True), step)
-    p = orbit.impacts
-    base = orbit.params
-    start = float(getattr(base, parameter))
-    if stop == start:
-        return MultiImpactBranch(parameter, np.array([start]), (orbit,), (), "terminal", "already at stop")
-    system = _System(base, parameter, p)
-    y0 = np.append(orbit.states.ravel(), start)
-    direction = 1.0 if stop > start else -1.0
-    events = [
-        EventFunction("stop", lambda y: direction * (stop - y[-1]), terminal=True),
-        EventFunction("stability", system.max_multiplier),
-        EventFunction("grazing", system.grazing, terminal=True),
-        EventFunction("slip", system.slipping, kind="discrete"),
-    ]
-    settings = ContinuationSettings(
-        step=min(step, max_step),
-        min_step=1e-9,
-        max_step=max_step,
-        max_points=int(max_points),
-        residual_tol=1e-10,
-        location_tol=1e-10,
-    )
-    # unknowns of order one; the parameter weighted up so that steps move it
-    weights = np.ones(3 * p + 1)
-    weights[-1] = PARAMETER_WEIGHT
-    result = continue_curve(
-        system.residual,
-        y0,
-        jacobian=system.jacobian,
-        direction=direction,
-        events=events,
-        settings=settings,
-        weights=weights,
-        param_index=-1,
-        correct_start=False,
-    )
-    orbits = []
-    values = []
-    for y in result.points:
-        try:
-            orbits.append(system.orbit(y, orbit.label))
-            values.append(float(y[-1]))
-        except (_MapFailure, ParameterError):
-            break
-    located = []
-    for ev in result.events:
-        if ev.name == "stop":
-            continue
-        try:
-            o = system.orbit(ev.y, orbit.label)
-        except (_MapFailure, ParameterError):
-            o = None
-        kind = ev.name
-        if ev.name == "stability":
-            kind = _classify_stability_event(o) if o is not None else "stability"
-        located.append(BranchEvent(kind=kind, value=float(ev.parameter), orbit=o))
-    status, message = result.status, result.message
-    if status == "step-failure" and orbits:
-        # the map is continuous but not smooth at a grazing (square-root singularity): steps
-        # fail as an interior maximum of r approaches 1
-        last = orbits[-1]
-        if last.r_max_interior is not None and 1.0 - last.r_max_interior < GRAZING_MARGIN:
-            located.append(BranchEvent(kind="grazing", value=values[-1], orbit=last))
-            status = "grazing"
-            message = (
-                f"the branch approaches a grazing at {parameter} = {values[-1]:.10g} "
-                f"(interior maximum r = {last.r_max_interior:.6g}); {message}"
-            )
-    return MultiImpactBranch(
-        parameter=parameter,
-        values=np.array(values),
-        orbits=tuple(orbits),
-        events=tuple(located),
-        status=status,
-        message=message,
-    )
-
-
-# ---------------------------------------------------------------------------
-# All orbits at given parameters
-# ---------------------------------------------------------------------------
-
-
-def multi_impact_orbits(
-    params: Parameters,
-    impacts: int,
-    *,
-    starts: Sequence[tuple[complex, complex]] | None = None,
-    period_doubling: bool = True,
-    scan_width: float = 0.05,
-    t_max: float = 12.0,
-) -> tuple[MultiImpactOrbit, ...]:
-    """Periodic orbits with ``impacts`` (>= 2) impacts per period at given parameters.
-
-    Two sources are combined:
-
-    * the stable orbits found by `orbits_from_simulation`;
-    * for ``impacts == 2`` and ``period_doubling``: for each admissible
-      one-impact orbit with a real multiplier below -1, the period doubling
-      where that multiplier passes -1 is located in gamma within
-      ``scan_width`` of the given gamma (`find_period_doubling`), and the
-      period-2 orbit born there is continued to the given gamma
-      (`continue_multi_impact`); it is labelled ``"B<n>,<m>/PD"``.
-
-    Orbits found by both are reported once, with the branch label.
-
-    Returns
-    -------
-    tuple of MultiImpactOrbit
-        Branch-switched orbits first, then the others by period.
-    """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
-    p = _check_impacts(impacts, low=2)
-    scan_width = check_range("scan_width", scan_width, low=0.0, low_open=True)
-    out: list[MultiImpactOrbit] = []
-    if p == 2 and period_doubling:
-        for parent in one_impact_orbits(params, t_max):
-            if not (parent.admissible and _has_real_flip(parent)):
-                continue
-            orbit = _pd_branch_orbit(params, parent, scan_width, t_max)
-            if orbit is not None and not any(_same_orbit(orbit, o) for o in out):
-                out.append(orbit)
-    brute = orbits_from_simulation(params, p, starts=starts)
-    n = 0
-    for o in brute:
-        if any(_same_orbit(o, b) for b in out):
-            continue
-        n += 1
-        out.append(_relabel(o, f"M{p}-{n}"))
-    return tuple(out)
-
-
-def _pd_branch_orbit(params: Parameters, parent: ImpactOrbit, width: float, t_max: float) -> MultiImpactOrbit | None:
-    """The period-2 orbit of the period-doubled branch of ``parent`` at ``params``, if it reaches them."""
-    g = params.gamma
-    for lo, hi in ((g, g + width), (g - width, g)):
-        try:
-            pd = find_period_doubling(params, parent.label, "gamma", lo=lo, hi=hi, t_max=t_max)
-        except ParameterError:
-            continue
-        # the branch is born on one side of the bifurcation; the orbit at params lies on the side of g
-        side = 1.0 if g > pd.value else -1.0
-        offset = side * min(1e-4, 0.5 * abs(g - pd.value))
-        try:
-            start = period_doubled_orbit(pd, offset, t_max=t_max)
-        except (NewtonFailure, ParameterError):
-            continue
-        try:
-            branch = continue_multi_impact(start, "gamma", g)
-        except (CorrectionError, ParameterError):
-            continue
-        if branch.orbits and abs(branch.values[-1] - g) <= 1e-9 * (1.0 + abs(g)):
-            last = branch.orbits[-1]
-            try:
-                return solve_multi_impact(params, last.states, label=last.label)
-            except NewtonFailure:
-                return None
-    return None
+    raise NewtonFailure(f"no period-2 orbit near {pd.parent} at {pd.param} = {pd.value + offset:g}: {last}")
