@@ -138,3 +138,13 @@ def test_a_failed_run_claims_no_regime():
     assert s.motion == "failed" and s.regime is None and s.contact_fraction is None
     assert s.n_impacts == len(tr.impacts)
     assert failed.to_dict()["summary"]["regime"] is None
+
+
+def test_regime_codes_name_the_regimes_then_undetermined_and_failed():
+    from rotorcontact.simulation.motion import REGIME_NAMES, REGIMES, MotionSummary, regime_code
+
+    assert REGIME_NAMES == (*REGIMES, "undetermined", "failed")
+    for name in REGIMES:
+        assert REGIME_NAMES[regime_code(MotionSummary("contact", name, 0))] == name
+    assert REGIME_NAMES[regime_code(MotionSummary("undetermined", "irregular-impacting", 3))] == "undetermined"
+    assert REGIME_NAMES[regime_code(MotionSummary("failed", None, 3, contact_fraction=None))] == "failed"

@@ -10,7 +10,8 @@ import numpy as np
 if TYPE_CHECKING:
     from .trajectory import Trajectory
 
-__all__ = ["MotionSummary", "classify", "detect_period", "REGIMES", "REGIME_ALIASES", "canonical_regime"]
+__all__ = ["MotionSummary", "classify", "detect_period", "REGIMES", "REGIME_NAMES", "REGIME_ALIASES", "canonical_regime",
+           "regime_code"]
 
 MAX_PERIOD_IMPACTS = 16
 REPEAT_TOL = 1e-6
@@ -22,6 +23,14 @@ REGIMES = ("no-contact", "periodic-impacting", "irregular-impacting", "forward-r
 #: Former names of regimes, accepted on input (`canonical_regime`): ``"rub"`` is ``"forward-rub"``
 #: (continuous contact sliding forward) and ``"rolling"`` is ``"backward-whirl"`` (rolling round the stator).
 REGIME_ALIASES = {"rub": "forward-rub", "rolling": "backward-whirl"}
+
+#: Codes of the regimes as the compiled batch kernel (`rotorcontact.studies.batch`) stores them: the
+#: `REGIMES` in order, then a window with too few impacts to tell (``"undetermined"``; `classify` reports
+#: it as motion ``"undetermined"``, regime ``"irregular-impacting"``) and a failed run (``"failed"``;
+#: `classify` reports regime None).
+NO_CONTACT, PERIODIC, IRREGULAR, RUB, ROLL, MIXED, UNDETERMINED, FAILED_REGIME = range(8)
+#: Names of the regime codes.
+REGIME_NAMES = (*REGIMES, "undetermined", "failed")
 
 
 def canonical_regime(name: str) -> str:
@@ -40,6 +49,27 @@ def canonical_regime(name: str) -> str:
         ``"forward-rub"`` for ``"rub"``, ``"backward-whirl"`` for ``"rolling"``, otherwise ``name``.
     """
     return REGIME_ALIASES.get(name, name)
+
+
+def regime_code(summary: "MotionSummary") -> int:
+    """The code (index into `REGIME_NAMES`) of a summary's regime, as the batch kernel classifies the same run.
+
+    Parameters
+    ----------
+    summary : MotionSummary
+        A result of `classify`.
+
+    Returns
+    -------
+    int
+        `FAILED_REGIME` for a failed run, `UNDETERMINED` for an undetermined motion, else the index of
+        its regime in `REGIMES`.
+    """
+    if summary.regime is None:
+        return FAILED_REGIME
+    if summary.motion == "undetermined":
+        return UNDETERMINED
+    return REGIMES.index(summary.regime)
 
 
 @dataclass(frozen=True)

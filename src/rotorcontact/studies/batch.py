@@ -41,7 +41,23 @@ from numba import njit, prange
 
 from ..errors import ParameterError
 from ..model.flow import equilibrium_point, propagate
-from ..simulation.motion import MAX_PERIOD_IMPACTS, MIN_IRREGULAR, REGIMES, REPEAT_TOL, WINDOW
+# the regimes of the window: the codes and names of `rotorcontact.simulation.motion` (``"forward-rub"`` and
+# ``"backward-whirl"`` were formerly ``"rub"`` and ``"rolling"``, `rotorcontact.simulation.motion.REGIME_ALIASES`)
+from ..simulation.motion import (
+    FAILED_REGIME,
+    IRREGULAR,
+    MAX_PERIOD_IMPACTS,
+    MIN_IRREGULAR,
+    MIXED,
+    NO_CONTACT,
+    PERIODIC,
+    REGIME_NAMES,
+    REPEAT_TOL,
+    ROLL,
+    RUB,
+    UNDETERMINED,
+    WINDOW,
+)
 from ..model.params import Parameters, check_range
 from ..model.impact_law import polar_velocity
 from ..simulation.simulator import (
@@ -74,19 +90,6 @@ PARAMETER_ORDER = ("gamma", "omega", "rho", "mu", "d", "phi", "r_ratio")
 #: impact angle, and the polar velocities just before the impact.
 SECTION_COLUMNS = ("t", "theta", "rdot", "thetadot")
 
-# regimes of the window
-NO_CONTACT = 0
-PERIODIC = 1
-IRREGULAR = 2
-RUB = 3
-ROLL = 4
-MIXED = 5
-UNDETERMINED = 6
-FAILED_REGIME = 7
-#: Names of the regime codes: the regimes of `rotorcontact.simulation.motion.REGIMES` (``"forward-rub"`` and
-#: ``"backward-whirl"`` were formerly ``"rub"`` and ``"rolling"``, `rotorcontact.simulation.motion.REGIME_ALIASES`),
-#: then ``"undetermined"`` and ``"failed"``.
-REGIME_NAMES = (*REGIMES, "undetermined", "failed")
 #: Names of the final-kind codes: -1 free flight, then the contact kinds of `rotorcontact.simulation.contact`.
 FINAL_KIND_NAMES = {-1: "flight", **{i: name for i, name in enumerate(KIND_NAMES)}}
 
@@ -202,7 +205,11 @@ def _detect_period(imp, n, max_p, tol):
 
 @njit(cache=True)
 def _classify_window(impacts, contacts, t_stop, status, window, max_p, tol, min_irregular):
-    """Regime code, impacts per period and period of a window (rules of `rotorcontact.simulation.motion.classify`)."""
+    """Regime code (`rotorcontact.simulation.motion.REGIME_NAMES`), impacts per period and period of a window.
+
+    The rules are those of `rotorcontact.simulation.motion.classify` (`rotorcontact.simulation.motion.regime_code`
+    of its summary is this code; the tests check the two on the same runs).
+    """
     if status == FAILED:
         return FAILED_REGIME, 0, math.nan
     n = impacts.shape[0]
