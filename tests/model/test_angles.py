@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -23,3 +25,18 @@ def test_wrapped_angle_is_in_range_and_equivalent(angle):
     assert -math.pi < w <= math.pi
     # same direction on the circle
     assert abs(math.cos(w) - math.cos(angle)) < 1e-12 and abs(math.sin(w) - math.sin(angle)) < 1e-12
+
+
+def test_angle_difference_wraps_elementwise_like_wrap_angle():
+    from rotorcontact.model.angles import angle_difference
+
+    rng = np.random.default_rng(2)
+    a = rng.uniform(-20, 20, (4, 5))
+    b = rng.uniform(-20, 20, (4, 5))
+    out = angle_difference(a, b)
+    assert out.shape == (4, 5)
+    assert np.array_equal(out, [[wrap_angle(x - y) for x, y in zip(ra, rb)] for ra, rb in zip(a, b)])
+    assert isinstance(angle_difference(0.5, 0.25), float)
+    assert abs(angle_difference(math.pi, -math.pi)) < 1e-15
+    assert angle_difference(-math.pi, 0.0) == math.pi
+    assert np.array_equal(angle_difference(np.array([3.0, -3.0]), 0.0), [3.0, -3.0])

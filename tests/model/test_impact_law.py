@@ -162,3 +162,65 @@ def test_radial_impacts_without_unbalance_stay_radial(ref):
     # the inertial angle Theta = theta + t stays 0 (or pi after passing through the centre)
     Theta = np.angle(np.exp(1j * (imp.theta + imp.t)))
     assert np.all(np.minimum(np.abs(Theta), np.abs(np.abs(Theta) - math.pi)) < 1e-9)
+
+
+# ---------------------------------------------------------------------------
+# q, the slip test and the reset Jacobian
+# ---------------------------------------------------------------------------
+
+
+def test_q_is_one_plus_d_times_one_plus_i_mu():
+    from rotorcontact.model.impact_law import impact_q
+
+    for d, mu in [(0.95, 0.15), (0.0, 0.0), (1.0, 1.0), (0.3, -0.2)]:
+        assert impact_q(d, mu) == pytest.approx((1.0 + d) * (1.0 + 1j * mu), abs=1e-15)
+
+
+def test_sticking_and_forward_slip_tests_agree_with_the_law():
+    from rotorcontact.model.impact_law import relative_velocity, slides_forward, slip_bound, sticks
+
+    rng = np.random.default_rng(7)
+    for _ in range(500):
+        th = rng.uniform(-math.pi, math.pi)
+        e = complex(math.cos(th), math.sin(th))
+        d, mu, rr = rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 5)
+        rdot, thetadot = rng.uniform(1e-3, 2), rng.uniform(-8, 3)
+        _, rdot, thetadot, _, _, v_rel, p_n, p_t = apply_reset(e, e * complex(rdot, thetadot), d, mu, rr)
+        assert v_rel == relative_velocity(rr, thetadot)
+        slip = slip_bound(d, mu, rdot)
+        assert slip == mu * p_n
+        assert sticks(v_rel, slip) == (abs(v_rel) <= slip)
+        if sticks(v_rel, slip):
+            assert p_t == -v_rel  # the tangential impulse brings v_rel to 0
+        else:
+            assert abs(p_t) == slip
+        assert slides_forward(thetadot, rdot, d, mu, rr) == (v_rel > mu * (1.0 + d) * rdot)
+
+
+@pytest.mark.parametrize("ideal", [False, True])
+def test_reset_jacobian_against_central_differences_of_the_law(ideal):
+    from rotorcontact.model.impact_law import ideal_reset, impact_q, reset_jacobian, slip_bound
+
+    rng = np.random.default_rng(11)
+    h = 1e-7
+    for _ in range(200):
+        th = rng.uniform(-math.pi, math.pi)
+        e = complex(math.cos(th), math.sin(th))
+        d, mu, rr = rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 5)
+        rdot, thetadot = rng.uniform(0.05, 2), rng.uniform(-8, 3)
+
+        def post(rd: float, td: float) -> tuple[float, float]:
+            du = e * complex(rd, td)
+            du_plus = ideal_reset(e, du, rd, impact_q(d, mu)) if ideal else apply_reset(e, du, d, mu, rr)[0]
+            w = e.conjugate() * du_plus
+            return w.real, w.imag
+
+        v_rel = rr + 1.0 + thetadot
+        slip = slip_bound(d, mu, rdot)
+        if not ideal and abs(abs(v_rel) - slip) < 1e-4:
+            continue  # the law has a kink there
+        r11, r12, r21, r22, sticking = reset_jacobian(v_rel, slip, d, mu, ideal)
+        col_r = (np.array(post(rdot + h, thetadot)) - np.array(post(rdot - h, thetadot))) / (2 * h)
+        col_t = (np.array(post(rdot, thetadot + h)) - np.array(post(rdot, thetadot - h))) / (2 * h)
+        assert np.allclose([[r11, r12], [r21, r22]], np.column_stack([col_r, col_t]), atol=1e-7)
+        assert sticking == (not ideal and abs(v_rel) <= slip)

@@ -59,9 +59,11 @@ import scipy.linalg
 from scipy.optimize import brentq, minimize_scalar
 
 from .equilibria import boundary_gamma
-from ..model.angles import wrap_angle
+from ..model.angles import angle_difference, wrap_angle
 from ..errors import ParameterError
-from ..maps.impact_map import F1Zero, one_impact_orbits
+from ..maps.impact_map import F1Zero, label_f1_zeros, one_impact_orbits, root_branches, stable_quadratic_roots
+from ..model.impact_law import impact_q
+from ..model.validation import check_params
 from ..model.params import Parameters, check_finite, check_range
 
 __all__ = [
@@ -86,8 +88,6 @@ MAX_GRID = 200_000
 #: Default decade of epsilon values for the comparison with the global fixed points.
 DEFAULT_EPSILONS = tuple(float(x) for x in np.geomspace(1e-3, 1e-2, 5))
 
-_SMALL = {"a": "a", "b": "b"}
-_LARGE = {"a": "c", "b": "d"}
 
 
 def _as_complex(name: str, value: Any) -> complex:
@@ -238,8 +238,7 @@ class LinearImpactingSystem:
             No real gamma* (rho < |1 - omega^2| or rho = 0), or gamma* = 0 (the
             equilibrium is then undamped, not asymptotically stable).
         """
-        if not isinstance(params, Parameters):
-            raise ParameterError(f"params = {params!r} is not a Parameters instance")
+        check_params(params)
         gs = boundary_gamma(params)
         if gs is None:
             raise ParameterError(
@@ -267,8 +266,8 @@ class LinearImpactingSystem:
 
     @property
     def q(self) -> complex:
-        """q = (1 + d)(1 + i mu)."""
-        return complex(1.0 + self.d, (1.0 + self.d) * self.mu)
+        """q = (1 + d)(1 + i mu) (`rotorcontact.model.impact_law.impact_q`)."""
+        return impact_q(self.d, self.mu)
 
     def coefficients(self, eps: float = 0.0) -> tuple[complex, complex, complex]:
         """(alpha, beta, Gamma) at ``eps``."""
@@ -438,16 +437,10 @@ class LinearImpactingSystem:
             elif fm == 0.0:
                 found += [(tm, -1 if si > 0 else 1, True), (tm, 1 if si > 0 else -1, True)]
         found.sort(key=lambda x: x[0])
-        n = 0 if f[0] > 0 else 1
         zeros = []
-        for root, direction, double in found:
-            if direction < 0:
-                n += 1
-                kind = "a"
-            else:
-                kind = "b"
+        for (root, direction, double), (n, kind) in zip(found, label_f1_zeros([x[1] for x in found], f[0] > 0)):
             slope = 0.0 if double else self._f1_dt(root, eps)
-            zeros.append(F1Zero(T=root, n=max(n, 1), kind=kind, slope=slope, double=double))
+            zeros.append(F1Zero(T=root, n=n, kind=kind, slope=slope, double=double))
         return tuple(zeros)
 
     # -- global fixed points ---------------------------------------------------
@@ -474,16 +467,8 @@ class LinearImpactingSystem:
             a = self.a_matrix(zero.T, eps)
             c12 = q * a[0, 1]
             c22 = q * a[1, 1]
-            aa = abs(c12) ** 2
-            bb = self.sigma * c12.real
-            cc = self.sigma**2 - abs(zeq) ** 2
-            disc = bb * bb - aa * cc
-            if disc < 0.0 or aa == 0.0:
-                continue
-            sq = math.sqrt(disc)
-            qq = -(bb + math.copysign(sq, bb))
-            roots = sorted([qq / aa, cc / qq if qq != 0.0 else qq / aa])
-            for rdot, branch in zip(roots, (_SMALL[zero.kind], _LARGE[zero.kind])):
+            disc, roots = stable_quadratic_roots(abs(c12) ** 2, self.sigma * c12.real, self.sigma**2 - abs(zeq) ** 2)
+            for rdot, branch in zip(roots, root_branches(zero.kind)):
                 theta = wrap_angle(cmath.phase(zeq / (self.sigma + c12 * rdot)))
                 out.append(
                     LinearFixedPoint(
@@ -742,7 +727,7 @@ def local_analysis(system: LinearImpactingSystem | Parameters, t_max: float = 12
             td = -c22.imag * rd / sigma
             th = (eta - c12.imag * rd) / sigma
             side = _sign(rd)
-            branch = _SMALL[zero.kind] if c12.real < 0 else _LARGE[zero.kind]
+            branch = root_branches(zero.kind)[0 if c12.real < 0 else 1]
         orbits.append(
             LocalOrbit(
                 label=f"B{zero.n},{branch}",
@@ -792,7 +777,7 @@ def global_fixed_points(
         if gs is None:
             raise ParameterError("no real gamma* for these parameters; allowed: rho > 0 and rho >= |1 - omega^2|")
         p = model.replace(gamma=gs + eps)
-        q = complex(1.0 + p.d, (1.0 + p.d) * p.mu)
+        q = impact_q(p.d, p.mu)
         return tuple(
             LinearFixedPoint(label=o.label, n=o.n, branch=o.branch, T=o.T, theta=o.theta, rdot=o.rdot,
                              thetadot=o.thetadot, admissible=o.admissible, eps=eps, sigma=1.0, q=q)
@@ -840,7 +825,7 @@ class ComparisonRow:
         if loc is None or glo is None:
             return None
         if quantity == "theta":
-            return abs(wrap_angle(loc - glo))
+            return abs(angle_difference(loc, glo))
         return abs(loc - glo)
 
     def to_dict(self) -> dict[str, Any]:

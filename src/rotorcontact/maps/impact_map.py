@@ -110,16 +110,25 @@ from __future__ import annotations
 import cmath
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 from numba import njit
 
 from ..model.angles import wrap_angle
 from ..errors import ParameterError
-from ..model.flow import propagate, scaled_cs
+from ..model.flow import has_regular_equilibrium, period_closed_form, propagate, scaled_cs
 from ..model.params import Parameters, check_finite, check_range
-from ..model.impact_law import apply_reset, polar_velocity
+from ..model.validation import check_params
+from ..model.impact_law import (
+    apply_reset,
+    ideal_reset,
+    impact_q,
+    polar_velocity,
+    relative_velocity,
+    reset_jacobian,
+    slides_forward,
+)
 from ..simulation.roots import CROSSING, STUCK, next_crossing, window_bounds
 
 __all__ = [
@@ -138,6 +147,9 @@ __all__ = [
     "f1_derivative",
     "f1_zeros",
     "rdot_roots",
+    "stable_quadratic_roots",
+    "label_f1_zeros",
+    "root_branches",
     "fixed_point_residual",
     "flight_extrema",
     "flight_growth",
@@ -247,16 +259,7 @@ def _dp_tilde(t: float, gamma: float, h2: float):
             if (n + 1) % 2 == 0:
                 h2p *= h2
         return d0, d1, d2, p0, p1, p2, sd, sp
-    c, s = _cs(t, h2)
-    em = cmath.exp(m * t)
-    chm = cmath.cosh(m * t)
-    shm = cmath.sinh(m * t)
-    dd0 = 2.0 * (chm - c)
-    dd1 = 2.0 * (m * shm - h2 * s)
-    dd2 = 2.0 * (m * m * chm - h2 * c)
-    pp0 = c + m * s - em
-    pp1 = h2 * s + m * c - m * em
-    pp2 = h2 * c + m * h2 * s - m * m * em
+    c, s, em, chm, dd0, dd1, dd2, pp0, pp1, pp2 = period_closed_form(t, gamma, h2)
     i2 = 1.0 / (t * t)
     i3 = i2 / t
     i4 = i3 / t
@@ -571,7 +574,7 @@ def _isolate(kind, rp, cp, t_start, t_end, sigma0, w0):
 @njit(cache=True)
 def _f1_zeros_kernel(gamma, omega, d, mu, t_max):
     h2 = 0.25 * gamma * gamma - omega * omega
-    q = complex(1.0 + d, (1.0 + d) * mu)
+    q = impact_q(d, mu)
     rp = np.array([gamma, omega, h2])
     cp = np.array([q, 0j, 0j])
     # sign of F1 just after 0 when F1(0) = (1 - d)/2 vanishes: F1 ~ (1 + d)(gamma - 2 mu) T / 12
@@ -602,15 +605,12 @@ def _reset(theta, rdot, thetadot, d, mu, r_ratio, law):
     e = complex(math.cos(theta), math.sin(theta))
     du = e * complex(rdot, thetadot)
     if law == 1:
-        q = complex(1.0 + d, (1.0 + d) * mu)
-        du_plus = du - q * rdot * e
-        return du_plus, -d, 0.0, -mu * (1.0 + d), 1.0, _SLIP
+        du_plus = ideal_reset(e, du, rdot, impact_q(d, mu))
+        r11, r12, r21, r22, stuck = reset_jacobian(relative_velocity(r_ratio, thetadot), 0.0, d, mu, True)
+        return du_plus, r11, r12, r21, r22, _SLIP
     du_plus, rd, td, rdp, tdp, v_rel, p_n, p_t = apply_reset(e, du, d, mu, r_ratio)
-    slip = mu * p_n
-    if slip > 0.0 and abs(v_rel) <= slip:
-        return du_plus, -d, 0.0, 0.0, 0.0, _STICK
-    sgn = 1.0 if v_rel >= 0.0 else -1.0
-    return du_plus, -d, 0.0, -sgn * mu * (1.0 + d), 1.0, _SLIP
+    r11, r12, r21, r22, stuck = reset_jacobian(v_rel, mu * p_n, d, mu, False)
+    return du_plus, r11, r12, r21, r22, (_STICK if stuck else _SLIP)
 
 
 @njit(cache=True)
@@ -684,10 +684,8 @@ def _impact_map_kernel(gamma, omega, k, d, mu, r_ratio, theta, rdot, thetadot, h
 
 
 def _params_tuple(params: Parameters):
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
-    den = complex(params.omega**2 - 1.0, params.gamma)
-    if den == 0:
+    check_params(params)
+    if not has_regular_equilibrium(params.gamma, params.omega):
         raise ParameterError(
             "omega = 1 with gamma = 0 has no regular equilibrium (k is infinite); "
             "allowed: omega != 1 or gamma != 0"
@@ -858,7 +856,7 @@ def a_derivatives(params: Parameters, T: float) -> tuple[complex, complex, compl
 
 
 def _q(params: Parameters) -> complex:
-    return complex(1.0 + params.d, (1.0 + params.d) * params.mu)
+    return impact_q(params.d, params.mu)
 
 
 def f1(params: Parameters, T):
@@ -964,17 +962,9 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
         raise RuntimeError("F1 zero isolation did not finish (iteration limit)")
     h2 = 0.25 * params.gamma**2 - params.omega**2
     q = _q(params)
-    n = 0 if s0 > 0 else 1
+    inside = [(float(t), direction, flag) for t, direction, flag in zip(zt, zd, zf) if 0.0 < t <= t_max]
     zeros = []
-    for t, direction, flag in zip(zt, zd, zf):
-        t = float(t)
-        if t <= 0.0 or t > t_max:
-            continue
-        if direction < 0:
-            n += 1
-            kind = "a"
-        else:
-            kind = "b"
+    for (t, direction, flag), (n, kind) in zip(inside, label_f1_zeros([z[1] for z in inside], s0 > 0)):
         if params.gamma == 0.0:
             d0, d1, d2, p0, p1, p2, sd, sp = _dp_tilde(t, params.gamma, h2)
             if abs(d0) <= 1e-8 * abs(d0 + q * p0):
@@ -982,8 +972,71 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
                 # it keeps its place in the labelling but has no orbit
                 continue
         slope = 0.0 if flag else float(f1_derivative(params, t))
-        zeros.append(F1Zero(T=t, n=max(n, 1), kind=kind, slope=slope, double=bool(flag)))
+        zeros.append(F1Zero(T=t, n=n, kind=kind, slope=slope, double=bool(flag)))
     return tuple(zeros)
+
+
+def label_f1_zeros(directions: Sequence[int], starts_positive: bool) -> list[tuple[int, str]]:
+    """Pair index n and kind of each zero of F1, in increasing T (MODEL.md §5).
+
+    A zero where F1 turns negative (direction < 0) opens pair n (kind ``"a"``,
+    T0,n,a); the next one, where F1 turns positive, closes it (kind ``"b"``).
+    Where F1 starts negative (``starts_positive`` False) the first zero closes
+    pair 1.
+
+    Parameters
+    ----------
+    directions : sequence of int
+        Sign of the change of F1 across each zero, in increasing T.
+    starts_positive : bool
+        F1 > 0 just after T = 0.
+
+    Returns
+    -------
+    list of (int, str)
+        (n, kind) of each zero, n >= 1.
+    """
+    n = 0 if starts_positive else 1
+    labels = []
+    for direction in directions:
+        if direction < 0:
+            n += 1
+            kind = "a"
+        else:
+            kind = "b"
+        labels.append((max(n, 1), kind))
+    return labels
+
+
+def root_branches(kind: str) -> tuple[str, str]:
+    """Branch letters of the smaller and the larger root rdot at a zero of ``kind`` (MODEL.md §5).
+
+    ``"a"`` gives (a, c), ``"b"`` gives (b, d).
+    """
+    return (kind, "c" if kind == "a" else "d")
+
+
+def stable_quadratic_roots(a: float, b: float, c: float) -> tuple[float, tuple[float, ...]]:
+    """Real roots of a x^2 + 2 b x + c = 0, computed without cancellation.
+
+    The root of larger magnitude is -(b + sgn(b) sqrt(b^2 - a c)) / a, the
+    other follows from the product of the roots, c / a.
+
+    Returns
+    -------
+    discriminant : float
+        b^2 - a c.
+    roots : tuple of float
+        The two real roots, smaller first; empty where the discriminant is
+        negative or a = 0.
+    """
+    disc = b * b - a * c
+    if disc < 0.0 or a == 0.0:
+        return float(disc), ()
+    sq = math.sqrt(disc)
+    qq = -(b + math.copysign(sq, b))
+    roots = sorted([qq / a, c / qq if qq != 0.0 else qq / a])
+    return float(disc), (float(roots[0]), float(roots[1]))
 
 
 def rdot_roots(params: Parameters, T: float) -> tuple[float, tuple[float, ...]]:
@@ -1000,16 +1053,7 @@ def rdot_roots(params: Parameters, T: float) -> tuple[float, tuple[float, ...]]:
     T = float(_check_time("T", T))
     a11, a12, a21, a22, da12, da22 = _coefficients(T, params.gamma, params.omega)
     qa = _q(params) * a12
-    aa = abs(qa) ** 2
-    bb = qa.real
-    cc = 1.0 - abs(params.k) ** 2
-    disc = bb * bb - aa * cc
-    if disc < 0.0 or aa == 0.0:
-        return float(disc), ()
-    sq = math.sqrt(disc)
-    qq = -(bb + math.copysign(sq, bb))
-    roots = sorted([qq / aa, cc / qq if qq != 0.0 else qq / aa])
-    return float(disc), (float(roots[0]), float(roots[1]))
+    return stable_quadratic_roots(abs(qa) ** 2, qa.real, 1.0 - abs(params.k) ** 2)
 
 
 def fixed_point_residual(params: Parameters, T: float, rdot: float) -> tuple[np.ndarray, np.ndarray]:
@@ -1247,7 +1291,7 @@ def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> Impact
     theta = wrap_angle(cmath.phase(k / (1.0 + q * a12 * rdot)))
     thetadot = -(q * a22).imag * rdot
     admissible = rdot > 0.0
-    slipping = (rr + 1.0 + thetadot) > mu * (1.0 + d) * rdot
+    slipping = slides_forward(thetadot, rdot, d, mu, rr)
     state = (theta, rdot, thetadot)
     u0, du0 = post_impact_state(params, state, law=IDEAL)
     ext = _extrema_from_post(params, u0, du0, T)
@@ -1315,8 +1359,7 @@ def one_impact_orbits(params: Parameters, t_max: float = 12.0) -> tuple[ImpactOr
         disc, roots = rdot_roots(params, zero.T)
         if not roots:
             continue
-        small, large = roots
-        orbits.append(_orbit(params, zero, zero.kind, small))
-        orbits.append(_orbit(params, zero, "c" if zero.kind == "a" else "d", large))
+        for rdot, branch in zip(roots, root_branches(zero.kind)):
+            orbits.append(_orbit(params, zero, branch, rdot))
     orbits.sort(key=lambda o: (o.n, o.branch, o.T))
     return tuple(orbits)

@@ -51,7 +51,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.angles import wrap_angle
-from ..model.flow import scaled_cs
+from ..model.flow import period_closed_form
+from ..model.impact_law import impact_q, slides_forward
+from ..model.validation import check_params
 from ..errors import ParameterError
 from .impact_map import (
     IDEAL,
@@ -101,16 +103,9 @@ class ClosedForm:
 def closed_form(T: float, gamma: float, omega: float) -> ClosedForm:
     """D(T), P(T), S(T), C(T) and derivatives for the given damping and stiffness."""
     h2 = 0.25 * gamma * gamma - omega * omega
-    c, s = scaled_cs(T, 0.0, h2)  # cosh(hT), sinh(hT)/h (MODEL.md §3)
-    m = complex(-0.5 * gamma, -1.0)
-    ch, sh, em = cmath.cosh(m * T), cmath.sinh(m * T), cmath.exp(m * T)
-    d0 = 2.0 * (ch - c)
-    p0 = c + m * s - em
-    d1 = 2.0 * (m * sh - h2 * s)
-    p1 = h2 * s + m * c - m * em
-    d2 = 2.0 * (m * m * ch - h2 * c)
-    p2 = h2 * c + m * h2 * s - m * m * em
-    return ClosedForm(D=d0, P=p0, S=s, C=c, D_T=d1, P_T=p1, D_TT=d2, P_TT=p2, h2=h2)
+    c, s, em, ch, d0, d1, d2, p0, p1, p2 = period_closed_form(float(T), float(gamma), h2)
+    return ClosedForm(D=complex(d0), P=complex(p0), S=float(s), C=float(c), D_T=complex(d1), P_T=complex(p1),
+                      D_TT=complex(d2), P_TT=complex(p2), h2=h2)
 
 
 def with_parameters(base: Parameters, changes: dict[str, float], *, extend: bool = False) -> Parameters:
@@ -135,7 +130,7 @@ def with_parameters(base: Parameters, changes: dict[str, float], *, extend: bool
 
 
 def _q(p: Parameters) -> complex:
-    return complex(1.0 + p.d, (1.0 + p.d) * p.mu)
+    return impact_q(p.d, p.mu)
 
 
 def regularised_residual(params: Parameters, T: float, rdot: float) -> tuple[np.ndarray, np.ndarray]:
@@ -254,7 +249,7 @@ def orbit_with_extrema(params: Parameters, T: float, rdot: float, *, n: int | No
     theta, thetadot = orbit_angles(params, T, rdot)
     state = (theta, rdot, thetadot)
     admissible = rdot > 0.0
-    slipping = (params.r_ratio + 1.0 + thetadot) > params.mu * (1.0 + params.d) * rdot
+    slipping = slides_forward(thetadot, rdot, params.d, params.mu, params.r_ratio)
     ext = flight_extrema(params, state, T, law=IDEAL)
     r_max = ext.r_max
     multipliers = None
@@ -311,8 +306,7 @@ class OneImpactSystem:
     """
 
     def __init__(self, base: Parameters, param: str, fd_step: float = 1e-6, extend: bool = True):
-        if not isinstance(base, Parameters):
-            raise ParameterError(f"params = {base!r} is not a Parameters object")
+        check_params(base)
         if param not in BRANCH_PARAMETERS:
             raise ParameterError(
                 f"param = {param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"

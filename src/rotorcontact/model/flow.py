@@ -27,7 +27,14 @@ from numba import njit
 
 from .params import Parameters
 
-__all__ = ["propagate", "free_flight", "to_inertial", "equilibrium_point"]
+__all__ = [
+    "propagate",
+    "free_flight",
+    "to_inertial",
+    "equilibrium_point",
+    "has_regular_equilibrium",
+    "period_closed_form",
+]
 
 
 @njit(cache=True)
@@ -66,8 +73,50 @@ def propagate(v0: complex, dv0: complex, t: float, gamma: float, omega: float) -
 
 @njit(cache=True)
 def equilibrium_point(gamma: float, omega: float, rho: float, phi: float) -> complex:
-    """k = rho e^{i phi} / (omega^2 - 1 + i gamma), the regular equilibrium (MODEL.md §3)."""
+    """k = rho e^{i phi} / (omega^2 - 1 + i gamma), the regular equilibrium (MODEL.md §3).
+
+    `Parameters.k` is this value; `has_regular_equilibrium` tells where it is finite.
+    """
     return rho * cmath.exp(1j * phi) / complex(omega * omega - 1.0, gamma)
+
+
+@njit(cache=True)
+def has_regular_equilibrium(gamma: float, omega: float) -> bool:
+    """omega^2 - 1 + i gamma != 0: k of `equilibrium_point` is finite (not at omega = 1 with gamma = 0)."""
+    return omega * omega - 1.0 != 0.0 or gamma != 0.0
+
+
+@njit(cache=True)
+def period_closed_form(t: float, gamma: float, h2: float):
+    """The closed forms behind [a_ij(T)] = (e^{-AT} - I)^{-1} (MODEL.md §5), and their T-derivatives.
+
+    With m = -(gamma/2 + i), C = cosh(hT), S = sinh(hT)/h (h^2 = ``h2``):
+
+        D = 2 (cosh(mT) - C),   P = C + mS - e^{mT},
+
+    so that a12 = S/D and a22 = P/D.
+
+    Returns
+    -------
+    c, s : float
+        C and S at T = ``t``.
+    em, chm : complex
+        e^{mT} and cosh(mT).
+    d0, d1, d2, p0, p1, p2 : complex
+        D, P and their first and second derivatives in T.
+    """
+    c, s = scaled_cs(t, 0.0, h2)
+    m = complex(-0.5 * gamma, -1.0)
+    em = cmath.exp(m * t)
+    chm = cmath.cosh(m * t)
+    shm = cmath.sinh(m * t)
+    d0 = 2.0 * (chm - c)
+    d1 = 2.0 * (m * shm - h2 * s)
+    d2 = 2.0 * (m * m * chm - h2 * c)
+    p0 = c + m * s - em
+    p1 = h2 * s + m * c - m * em
+    p2 = h2 * c + m * h2 * s - m * m * em
+    return c, s, em, chm, d0, d1, d2, p0, p1, p2
 
 
 @njit(cache=True)

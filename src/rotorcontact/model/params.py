@@ -206,10 +206,13 @@ class Parameters:
 
     @property
     def k(self) -> complex:
-        """Regular equilibrium U = k = rho e^{i phi} / (omega^2 - 1 + i gamma) (MODEL.md §3)."""
-        return self.rho * complex(math.cos(self.phi), math.sin(self.phi)) / complex(
-            self.omega**2 - 1.0, self.gamma
-        )
+        """Regular equilibrium U = k = rho e^{i phi} / (omega^2 - 1 + i gamma) (MODEL.md §3).
+
+        The value of `rotorcontact.model.flow.equilibrium_point`, which the simulator uses.
+        """
+        from .flow import equilibrium_point  # compiled: loaded on first use, not with the parameters
+
+        return complex(equilibrium_point(self.gamma, self.omega, self.rho, self.phi))
 
 
 _MACHINE_RULES: dict[str, dict[str, Any]] = {
