@@ -49,9 +49,13 @@ from typing import Any, Callable, Iterable, Literal, Sequence
 import numpy as np
 from scipy.optimize import brentq
 
-from ..model.angles import wrap_angle
+from ..model.angles import angle_difference, wrap_angle
 from ..errors import ParameterError
+from ..model import contact_law
+from ..model.flow import has_regular_equilibrium
+from ..model.impact_law import impact_q, relative_velocity
 from ..model.params import Parameters, check_finite
+from ..model.validation import check_params
 
 __all__ = [
     "STATE_NAMES",
@@ -108,8 +112,7 @@ _DEGENERACY_RTOL = 1e-10
 
 def friction_sign(thetadot: float, params: Parameters) -> float:
     """sgn(v_rel) with v_rel = r_ratio + 1 + thetadot (MODEL.md §2); 0 when v_rel = 0."""
-    v_rel = params.r_ratio + 1.0 + thetadot
-    return float(np.sign(v_rel))
+    return float(np.sign(relative_velocity(params.r_ratio, thetadot)))
 
 
 def _as_state(x: Sequence[float]) -> tuple[float, float, float, float]:
@@ -185,14 +188,14 @@ def boundary_function_gradient() -> tuple[np.ndarray, float]:
 
 def impact_direction(params: Parameters, thetadot: float = 0.0) -> np.ndarray:
     """W = (0, 0, 1 + d, mu (1 + d) sgn(v_rel)): the reset is x+ = x- - rdot- W (MODEL.md §2, §4)."""
-    q = 1.0 + params.d
-    return np.array([0.0, 0.0, q, params.mu * q * friction_sign(thetadot, params)])
+    q = impact_q(params.d, params.mu)
+    return np.array([0.0, 0.0, q.real, q.imag * friction_sign(thetadot, params)])
 
 
 def normal_force(theta: float, thetadot: float, params: Parameters) -> float:
     """Normal force per unit mass in continuous contact, N = (1 + thetadot)^2 - omega^2 + rho cos(phi - theta)."""
     p = params
-    return (1.0 + thetadot) ** 2 - p.omega**2 + p.rho * math.cos(p.phi - theta)
+    return float(contact_law.normal_force(float(theta), float(thetadot), p.omega, p.rho, p.phi))
 
 
 def contact_field(theta: float, thetadot: float, params: Parameters) -> np.ndarray:
@@ -201,25 +204,16 @@ def contact_field(theta: float, thetadot: float, params: Parameters) -> np.ndarr
     thetaddot = -(1 + thetadot) gamma + rho sin(phi - theta) - mu N sgn(v_rel).
     """
     p = params
-    n = normal_force(theta, thetadot, p)
-    thdd = -(1.0 + thetadot) * p.gamma + p.rho * math.sin(p.phi - theta) - p.mu * n * friction_sign(thetadot, p)
+    sgn = friction_sign(thetadot, p)
+    thdd = contact_law.sliding_accel(float(theta), float(thetadot), sgn, p.gamma, p.omega, p.rho, p.mu, p.phi)
     return np.array([thetadot, thdd])
 
 
 def contact_jacobian(theta: float, thetadot: float, params: Parameters) -> np.ndarray:
     """2x2 Jacobian of `contact_field` in (theta, thetadot), sgn(v_rel) held at its value there."""
     p = params
-    psi = p.phi - theta
-    sg = friction_sign(thetadot, p)
-    return np.array(
-        [
-            [0.0, 1.0],
-            [
-                -p.rho * math.cos(psi) - p.mu * sg * p.rho * math.sin(psi),
-                -p.gamma - 2.0 * p.mu * sg * (1.0 + thetadot),
-            ],
-        ]
-    )
+    sgn = friction_sign(thetadot, p)
+    return contact_law.sliding_field_jacobian(float(theta), float(thetadot), sgn, p.gamma, p.rho, p.mu, p.phi)
 
 
 def system_matrix(params: Parameters) -> np.ndarray:
@@ -462,12 +456,6 @@ class Equilibria:
 # ---------------------------------------------------------------------------
 
 
-def _check_params(params: Any) -> Parameters:
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
-    return params
-
-
 def regular_equilibrium(params: Parameters) -> RegularEquilibrium:
     """The regular equilibrium x_R (MODEL.md §4).
 
@@ -479,10 +467,10 @@ def regular_equilibrium(params: Parameters) -> RegularEquilibrium:
     -------
     RegularEquilibrium
     """
-    p = _check_params(params)
+    p = check_params(params)
     eig = _linear_eigenvalues(p)
     stable = max(z.real for z in eig) < 0.0
-    if p.omega**2 - 1.0 == 0.0 and p.gamma == 0.0:
+    if not has_regular_equilibrium(p.gamma, p.omega):
         return RegularEquilibrium(
             exists=False,
             r=None,
@@ -549,7 +537,7 @@ def pseudo_equilibria(params: Parameters) -> tuple[PseudoEquilibrium, PseudoEqui
     tuple of PseudoEquilibrium
         (P1, P2); each with ``exists = False`` and a reason where |s| > 1.
     """
-    p = _check_params(params)
+    p = check_params(params)
     a = 1.0 - p.omega**2
     rhs = p.gamma + p.mu * a
     amp = p.rho * math.hypot(1.0, p.mu)
@@ -594,7 +582,7 @@ def boundary_gamma(params: Parameters) -> float | None:
 
     Only gamma* >= 0 is returned (|k| = 1 also holds at -gamma*).
     """
-    p = _check_params(params)
+    p = check_params(params)
     a = abs(1.0 - p.omega**2)
     disc = (p.rho - a) * (p.rho + a)
     if disc < 0.0 or p.rho == 0.0:
@@ -607,7 +595,7 @@ def _partner(theta_b: float, pseudo: Sequence[PseudoEquilibrium]) -> tuple[str |
     best, dist = None, None
     for pe in pseudo:
         if pe.exists and pe.theta is not None:
-            d = abs(wrap_angle(pe.theta - theta_b))
+            d = abs(angle_difference(pe.theta, theta_b))
             if dist is None or d < dist:
                 best, dist = pe.name, d
     return best, dist
@@ -634,7 +622,7 @@ def boundary_equilibrium(params: Parameters) -> BoundaryEquilibrium:
     -------
     BoundaryEquilibrium
     """
-    p = _check_params(params)
+    p = check_params(params)
     if p.rho == 0.0:
         return BoundaryEquilibrium(
             gamma_star=None,
@@ -788,13 +776,13 @@ def beb_omega_ranges(rho: float, mu: float) -> BEBOmegaRanges:
 
 def classify_beb_analytic(params: Parameters) -> BEBKind | None:
     """The bifurcation type at ``params`` from the analytic omega-ranges (`beb_omega_ranges`)."""
-    p = _check_params(params)
+    p = check_params(params)
     return beb_omega_ranges(p.rho, p.mu).kind(p.omega)
 
 
 def equilibria(params: Parameters) -> Equilibria:
     """x_R, (x_P1, x_P2) and x_B at ``params``."""
-    p = _check_params(params)
+    p = check_params(params)
     return Equilibria(
         params=p,
         regular=regular_equilibrium(p),
@@ -1031,7 +1019,7 @@ def equilibrium_branches(
     ParameterError
         On an unknown parameter, a range with start >= stop, or invalid end values.
     """
-    base = _check_params(params)
+    base = check_params(params)
     if param not in BRANCH_PARAMETERS:
         raise ParameterError(f"param = {param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}")
     start = check_finite("start", start)

@@ -106,8 +106,11 @@ from scipy.integrate import solve_ivp
 
 from ..simulation.contact import ACCUMULATION, ROLLING, SLIDE_FORWARD
 from ..errors import ParameterError
+from ..model import contact_law
 from ..model.flow import propagate
+from ..model.impact_law import ideal_reset, impact_q, relative_velocity, reset_jacobian, slip_bound
 from ..model.params import Parameters, check_range
+from ..model.validation import check_params
 from ..simulation.simulator import simulate
 from ..simulation.trajectory import Trajectory
 
@@ -165,13 +168,12 @@ def _accel(params: Parameters, u: complex, du: complex) -> complex:
 
 def _contact_accel(params: Parameters, theta: float, thetadot: float, sgn: float) -> float:
     p = params
-    n = (1.0 + thetadot) ** 2 - p.omega**2 + p.rho * math.cos(p.phi - theta)
-    return -(1.0 + thetadot) * p.gamma + p.rho * math.sin(p.phi - theta) - p.mu * n * sgn
+    return contact_law.sliding_accel(float(theta), float(thetadot), float(sgn), p.gamma, p.omega, p.rho, p.mu, p.phi)
 
 
 def _normal_gradient(params: Parameters, theta: float, thetadot: float) -> np.ndarray:
-    """(dN/dtheta, dN/dthetadot) of N = (1 + thetadot)^2 - omega^2 + rho cos(phi - theta)."""
-    return np.array([params.rho * math.sin(params.phi - theta), 2.0 * (1.0 + thetadot)])
+    """(dN/dtheta, dN/dthetadot) of the normal force N (`rotorcontact.model.contact_law.normal_force`)."""
+    return np.array(contact_law.normal_force_gradient(float(theta), float(thetadot), params.rho, params.phi))
 
 
 def contact_variational_matrix(params: Parameters, theta: float, thetadot: float, sgn: float) -> np.ndarray:
@@ -180,10 +182,7 @@ def contact_variational_matrix(params: Parameters, theta: float, thetadot: float
     ``sgn`` is the sign of v_rel of the sliding phase (held fixed).
     """
     p = params
-    psi = p.phi - theta
-    d_theta = -p.rho * math.cos(psi) - p.mu * sgn * p.rho * math.sin(psi)
-    d_thetadot = -p.gamma - 2.0 * p.mu * sgn * (1.0 + thetadot)
-    return np.array([[0.0, 1.0], [d_theta, d_thetadot]])
+    return contact_law.sliding_field_jacobian(float(theta), float(thetadot), float(sgn), p.gamma, p.rho, p.mu, p.phi)
 
 
 # ---------------------------------------------------------------------------
@@ -213,26 +212,25 @@ def _reset_linearisation(params: Parameters, u: complex, du: complex):
     e = u / abs(u)
     w = e.conjugate() * du
     rdot, thetadot = w.real, w.imag
-    v_rel = p.r_ratio + 1.0 + thetadot
-    slip = p.mu * (1.0 + p.d) * rdot
-    sticking = slip > 0.0 and abs(v_rel) <= slip
+    v_rel = relative_velocity(p.r_ratio, thetadot)
+    slip = slip_bound(p.d, p.mu, rdot)
+    r11, r12, r21, r22, sticking = reset_jacobian(v_rel, slip, p.d, p.mu, False)
     if sticking:
-        du_plus = e * complex(-p.d * rdot, -(p.r_ratio + 1.0))
+        w_plus = complex(-p.d * rdot, -(p.r_ratio + 1.0))
+        du_plus = e * w_plus
     else:
+        # the law U'+ = U'- - q rdot U with the friction along -sgn(v_rel)
         sgn = 1.0 if v_rel >= 0.0 else -1.0
-        q = complex(1.0 + p.d, (1.0 + p.d) * p.mu * sgn)
-        du_plus = du - q * rdot * e
-        # the simulator's polar form of the same law: thetadot+ = thetadot - sgn mu (1 + d) rdot
+        du_plus = ideal_reset(e, du, rdot, impact_q(p.d, sgn * p.mu))
+        w_plus = e.conjugate() * du_plus
     cols = []
     for d_u, d_du in _basis():
+        # U'+ = e (rdot+ + i thetadot+): its variation is de w+ + e J dw with J the polar reset Jacobian
         de = d_u - e * (e.conjugate() * d_u).real
         dw = de.conjugate() * du + e.conjugate() * d_du
-        if sticking:
-            d_du_plus = de * complex(-p.d * rdot, -(p.r_ratio + 1.0)) - p.d * dw.real * e
-        else:
-            d_du_plus = d_du - q * (dw.real * e + rdot * de)
+        d_du_plus = de * w_plus + e * complex(r11 * dw.real + r12 * dw.imag, r21 * dw.real + r22 * dw.imag)
         cols.append(_vec(d_u, d_du_plus))
-    return du_plus, np.array(cols).T, sticking
+    return du_plus, np.array(cols).T, bool(sticking)
 
 
 def impact_saltation(params: Parameters, u: complex, du_minus: complex) -> tuple[np.ndarray, complex, bool]:
@@ -305,28 +303,30 @@ def _accumulation_map(params: Parameters, theta: float, rdot: float, thetadot: f
     """
     p = params
     d, mu, rr = p.d, p.mu, p.r_ratio
-    v_rel = rr + 1.0 + thetadot
-    slip = mu * (1.0 + d) * rdot
-    if slip > 0.0 and abs(v_rel) <= slip:
-        tdp, dtdp = -(rr + 1.0), np.zeros(3)
+    v_rel = relative_velocity(rr, thetadot)
+    slip = slip_bound(d, mu, rdot)
+    r11, r12, r21, r22, sticking = reset_jacobian(v_rel, slip, d, mu, False)
+    if sticking:
+        tdp = -(rr + 1.0)
     else:
         sgn = 1.0 if v_rel >= 0.0 else -1.0
         tdp = thetadot - sgn * slip
-        dtdp = np.array([0.0, -sgn * mu * (1.0 + d), 1.0])
-    n = (1.0 + tdp) ** 2 - p.omega**2 + p.rho * math.cos(p.phi - theta)
-    dn = 2.0 * (1.0 + tdp) * dtdp + np.array([p.rho * math.sin(p.phi - theta), 0.0, 0.0])
+    dtdp = np.array([0.0, r21, r22])  # d thetadot+ / d(theta, rdot, thetadot)
+    n = contact_law.normal_force(theta, tdp, p.omega, p.rho, p.phi)
+    dn_theta, dn_thetadot = contact_law.normal_force_gradient(theta, tdp, p.rho, p.phi)
+    dn = dn_thetadot * dtdp + np.array([dn_theta, 0.0, 0.0])
     e_rd = np.array([0.0, 1.0, 0.0])
+    t_tail, p_tail = contact_law.accumulation_tail(rdot, n, d, mu)
     if d < 1.0:
-        t_tail = 2.0 * d * rdot / (n * (1.0 - d))
         dt_tail = 2.0 * d / (1.0 - d) * (e_rd / n - rdot * dn / (n * n))
-        p_tail = mu * (1.0 + d) * rdot * d / (1.0 - d)
         dp_tail = mu * (1.0 + d) * d / (1.0 - d) * e_rd
     else:
-        t_tail, dt_tail, p_tail, dp_tail = 0.0, np.zeros(3), 0.0, np.zeros(3)
+        dt_tail, dp_tail = np.zeros(3), np.zeros(3)
     # over the tail the smooth tangential force F acts for t_tail (as in the simulator)
-    f_t = -(1.0 + tdp) * p.gamma + p.rho * math.sin(p.phi - theta)
-    df_t = -p.gamma * dtdp + np.array([-p.rho * math.cos(p.phi - theta), 0.0, 0.0])
-    vrel_p = rr + 1.0 + tdp
+    f_t = contact_law.free_tangential(theta, tdp, p.gamma, p.rho, p.phi)
+    df_theta, df_thetadot = contact_law.free_tangential_gradient(theta, p.gamma, p.rho, p.phi)
+    df_t = df_thetadot * dtdp + np.array([df_theta, 0.0, 0.0])
+    vrel_p = relative_velocity(rr, tdp)
     s_p = math.copysign(1.0, vrel_p)
     if p_tail < abs(vrel_p):
         td_acc = tdp + f_t * t_tail - s_p * p_tail
@@ -904,8 +904,7 @@ def lyapunov_spectrum(
     LyapunovResult
         Exponents of `COORDINATES`, largest first (-inf for annihilated directions).
     """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    check_params(params)
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     if t_transient is None:
         t_transient = 0.25 * t_end

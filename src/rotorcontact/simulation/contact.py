@@ -1,7 +1,7 @@
 """Continuous contact on r = 1: sliding with Coulomb friction, rolling, slip and lift-off (MODEL.md §4).
 
-On the stator (r = 1, rdot = 0) the normal force per unit mass that keeps
-rdot'' = 0 is
+The contact law (`rotorcontact.model.contact_law`): on the stator (r = 1,
+rdot = 0) the normal force per unit mass that keeps rdot'' = 0 is
 
     N = (1 + thetadot)^2 - omega^2 + rho cos(phi - theta),
 
@@ -25,9 +25,10 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
+from ..model.contact_law import free_tangential, normal_force, sliding_accel
+from ..model.impact_law import relative_velocity
 from .tables import grow_rows
 
 CONTACT_TOL = 1e-11
@@ -50,22 +51,7 @@ TO_SLIDE_BACKWARD = 4
 STEP_LIMIT = 5
 
 
-@njit(cache=True)
-def normal_force(theta, thetadot, omega: float, rho: float, phi: float):
-    """N on r = 1 with rdot = 0 (MODEL.md §4); scalars or arrays."""
-    return (1.0 + thetadot) ** 2 - omega * omega + rho * np.cos(phi - theta)
-
-
-@njit(cache=True)
-def free_tangential(theta, thetadot, gamma: float, rho: float, phi: float):
-    """Tangential acceleration on r = 1 without friction, F = -(1 + thetadot) gamma + rho sin(phi - theta)."""
-    return -(1.0 + thetadot) * gamma + rho * np.sin(phi - theta)
-
-
-@njit(cache=True)
-def _accel(theta, thetadot, sgn, gamma, omega, rho, mu, phi):
-    n = normal_force(theta, thetadot, omega, rho, phi)
-    return free_tangential(theta, thetadot, gamma, rho, phi) - mu * n * sgn
+_accel = sliding_accel
 
 
 # Dormand-Prince 5(4) tableau
@@ -112,7 +98,7 @@ def _dp_step(x, v, h, sgn, gamma, omega, rho, mu, phi):
 @njit(cache=True)
 def _events(x, v, r_ratio, omega, rho, phi, sgn):
     """Switching functions of a sliding phase: N (lift-off) and sgn * v_rel (end of slip)."""
-    return normal_force(x, v, omega, rho, phi), sgn * (r_ratio + 1.0 + v)
+    return normal_force(x, v, omega, rho, phi), sgn * relative_velocity(r_ratio, v)
 
 
 @njit(cache=True)

@@ -13,11 +13,13 @@ import numpy as np
 from numba import njit
 
 from ..errors import ParameterError
-from ..model.flow import equilibrium_point, propagate
+from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
+from ..model.validation import check_int, check_params
 from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity
-from ..model.impact_law import apply_reset, polar_velocity
+from ..model.impact_law import apply_reset, polar_velocity, relative_velocity
 from ..model.angles import wrap_angle
 from .tables import grow_rows, push_row
+from ..model.contact_law import accumulation_tail, free_tangential, normal_force
 from .contact import (
     ACCUMULATION,
     LIFTOFF,
@@ -29,8 +31,6 @@ from .contact import (
     TO_SLIDE_BACKWARD,
     TO_SLIDE_FORWARD,
     END,
-    free_tangential,
-    normal_force,
     roll,
     slide,
     stick_or_slip,
@@ -103,14 +103,9 @@ def _first_order_tail(t, theta, rd, tdp, n_force, t_cap, gamma, rho, mu, d, phi,
     bounded so that v_rel does not reverse (docs/contact.md). The tail is cut
     at t_cap. Returns (t_acc, theta_acc, thetadot_acc), each off by O(rd^2).
     """
-    if d < 1.0:
-        t_tail = 2.0 * d * rd / (n_force * (1.0 - d))
-        p_tail = mu * (1.0 + d) * rd * d / (1.0 - d)
-    else:
-        t_tail = 0.0
-        p_tail = 0.0
+    t_tail, p_tail = accumulation_tail(rd, n_force, d, mu)
     tau = min(t_tail, max(t_cap - t, 0.0))
-    vrel_p = r_ratio + 1.0 + tdp
+    vrel_p = relative_velocity(r_ratio, tdp)
     f_t = free_tangential(theta, tdp, gamma, rho, phi)
     td_acc = tdp + f_t * tau - math.copysign(min(p_tail, abs(vrel_p)), vrel_p)
     return t + tau, theta + 0.5 * (tdp + td_acc) * tau, td_acc
@@ -289,7 +284,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             mode = next_mode
         else:
             n_force = normal_force(theta_c, thetadot_c, omega, rho, phi)
-            vrel = r_ratio + 1.0 + thetadot_c
+            vrel = relative_velocity(r_ratio, thetadot_c)
             if n_force <= 0.0:
                 mode = LIFTOFF
             elif abs(vrel) <= 1e-12 * (1.0 + r_ratio):
@@ -414,8 +409,7 @@ def simulate(
         ``status`` is ``"completed"``, ``"chatter"`` (only with
         ``on_chatter="stop"``), ``"max-events"`` or ``"failed"``.
     """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    check_params(params)
     u0 = _as_complex("u0", u0)
     du0 = check_velocity("du0", _as_complex("du0", du0))
     if abs(u0) > 1.0 + BOUNDARY_TOL:
@@ -425,13 +419,12 @@ def simulate(
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     if on_chatter not in ("contact", "stop"):
         raise ParameterError(f"on_chatter = {on_chatter!r} is invalid; allowed: 'contact', 'stop'")
-    if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) or max_events < 1:
-        raise ParameterError(f"max_events = {max_events!r} is invalid; allowed: an integer >= 1")
+    max_events = check_int("max_events", max_events, 1)
     chatter_tol = check_range("chatter_tol", chatter_tol, low=0.0)
     chatter_rdot = check_range("chatter_rdot", chatter_rdot, low=0.0, low_open=True)
     chatter_height = check_range("chatter_height", chatter_height, low=0.0)
     chatter_dt = check_range("chatter_dt", chatter_dt, low=0.0)
-    k_abs = abs(params.k) if (params.omega**2 - 1.0, params.gamma) != (0.0, 0.0) else math.inf
+    k_abs = abs(params.k) if has_regular_equilibrium(params.gamma, params.omega) else math.inf
     if k_abs > K_MAX:
         raise ParameterError(
             f"omega = {params.omega!r}, gamma = {params.gamma!r} are too close to undamped resonance "

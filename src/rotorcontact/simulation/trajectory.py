@@ -14,6 +14,8 @@ from .contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_BACKWARD, SLIDE_FO
 
 from ..errors import ParameterError
 from ..model.flow import equilibrium_point, propagate, to_inertial
+from ..model.impact_law import relative_velocity
+from ..model.validation import check_int
 from ..model.params import Machine, Parameters
 
 __all__ = ["Trajectory", "ImpactTable", "COLUMNS"]
@@ -273,7 +275,7 @@ class Trajectory:
         -mu N sgn(v_rel) when sliding, and the force that holds v_rel = 0 when
         rolling (MODEL.md §4).
         """
-        from .contact import free_tangential, normal_force
+        from ..model.contact_law import free_tangential, normal_force
 
         tt = np.asarray(t, dtype=float)
         r, theta, _rdot, thetadot = self.polar(tt)
@@ -293,14 +295,14 @@ class Trajectory:
             elif kind == SLIDE_BACKWARD:
                 ft[sel] = p.mu * nn
             else:  # accumulation of impacts: friction opposes the slip
-                ft[sel] = -p.mu * nn * np.sign(p.r_ratio + 1.0 + thetadot[sel])
+                ft[sel] = -p.mu * nn * np.sign(relative_velocity(p.r_ratio, thetadot[sel]))
         return n, ft
 
     def friction_power(self, t) -> np.ndarray:
         """Power dissipated by friction per unit mass (dimensionless), |F_t v_rel|, at times ``t``."""
         _n, ft = self.contact_forces(t)
         thetadot = self.polar(t)[3]
-        return np.abs(ft * (self.params.r_ratio + 1.0 + thetadot))
+        return np.abs(ft * relative_velocity(self.params.r_ratio, thetadot))
 
     def U(self, t) -> np.ndarray:
         """Co-rotating position U(t)."""
@@ -399,10 +401,8 @@ class Trajectory:
             ``initial_state``, ``impacts``, ``contact_intervals``, ``summary``
             (and ``machine`` with a machine).
         """
-        if max_rows is not None and (
-            isinstance(max_rows, bool) or not isinstance(max_rows, (int, np.integer)) or max_rows < 2
-        ):
-            raise ParameterError(f"max_rows = {max_rows!r} is invalid; allowed: an integer >= 2, or None for all")
+        if max_rows is not None:
+            max_rows = check_int("max_rows", max_rows, 2)
         n_imp = len(self.impacts)
         cut_impacts = max_rows is not None and n_imp > max_rows
         records = self.records
