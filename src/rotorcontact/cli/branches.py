@@ -125,7 +125,7 @@ def _text(b: OrbitBranches, machine: Machine | None = None) -> list[str]:
                      "rotor_radius_m": "m"}
             si = "".join(f"{v[k]:.6g} {u}, " for k, u in units.items() if k in v)
             si = f"  [{si}T = {1e3 * v['T_s']:.6g} ms, rdot = {v['rdot_m_per_s']:.4g} m/s]"
-        lines.append(f"  {e.type:<16} {b.param} = {e.value:<20.12g} {', '.join(e.orbits):<14} "
+        lines.append(f"  {e.kind:<16} {b.param} = {e.value:<20.12g} {', '.join(e.orbits):<14} "
                      f"T = {e.T:.8g}, rdot = {e.rdot:.6g}{extra}{si}")
     return lines
 
@@ -153,19 +153,10 @@ def run(args: argparse.Namespace) -> int:
         raise renamed(exc, {"t_max": "--t-max", "rdot_max": "--rdot-max", "start": "--from", "stop": "--to",
                             "n_seeds": "--seeds"}) from None
     if args.plot:
-        import matplotlib.pyplot as plt
-
-        from ..plotting.branches import B1, plot_branch_quantity
+        from ..plotting.branches import plot_velocities
         from ..plotting.style import save_figure
 
-        fig, axes = plt.subplots(2, 1, figsize=(7, 8), sharex=True)
-        plot_branch_quantity(branches, "rdot", B1, ax=axes[0])
-        plot_branch_quantity(branches, "thetadot", B1, ax=axes[1], legend=False)
-        for ax in axes:
-            ax.set_ylim(max(ax.get_ylim()[0], -rdot_max), min(ax.get_ylim()[1], rdot_max))
-        axes[0].set_title(
-            ", ".join(f"{n}={getattr(params, n):.4g}" for n in BRANCH_PARAMETERS if n != args.param), fontsize=9
-        )
+        fig, _ = plot_velocities(branches, rdot_max=rdot_max)
         save_figure(fig, args.plot)
     if args.json:
         print_json(json_result(params, _branches_dict(branches, machine), machine))

@@ -69,6 +69,7 @@ from ..errors import ParameterError
 from ..maps.impact_map import f1_zeros, rdot_roots
 from ..maps.orbit_system import BRANCH_PARAMETERS, OneImpactSystem, orbit_with_extrema
 from ..model.params import Parameters, check_finite, check_range
+from ..model.validation import check_int, check_params
 
 __all__ = [
     "EVENT_TYPES",
@@ -212,16 +213,14 @@ def orbit_branches(
     ParameterError
         On an unknown parameter, an empty or invalid range, or invalid options.
     """
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    check_params(params)
     system = OneImpactSystem(params, param)
     start, stop = _check_range(param, params, start, stop)
     system.bounds = (start, stop)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     t_min = check_range("t_min", t_min, low=0.0, low_open=True, high=t_max, high_open=True)
     rdot_max = check_range("rdot_max", rdot_max, low=0.0, low_open=True)
-    if isinstance(n_seeds, bool) or not isinstance(n_seeds, (int, np.integer)) or not 2 <= n_seeds <= MAX_SEEDS:
-        raise ParameterError(f"n_seeds = {n_seeds!r} is invalid; allowed: an integer in [2, {MAX_SEEDS}]")
+    n_seeds = check_int("n_seeds", n_seeds, 2, MAX_SEEDS)
     span = stop - start
     settings = settings or default_settings()
     weights = np.array([1.0, 1.0, 1.0 / span])

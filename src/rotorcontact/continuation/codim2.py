@@ -67,6 +67,7 @@ from ..model.flow import propagate
 from ..maps.impact_map import IDEAL, f1_zeros, flight_extrema, one_impact_orbits, post_impact_state, rdot_roots
 from ..maps.orbit_system import BRANCH_PARAMETERS, orbit_angles, regularised_residual, with_parameters
 from ..model.params import Parameters, check_range
+from ..model.validation import check_int, check_params
 
 __all__ = [
     "DEFAULT_RANGES",
@@ -82,6 +83,7 @@ __all__ = [
     "region",
     "classify_plane",
     "dib_function",
+    "dib_labels",
 ]
 
 #: Default ranges of the parameters in two-parameter diagrams.
@@ -217,11 +219,10 @@ class _Plane:
     """Parameters at (p1, p2) for a plane of two parameters (extended beyond physical bounds)."""
 
     def __init__(self, base: Parameters, params: Sequence[str], ranges):
-        if not isinstance(base, Parameters):
-            raise ParameterError(f"params = {base!r} is not a Parameters object")
+        check_params(base)
         params = tuple(params)
         if len(params) != 2 or params[0] == params[1]:
-            raise ParameterError(f"params = {params!r} is invalid; allowed: two different parameters")
+            raise ParameterError(f"param = {params!r} is invalid; allowed: two different parameters")
         for p in params:
             if p not in BRANCH_PARAMETERS:
                 raise ParameterError(
@@ -402,7 +403,7 @@ def _fold_seed(plane: _Plane, n: int, fixed: float, axis: int, a: float, b: floa
 
 def fold_curve(
     params: Parameters,
-    params2: Sequence[str] = ("gamma", "omega"),
+    param: Sequence[str] = ("gamma", "omega"),
     ranges=None,
     *,
     n: int = 1,
@@ -417,7 +418,7 @@ def fold_curve(
     ----------
     params : Parameters
         The other parameters.
-    params2 : (str, str)
+    param : (str, str)
         The plane (p1, p2).
     ranges : ((float, float), (float, float)), optional
         The box; `DEFAULT_RANGES` when omitted.
@@ -437,12 +438,12 @@ def fold_curve(
     points : tuple of BranchEvent
         The ``fold-dib`` points.
     """
-    plane = _Plane(params, params2, ranges)
-    n = _check_int("n", n, 1)
+    plane = _Plane(params, param, ranges)
+    n = check_int("n", n, 1)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     settings = settings or _settings()
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, _check_int("n_seeds", n_seeds, 1), _check_int("n_scan", n_scan, 2)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1), check_int("n_scan", n_scan, 2)):
         ex = [_pair_exists(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v), n, t_max) for v in grid]
         for i in range(len(grid) - 1):
             if ex[i] != ex[i + 1]:
@@ -477,7 +478,7 @@ def fold_curve(
 
 def dib_curve(
     params: Parameters,
-    params2: Sequence[str] = ("gamma", "omega"),
+    param: Sequence[str] = ("gamma", "omega"),
     ranges=None,
     *,
     n_seeds: int = 7,
@@ -489,10 +490,10 @@ def dib_curve(
     In the (gamma, omega) plane it is gamma_DIB(omega) = sqrt(rho^2 - (1 - omega^2)^2).
     Parameters as in `fold_curve`.
     """
-    plane = _Plane(params, params2, ranges)
+    plane = _Plane(params, param, ranges)
     settings = settings or _settings()
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, _check_int("n_seeds", n_seeds, 1), _check_int("n_scan", n_scan, 2)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1), check_int("n_scan", n_scan, 2)):
         def g(v, fixed=fixed, axis=axis):
             return dib_function(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v))
 
@@ -538,7 +539,7 @@ def _grazing_residual(plane: _Plane):
 
 def grazing_curve(
     params: Parameters,
-    params2: Sequence[str] = ("gamma", "omega"),
+    param: Sequence[str] = ("gamma", "omega"),
     ranges=None,
     *,
     orbit: str = "B1,d",
@@ -561,12 +562,12 @@ def grazing_curve(
     points : tuple of BranchEvent
         ``grazing-dib`` and ``fold-grazing`` points.
     """
-    plane = _Plane(params, params2, ranges)
+    plane = _Plane(params, param, ranges)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     settings = settings or _settings()
     _check_label(orbit)
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, _check_int("n_seeds", n_seeds, 1), _check_int("n_scan", n_scan, 2)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1), check_int("n_scan", n_scan, 2)):
         def at(v, fixed=fixed, axis=axis):
             return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
 
@@ -636,7 +637,7 @@ def grazing_curve(
 
 def codim2_diagram(
     params: Parameters,
-    params2: Sequence[str] = ("gamma", "omega"),
+    param: Sequence[str] = ("gamma", "omega"),
     ranges=None,
     *,
     folds: Sequence[int] = (1,),
@@ -652,7 +653,7 @@ def codim2_diagram(
     ----------
     params : Parameters
         The other parameters.
-    params2 : (str, str)
+    param : (str, str)
         The plane, default (gamma, omega).
     ranges : ((float, float), (float, float)), optional
         The box; `DEFAULT_RANGES` when omitted.
@@ -667,11 +668,11 @@ def codim2_diagram(
     -------
     Codim2Diagram
     """
-    plane = _Plane(params, params2, ranges)
+    plane = _Plane(params, param, ranges)
     for label in grazing:
         _check_label(label)
     for n in folds:
-        _check_int("folds", n, 1)
+        check_int("folds", n, 1)
     curves: dict[str, Codim2Curve] = {}
     points: list[BranchEvent] = []
     kw = dict(t_max=t_max, n_seeds=n_seeds, n_scan=n_scan, settings=settings)
@@ -689,6 +690,54 @@ def codim2_diagram(
     return Codim2Diagram(param=plane.params, events=tuple(pts), ranges=plane.ranges, base=params, curves=curves)
 
 
+def dib_labels(
+    diagram: Codim2Diagram,
+    t_max: float,
+    beb_kind: Callable[[Parameters], str | None],
+) -> list[tuple[str, float, float]]:
+    """What happens along the DIB curve: (text, p1, p2) at the middle of each run of equal kind.
+
+    At a point of the DIB curve where the one-impact orbits of the first pair
+    exist, the kind is ``"NSFH"`` (they are born there); elsewhere it is the
+    boundary equilibrium bifurcation of the equilibria given by ``beb_kind``:
+    ``"NSF"`` for ``"nonsmooth-fold"``, ``"Pers"`` for ``"persistence"``.
+    Runs shorter than two points, and points of no kind, are not labelled.
+
+    Parameters
+    ----------
+    diagram : Codim2Diagram
+    t_max : float
+        Largest period of the orbits looked for.
+    beb_kind : callable
+        ``beb_kind(params)``: the kind of the boundary equilibrium bifurcation at
+        a point (`rotorcontact.analysis.equilibria.classify_beb_analytic`).
+
+    Returns
+    -------
+    list of (str, float, float)
+    """
+    out: list[tuple[str, float, float]] = []
+    curve = diagram.curves.get("dib")
+    if curve is None:
+        return out
+    for piece in curve.pieces:
+        kinds = []
+        for v1, v2 in piece[:, -2:]:
+            p = diagram.base.replace(**{diagram.param[0]: v1, diagram.param[1]: v2})
+            if any(z.n == 1 for z in f1_zeros(p, t_max)):
+                kinds.append("NSFH")
+            else:
+                kinds.append({"nonsmooth-fold": "NSF", "persistence": "Pers"}.get(beb_kind(p), ""))
+        i0 = 0
+        for i in range(1, len(kinds) + 1):
+            if i == len(kinds) or kinds[i] != kinds[i0]:
+                if kinds[i0] and i - i0 >= 2:
+                    mid = (i0 + i - 1) // 2
+                    out.append((kinds[i0], float(piece[mid, -2]), float(piece[mid, -1])))
+                i0 = i
+    return out
+
+
 # ---------------------------------------------------------------------------
 # Regions
 # ---------------------------------------------------------------------------
@@ -696,8 +745,7 @@ def codim2_diagram(
 
 def region(params: Parameters, t_max: float = 12.0) -> str | None:
     """The region R1-R4 (module docstring) of the point ``params``, or None if it fits none."""
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"params = {params!r} is not a Parameters object")
+    check_params(params)
     xr_admissible = dib_function(params) < 0.0  # |k| < 1
     orbits = []  # (small root?, rdot) of the orbits of the pair 1
     try:
@@ -720,7 +768,7 @@ def region(params: Parameters, t_max: float = 12.0) -> str | None:
 
 def classify_plane(
     params: Parameters,
-    params2: Sequence[str] = ("gamma", "omega"),
+    param: Sequence[str] = ("gamma", "omega"),
     ranges=None,
     shape: tuple[int, int] = (81, 81),
     t_max: float = 12.0,
@@ -734,8 +782,8 @@ def classify_plane(
     labels : numpy.ndarray of object, shape (len(v2), len(v1))
         ``"R1"`` .. ``"R4"`` or None.
     """
-    plane = _Plane(params, params2, ranges)
-    n1, n2 = (_check_int("shape", s, 2) for s in shape)
+    plane = _Plane(params, param, ranges)
+    n1, n2 = (check_int("shape", s, 2) for s in shape)
     v1 = np.linspace(*plane.ranges[0], n1)
     v2 = np.linspace(*plane.ranges[1], n2)
     labels = np.empty((n2, n1), dtype=object)
@@ -754,12 +802,6 @@ def _check_label(orbit) -> str:
     if not isinstance(orbit, str) or re.fullmatch(r"B[1-9][0-9]*,[abcd]", orbit) is None:
         raise ParameterError(f"orbit = {orbit!r} is not an orbit label; allowed: 'B<n>,<a|b|c|d>', e.g. 'B1,d'")
     return orbit
-
-
-def _check_int(name: str, value, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise ParameterError(f"{name} = {value!r} is invalid; allowed: an integer >= {low}")
-    return int(value)
 
 
 def _unique(points: tuple[BranchEvent, ...]) -> tuple[BranchEvent, ...]:

@@ -27,6 +27,7 @@ from .results import BranchEvent, BranchResult
 from ..maps.impact_map import f1_zeros
 from ..maps.orbit_system import OneImpactSystem, regularised_residual
 from ..model.params import Parameters, check_finite, check_range
+from ..model.validation import check_int, check_params
 
 __all__ = ["ZeroFold", "ZeroCurve", "F1ZeroCurves", "f1_zero_curves"]
 
@@ -123,7 +124,7 @@ def f1_zero_curves(
     -------
     F1ZeroCurves
     """
-    system = OneImpactSystem(params, param)
+    system = OneImpactSystem(check_params(params), param)
     start = check_finite("start", start)
     stop = check_finite("stop", stop)
     if not start < stop:
@@ -131,8 +132,7 @@ def f1_zero_curves(
     params.replace(**{param: start})
     params.replace(**{param: stop})
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
-    if isinstance(n_seeds, bool) or not isinstance(n_seeds, (int, np.integer)) or n_seeds < 2:
-        raise ParameterError(f"n_seeds = {n_seeds!r} is invalid; allowed: an integer >= 2")
+    n_seeds = check_int("n_seeds", n_seeds, 2)
     settings = settings or ContinuationSettings(step=0.01, max_step=0.03, location_tol=1e-10)
     span = stop - start
 

@@ -22,7 +22,7 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..continuation.branches import LabelBranch, OrbitBranches, orbit_branches
+from ..continuation.branches import BRANCH_PARAMETERS, LabelBranch, OrbitBranches, orbit_branches
 from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
 from ..model.params import Parameters
@@ -39,6 +39,7 @@ __all__ = [
     "plot_thetadot",
     "plot_max_multiplier",
     "plot_extrema",
+    "plot_velocities",
     "compute_branches",
     "EVENT_MARKERS",
     "EVENT_NAMES",
@@ -239,7 +240,7 @@ def _mark_events(ax, branches: OrbitBranches, labels: Sequence[str], quantity: s
     marked: list[str] = []
     for e in branches.events:
         orbits = [lab for lab in e.orbits if lab in labels]
-        if e.type not in EVENT_MARKERS or not orbits or not _in_view(e.value, view):
+        if e.kind not in EVENT_MARKERS or not orbits or not _in_view(e.value, view):
             continue
         if quantity == "rdot":
             y = e.rdot
@@ -250,10 +251,10 @@ def _mark_events(ax, branches: OrbitBranches, labels: Sequence[str], quantity: s
             y = _at_event(b, e, getter(b))
         if y is None or not math.isfinite(y):
             continue
-        ax.plot([e.value], [y], EVENT_MARKERS[e.type], mfc="none", color="k", ms=6, zorder=5,
-                gid=f"event:{e.type}")
-        if e.type not in marked:
-            marked.append(e.type)
+        ax.plot([e.value], [y], EVENT_MARKERS[e.kind], mfc="none", color="k", ms=6, zorder=5,
+                gid=f"event:{e.kind}")
+        if e.kind not in marked:
+            marked.append(e.kind)
     return marked
 
 
@@ -477,10 +478,10 @@ def plot_extrema(
     for e in branches.events:
         if not any(lab in drawn for lab in e.orbits) or not _in_view(e.value, view):
             continue
-        if e.type == "grazing":
+        if e.kind == "grazing":
             ax.plot([e.value], [1.0], **_EXTREMA_MARKS["grazing"], zorder=5, gid="event:grazing")
             marks["grazing"] = True
-        elif e.type == "extrema-change":
+        elif e.kind == "extrema-change":
             ax.axvline(e.value, **_EXTREMA_MARKS["extrema-change"], zorder=0, gid="event:extrema-change")
             marks["extrema-change"] = True
     ax.set_xlim(*view)
@@ -505,6 +506,41 @@ def plot_extrema(
                     for kind in _EXTREMA_MARKS if kind in marks]
         ax.legend(handles=handles, fontsize=7, loc="best")
     return fig, ax
+
+
+def plot_velocities(branches: OrbitBranches, labels: Sequence[str] = B1, *, rdot_max: float | None = None,
+                    figsize: tuple[float, float] = (7, 8)):
+    """rdot- (top) and thetadot- (bottom) of the orbits ``labels`` against the parameter, on a shared axis.
+
+    Parameters
+    ----------
+    branches : OrbitBranches
+    labels : sequence of str
+        Orbits to draw.
+    rdot_max : float, optional
+        Both vertical axes are clipped to [-rdot_max, rdot_max] (the range followed).
+    figsize : (float, float)
+
+    Returns
+    -------
+    (fig, axes)
+        The figure, titled with the other parameters, and its two axes.
+    """
+    import matplotlib.pyplot as plt
+
+    if not isinstance(branches, OrbitBranches):
+        raise ParameterError(f"branches = {branches!r} is not an OrbitBranches object")
+    fig, axes = plt.subplots(2, 1, figsize=figsize, sharex=True)
+    plot_branch_quantity(branches, "rdot", labels, ax=axes[0])
+    plot_branch_quantity(branches, "thetadot", labels, ax=axes[1], legend=False)
+    if rdot_max is not None:
+        for ax in axes:
+            ax.set_ylim(max(ax.get_ylim()[0], -rdot_max), min(ax.get_ylim()[1], rdot_max))
+    axes[0].set_title(
+        ", ".join(f"{n}={getattr(branches.base, n):.4g}" for n in BRANCH_PARAMETERS if n != branches.param),
+        fontsize=9,
+    )
+    return fig, axes
 
 
 def _radius_of_x_R(p: Parameters) -> float:

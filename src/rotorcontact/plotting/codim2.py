@@ -17,10 +17,9 @@ from typing import Sequence
 
 import numpy as np
 
-from ..continuation.codim2 import REGIONS, Codim2Diagram, classify_plane, codim2_diagram
+from ..continuation.codim2 import REGIONS, Codim2Diagram, classify_plane, codim2_diagram, dib_labels
 from ..analysis.equilibria import classify_beb_analytic
 from ..errors import ParameterError
-from ..maps.impact_map import f1_zeros
 from ..model.params import Parameters
 from .equilibria import PARAM_LABELS
 from .style import new_axes
@@ -86,38 +85,14 @@ def region_label_cells(mask: np.ndarray, min_depth: float = 1.5) -> list[tuple[i
     return [(i, j) for _size, i, j in out]
 
 
-def _dib_labels(diagram: Codim2Diagram, t_max: float) -> list[tuple[str, float, float]]:
-    """(text, p1, p2) at the middle of each run of equal kind along the DIB curve."""
-    out = []
-    curve = diagram.curves.get("dib")
-    if curve is None:
-        return out
-    for piece in curve.pieces:
-        kinds = []
-        for v1, v2 in piece[:, -2:]:
-            p = diagram.base.replace(**{diagram.params[0]: v1, diagram.params[1]: v2})
-            if any(z.n == 1 for z in f1_zeros(p, t_max)):
-                kinds.append("NSFH")
-            else:
-                beb = classify_beb_analytic(p)
-                kinds.append({"nonsmooth-fold": "NSF", "persistence": "Pers"}.get(beb, ""))
-        i0 = 0
-        for i in range(1, len(kinds) + 1):
-            if i == len(kinds) or kinds[i] != kinds[i0]:
-                if kinds[i0] and i - i0 >= 2:
-                    mid = (i0 + i - 1) // 2
-                    out.append((kinds[i0], float(piece[mid, -2]), float(piece[mid, -1])))
-                i0 = i
-    return out
-
-
 def plot_codim2(
     params: Parameters,
-    params2: Sequence[str] = ("gamma", "omega"),
+    param: Sequence[str] = ("gamma", "omega"),
     ranges=None,
     *,
     ax=None,
     diagram: Codim2Diagram | None = None,
+    labels: Sequence[tuple[str, float, float]] | None = None,
     regions: bool = True,
     shape: tuple[int, int] = (61, 61),
     grazing: Sequence[str] = (),
@@ -130,13 +105,17 @@ def plot_codim2(
     ----------
     params : Parameters
         The other parameters.
-    params2 : (str, str)
+    param : (str, str)
         The plane; p1 on the horizontal axis.
     ranges : ((float, float), (float, float)), optional
         The box (`rotorcontact.continuation.codim2.DEFAULT_RANGES` when omitted).
     ax : matplotlib.axes.Axes, optional
     diagram : Codim2Diagram, optional
         Precomputed curves (else `codim2_diagram` with fold_1 and the given grazing curves).
+    labels : sequence of (str, float, float), optional
+        Precomputed labels along the DIB curve, (text, p1, p2) (else
+        `rotorcontact.continuation.codim2.dib_labels` with
+        `rotorcontact.analysis.equilibria.classify_beb_analytic`).
     regions : bool
         Shade and label the regions (a grid of ``shape`` points is classified).
         Each connected part of a region is labelled at its cell deepest
@@ -154,7 +133,7 @@ def plot_codim2(
     (fig, ax)
     """
     if diagram is None:
-        diagram = codim2_diagram(params, params2, ranges, grazing=tuple(grazing), t_max=t_max)
+        diagram = codim2_diagram(params, param, ranges, grazing=tuple(grazing), t_max=t_max)
     elif not isinstance(diagram, Codim2Diagram):
         raise ParameterError(f"diagram = {diagram!r} is not a Codim2Diagram")
     fig, ax = new_axes(ax)
@@ -162,11 +141,11 @@ def plot_codim2(
     if regions:
         from matplotlib.colors import ListedColormap
 
-        v1, v2, labels = classify_plane(diagram.base, diagram.params, diagram.ranges, shape, t_max)
+        v1, v2, cells = classify_plane(diagram.base, diagram.param, diagram.ranges, shape, t_max)
         names = (*REGIONS, OTHER)
-        code = np.zeros(labels.shape)
+        code = np.zeros(cells.shape)
         for i, name in enumerate(names):
-            code[labels == (None if name == OTHER else name)] = i
+            code[cells == (None if name == OTHER else name)] = i
         cmap = ListedColormap([REGION_COLORS[r] for r in names])
         ax.pcolormesh(v1, v2, code, cmap=cmap, vmin=-0.5, vmax=len(names) - 0.5,
                       shading="nearest", zorder=0, gid="regions")
@@ -178,17 +157,19 @@ def plot_codim2(
         style = CURVE_STYLES.get(curve.kind, {})
         xy = curve.xy()
         if xy.size:
-            label = _curve_label(name, curve.kind, diagram.params[0] == "gamma")
+            label = _curve_label(name, curve.kind, diagram.param[0] == "gamma")
             ax.plot(xy[:, 0], xy[:, 1], label=label, gid=f"curve:{name}", **style)
     for pt in diagram.points:
         ax.plot([pt.values[0]], [pt.values[1]], "o", color="k", ms=5, zorder=6, gid=f"point:{pt.type}")
-    for text, x, y in _dib_labels(diagram, t_max):
+    if labels is None:
+        labels = dib_labels(diagram, t_max, classify_beb_analytic)
+    for text, x, y in labels:
         ax.annotate(text, (x, y), textcoords="offset points", xytext=(6, 0), fontsize=9, style="italic",
                     gid=f"dib:{text}")
     ax.set_xlim(a1, b1)
     ax.set_ylim(a2, b2)
-    ax.set_xlabel(PARAM_LABELS.get(diagram.params[0], diagram.params[0]))
-    ax.set_ylabel(PARAM_LABELS.get(diagram.params[1], diagram.params[1]))
+    ax.set_xlabel(PARAM_LABELS.get(diagram.param[0], diagram.param[0]))
+    ax.set_ylabel(PARAM_LABELS.get(diagram.param[1], diagram.param[1]))
     if legend:
         ax.legend(fontsize=8, loc="lower right")
     return fig, ax

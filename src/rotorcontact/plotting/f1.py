@@ -22,6 +22,7 @@ from ..errors import ParameterError
 from ..model.flow import free_flight
 from ..maps.impact_map import f1, f1_zeros, one_impact_orbits
 from ..model.params import Parameters, check_range
+from ..model.validation import check_int
 from ..continuation.zero_curves import F1ZeroCurves, f1_zero_curves
 from .equilibria import PARAM_LABELS
 from .style import CLEARANCE_COLOR, new_axes, orbit_tex
@@ -67,8 +68,7 @@ def plot_f1(
     """
     lo = check_range("t_range[0]", t_range[0], low=0.0)
     hi = check_range("t_range[1]", t_range[1], low=lo, low_open=True)
-    if isinstance(n_points, bool) or not isinstance(n_points, int) or n_points < 10:
-        raise ParameterError(f"n_points = {n_points!r} is invalid; allowed: an integer >= 10")
+    n_points = check_int("n_points", n_points, 10)
     fig, ax = new_axes(ax)
     t = np.linspace(max(lo, 1e-9 * hi), hi, n_points)
     ax.axhline(0.0, color=CLEARANCE_COLOR, lw=0.8, zorder=0)
