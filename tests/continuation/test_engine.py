@@ -18,8 +18,10 @@ from rotorcontact.continuation.engine import (
     ContinuationSettings,
     CorrectionError,
     EventFunction,
+    continue_both_ways,
     continue_curve,
     correct_fixed,
+    corrected_crossings,
     null_vector,
     numerical_jacobian,
 )
@@ -173,3 +175,17 @@ def test_bad_start_is_rejected():
         continue_curve(circle, [1.0, 0.0], weights=[1.0, -1.0])
     with pytest.raises(ParameterError):
         EventFunction("e", lambda y: 0.0, kind="smooth")
+
+
+def test_both_ways_stops_after_a_closed_loop_and_joins_two_runs():
+    loop = continue_both_ways(circle, [1.0, 0.0], jacobian=circle_jac)
+    assert len(loop.runs) == 1 and loop.runs[0].status == "closed"
+    events = [EventFunction("lower", lambda y: y[1] + 0.5, terminal=True),
+              EventFunction("upper", lambda y: 0.5 - y[1], terminal=True)]
+    both = continue_both_ways(parabola, [0.5, -0.25], events=events)
+    assert len(both.runs) == 2 and both.messages == tuple(r.message for r in both.runs)
+    assert len(both.points) == len(both.runs[0].points) + len(both.runs[1].points) - 1
+    assert both.points[0] == pytest.approx(both.runs[1].points[-1])
+    assert both.points[-1] == pytest.approx(both.runs[0].points[-1])
+    hits = list(corrected_crossings(parabola, both.points, 1, -0.16))
+    assert sorted(h[0] for h in hits) == pytest.approx([-0.4, 0.4], abs=1e-12)

@@ -24,6 +24,7 @@ from rotorcontact.plotting.branches import (  # noqa: E402
     plot_max_multiplier,
     plot_rdot,
     plot_thetadot,
+    plot_velocities,
 )
 from rotorcontact.plotting.codim2 import OTHER, plot_codim2, region_label_cells  # noqa: E402
 from rotorcontact.plotting.f1 import plot_f1, plot_f1_zeros, plot_nsfh_schematic  # noqa: E402
@@ -168,6 +169,9 @@ def test_fig6a_plane_with_curves_regions_and_labels():
     assert {"label:R1", "label:R2", "label:R3", "label:R4"} <= set(texts)
     assert {"NSFH", "NSF", "Pers"} <= set(texts.values())
     assert len(lines(ax, "point:fold-dib")) == 2
+    # labels given are drawn as given, none computed
+    fig, ax = plot_codim2(REF, diagram=diagram, regions=False, labels=[("NSFH", 0.1, 0.9)])
+    assert [(t.get_text(), t.xy) for t in ax.texts] == [("NSFH", (0.1, 0.9))]
 
 
 def test_fig7_extrema_of_r(branches):
@@ -291,3 +295,10 @@ def test_region_label_cells_pick_the_deepest_cell_of_each_part():
     mask[0, 9:11] = True  # a sliver along the frame: not labelled
     assert region_label_cells(mask) == [(4, 4), (15, 4)]
     assert region_label_cells(np.zeros((5, 5), dtype=bool)) == []
+
+
+def test_velocities_figure_clips_to_rdot_max(branches):
+    fig, axes = plot_velocities(branches, rdot_max=1.5)
+    assert len(axes) == 2 and axes[0].get_ylim()[1] <= 1.5 and axes[1].get_ylim()[0] >= -1.5
+    assert "omega=" in axes[0].get_title() and "gamma=" not in axes[0].get_title()
+    plt.close(fig)

@@ -55,7 +55,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from .events import BranchAnalyser, at_turning_point, branch_event_functions, report_events, turning_points
-from .results import EVENT_TYPES, BranchEvent, LabelBranch, OrbitBranches, OrbitCurve, OrbitEvent
+from .results import (
+    EVENT_TYPES,
+    BranchEvent,
+    LabelBranch,
+    OrbitBranches,
+    OrbitCurve,
+    OrbitEvent,
+    check_param_range,
+)
 from .engine import (
     ContinuationResult,
     ContinuationSettings,
@@ -68,7 +76,7 @@ from .engine import (
 from ..errors import ParameterError
 from ..maps.impact_map import f1_zeros, rdot_roots
 from ..maps.orbit_system import BRANCH_PARAMETERS, OneImpactSystem, orbit_with_extrema
-from ..model.params import Parameters, check_finite, check_range
+from ..model.params import Parameters, check_range
 from ..model.validation import check_int, check_params
 
 __all__ = [
@@ -125,16 +133,6 @@ def _mark_covered(system: OneImpactSystem, points: np.ndarray, seeds: list[_Seed
                 if abs(h[0] - s.T) <= 1e-6 * (1.0 + s.T) and abs(h[1] - s.rdot) <= 1e-6 * (1.0 + abs(s.rdot)):
                     s.covered = True
                     break
-
-
-def _check_range(param: str, base: Parameters, start, stop) -> tuple[float, float]:
-    start = check_finite("start", start)
-    stop = check_finite("stop", stop)
-    if not start < stop:
-        raise ParameterError(f"range {start!r} .. {stop!r} is empty; allowed: start < stop")
-    base.replace(**{param: start})
-    base.replace(**{param: stop})
-    return start, stop
 
 
 def _insert_events(result: ContinuationResult, weights: np.ndarray) -> tuple[list[np.ndarray], list[str | None]]:
@@ -215,7 +213,7 @@ def orbit_branches(
     """
     check_params(params)
     system = OneImpactSystem(params, param)
-    start, stop = _check_range(param, params, start, stop)
+    start, stop = check_param_range(param, params, start, stop)
     system.bounds = (start, stop)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     t_min = check_range("t_min", t_min, low=0.0, low_open=True, high=t_max, high_open=True)

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..maps.impact_map import ImpactOrbit
-from ..model.params import Parameters
+from ..model.params import Parameters, check_finite
 
 __all__ = [
     "EVENT_TYPES",
@@ -35,6 +35,7 @@ __all__ = [
     "OrbitCurve",
     "LabelBranch",
     "OrbitBranches",
+    "check_param_range",
 ]
 
 #: Types of the events reported along branches of one-impact orbits.
@@ -343,6 +344,23 @@ class OrbitBranches(BranchResult):
                 "stable": [None if s is None else bool(s) for s in b.stable],
             }
         return branches
+
+
+def check_param_range(param: str, base: Parameters, start, stop) -> tuple[float, float]:
+    """``(start, stop)`` as floats if they are finite, start < stop and ``param`` may take both values.
+
+    Raises
+    ------
+    ParameterError
+        Naming the bad end, or the empty range.
+    """
+    start = check_finite("start", start)
+    stop = check_finite("stop", stop)
+    if not start < stop:
+        raise ParameterError(f"range {start!r} .. {stop!r} is empty; allowed: start < stop")
+    base.replace(**{param: start})
+    base.replace(**{param: stop})
+    return start, stop
 
 
 def _label_pieces(curve: OrbitCurve, label: str) -> list[list[int]]:

@@ -23,10 +23,10 @@ from .engine import (
     corrected_crossings,
 )
 from ..errors import ParameterError
-from .results import BranchEvent, BranchResult
+from .results import BranchEvent, BranchResult, check_param_range
 from ..maps.impact_map import f1_zeros
 from ..maps.orbit_system import OneImpactSystem, regularised_residual
-from ..model.params import Parameters, check_finite, check_range
+from ..model.params import Parameters, check_range
 from ..model.validation import check_int, check_params
 
 __all__ = ["ZeroFold", "ZeroCurve", "F1ZeroCurves", "f1_zero_curves"]
@@ -125,12 +125,7 @@ def f1_zero_curves(
     F1ZeroCurves
     """
     system = OneImpactSystem(check_params(params), param)
-    start = check_finite("start", start)
-    stop = check_finite("stop", stop)
-    if not start < stop:
-        raise ParameterError(f"range {start!r} .. {stop!r} is empty; allowed: start < stop")
-    params.replace(**{param: start})
-    params.replace(**{param: stop})
+    start, stop = check_param_range(param, params, start, stop)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     n_seeds = check_int("n_seeds", n_seeds, 2)
     settings = settings or ContinuationSettings(step=0.01, max_step=0.03, location_tol=1e-10)
