@@ -52,7 +52,7 @@ from scipy.optimize import brentq
 from ..model.angles import angle_difference, wrap_angle
 from ..errors import ParameterError
 from ..model import contact_law
-from ..model.flow import has_regular_equilibrium
+from ..model.flow import flight_coefficients, has_regular_equilibrium
 from ..model.impact_law import impact_q, relative_velocity
 from ..model.params import Parameters, check_finite
 from ..model.validation import check_params
@@ -218,8 +218,8 @@ def contact_jacobian(theta: float, thetadot: float, params: Parameters) -> np.nd
 
 def system_matrix(params: Parameters) -> np.ndarray:
     """The complex 2x2 matrix A of the free flight w' = A w + b (MODEL.md §3)."""
-    p = params
-    return np.array([[0.0, 1.0], [1.0 - p.omega**2 - 1j * p.gamma, -p.gamma - 2j]], dtype=complex)
+    a, b = flight_coefficients(params.gamma, params.omega)
+    return np.array([[0.0, 1.0], [b, -2.0 * a]], dtype=complex)
 
 
 def _sorted_eigenvalues(values: Iterable[complex]) -> tuple[complex, ...]:

@@ -107,7 +107,7 @@ from scipy.integrate import solve_ivp
 from ..simulation.contact import ACCUMULATION, ROLLING, SLIDE_FORWARD
 from ..errors import ParameterError
 from ..model import contact_law
-from ..model.flow import propagate
+from ..model.flow import flight_accel, propagate
 from ..model.impact_law import ideal_reset, impact_q, relative_velocity, reset_jacobian, slip_bound
 from ..model.params import Parameters, check_range
 from ..model.validation import check_params
@@ -162,8 +162,7 @@ def _basis() -> list[tuple[complex, complex]]:
 
 def _accel(params: Parameters, u: complex, du: complex) -> complex:
     """U'' of free flight: -(gamma + 2i) U' + (1 - omega^2 - i gamma) (U - k)."""
-    p = params
-    return -complex(p.gamma, 2.0) * du + complex(1.0 - p.omega**2, -p.gamma) * (u - p.k)
+    return flight_accel(complex(u), complex(du), params.k, params.gamma, params.omega)
 
 
 def _contact_accel(params: Parameters, theta: float, thetadot: float, sgn: float) -> float:

@@ -117,7 +117,14 @@ from numba import njit
 
 from ..model.angles import wrap_angle
 from ..errors import ParameterError
-from ..model.flow import has_regular_equilibrium, period_closed_form, propagate, scaled_cs
+from ..model.flow import (
+    flight_coefficients,
+    half_discriminant,
+    has_regular_equilibrium,
+    period_closed_form,
+    propagate,
+    scaled_cs,
+)
 from ..model.params import Parameters, check_finite, check_range
 from ..model.validation import check_params
 from ..model.impact_law import (
@@ -334,9 +341,9 @@ def _g_bound(t0: float, t1: float, gamma: float, h2: float, qabs: float) -> floa
 @njit(cache=True)
 def _coefficients(t: float, gamma: float, omega: float):
     """a11, a12, a21, a22 of (e^{-AT} - I)^{-1} and da12/dT, da22/dT (t > 0)."""
-    h2 = 0.25 * gamma * gamma - omega * omega
+    h2 = half_discriminant(gamma, omega)
     m = complex(-0.5 * gamma, -1.0)
-    b = complex(1.0 - omega * omega, -gamma)
+    _, b = flight_coefficients(gamma, omega)
     d0, d1, d2, p0, p1, p2, sd, sp = _dp_tilde(t, gamma, h2)
     c, s = _cs(t, h2)
     # D = T^2 D~, D' = 2T D~ + T^2 D~'
@@ -353,7 +360,7 @@ def _coefficients(t: float, gamma: float, omega: float):
 
 @njit(cache=True)
 def _f1_many(t: np.ndarray, gamma: float, omega: float, q: complex):
-    h2 = 0.25 * gamma * gamma - omega * omega
+    h2 = half_discriminant(gamma, omega)
     out = np.empty(t.shape[0])
     der = np.empty(t.shape[0])
     for i in range(t.shape[0]):
@@ -373,8 +380,7 @@ def _f1_many(t: np.ndarray, gamma: float, omega: float, q: complex):
 @njit(cache=True)
 def _f_eval(t: float, gamma: float, omega: float, k: complex, v0: complex, dv0: complex):
     """f = Re(conj(U) U') (= r rdot), f', f'' at time t of the flight, and its rounding tolerance."""
-    a = complex(0.5 * gamma, 1.0)
-    b = complex(1.0 - omega * omega, -gamma)
+    a, b = flight_coefficients(gamma, omega)
     v, dv = propagate(v0, dv0, t, gamma, omega)
     u = k + v
     p2 = b * v - 2.0 * a * dv
@@ -389,9 +395,8 @@ def _f_eval(t: float, gamma: float, omega: float, k: complex, v0: complex, dv0: 
 @njit(cache=True)
 def _f_bound(t: float, w: float, gamma: float, omega: float, k: complex, v0: complex, dv0: complex) -> float:
     """A bound M >= max |f''| on [t, t + w] from the exact flow started at t."""
-    a = complex(0.5 * gamma, 1.0)
-    b = complex(1.0 - omega * omega, -gamma)
-    h2 = 0.25 * gamma * gamma - omega * omega
+    a, b = flight_coefficients(gamma, omega)
+    h2 = half_discriminant(gamma, omega)
     v, dv = propagate(v0, dv0, t, gamma, omega)
     p2 = b * v - 2.0 * a * dv
     p3 = b * dv - 2.0 * a * p2
@@ -573,7 +578,7 @@ def _isolate(kind, rp, cp, t_start, t_end, sigma0, w0):
 
 @njit(cache=True)
 def _f1_zeros_kernel(gamma, omega, d, mu, t_max):
-    h2 = 0.25 * gamma * gamma - omega * omega
+    h2 = half_discriminant(gamma, omega)
     q = impact_q(d, mu)
     rp = np.array([gamma, omega, h2])
     cp = np.array([q, 0j, 0j])
@@ -626,8 +631,7 @@ def _jacobian_kernel(gamma, omega, k, d, mu, r_ratio, theta, rdot, thetadot, tau
     branch : int
         Reset branch (slip or stick).
     """
-    a = complex(0.5 * gamma, 1.0)
-    b = complex(1.0 - omega * omega, -gamma)
+    a, b = flight_coefficients(gamma, omega)
     e = complex(math.cos(theta), math.sin(theta))
     du_plus, r11, r12, r21, r22, branch = _reset(theta, rdot, thetadot, d, mu, r_ratio, law)
     w_plus = du_plus * e.conjugate()  # rdot+ + i thetadot+
@@ -910,7 +914,7 @@ def flight_growth(params: Parameters) -> float:
     The terms of the flight behave like e^{growth T} (MODEL.md §3), so F1 is
     evaluated for periods T up to ``MAX_GROWTH / growth`` (`period_limit`).
     """
-    h2 = 0.25 * params.gamma**2 - params.omega**2
+    h2 = half_discriminant(params.gamma, params.omega)
     return max(abs(params.gamma) / 2.0, math.sqrt(h2) if h2 > 0 else 0.0)
 
 
@@ -960,7 +964,7 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
     zt, zd, zf, s0, status = _f1_zeros_kernel(params.gamma, params.omega, params.d, params.mu, t_max)
     if status != ISO_OK:
         raise RuntimeError("F1 zero isolation did not finish (iteration limit)")
-    h2 = 0.25 * params.gamma**2 - params.omega**2
+    h2 = half_discriminant(params.gamma, params.omega)
     q = _q(params)
     inside = [(float(t), direction, flag) for t, direction, flag in zip(zt, zd, zf) if 0.0 < t <= t_max]
     zeros = []

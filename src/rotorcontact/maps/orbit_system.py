@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.angles import wrap_angle
-from ..model.flow import period_closed_form
+from ..model.flow import half_discriminant, period_closed_form
 from ..model.impact_law import impact_q, slides_forward
 from ..model.validation import check_params
 from ..errors import ParameterError
@@ -102,7 +102,7 @@ class ClosedForm:
 
 def closed_form(T: float, gamma: float, omega: float) -> ClosedForm:
     """D(T), P(T), S(T), C(T) and derivatives for the given damping and stiffness."""
-    h2 = 0.25 * gamma * gamma - omega * omega
+    h2 = half_discriminant(gamma, omega)
     c, s, em, ch, d0, d1, d2, p0, p1, p2 = period_closed_form(float(T), float(gamma), h2)
     return ClosedForm(D=complex(d0), P=complex(p0), S=float(s), C=float(c), D_T=complex(d1), P_T=complex(p1),
                       D_TT=complex(d2), P_TT=complex(p2), h2=h2)

@@ -28,6 +28,9 @@ from numba import njit
 from .params import Parameters
 
 __all__ = [
+    "half_discriminant",
+    "flight_coefficients",
+    "flight_accel",
     "propagate",
     "free_flight",
     "to_inertial",
@@ -35,6 +38,24 @@ __all__ = [
     "has_regular_equilibrium",
     "period_closed_form",
 ]
+
+
+@njit(cache=True)
+def half_discriminant(gamma: float, omega: float) -> float:
+    """h^2 = gamma^2/4 - omega^2, the squared half-difference of the flight's eigenvalues (MODEL.md §3)."""
+    return 0.25 * gamma * gamma - omega * omega
+
+
+@njit(cache=True)
+def flight_coefficients(gamma: float, omega: float) -> tuple[complex, complex]:
+    """a = (gamma + 2i)/2 and b = 1 - omega^2 - i gamma of the co-rotating flow w' = [[0, 1], [b, -2a]] w."""
+    return complex(0.5 * gamma, 1.0), complex(1.0 - omega * omega, -gamma)
+
+
+@njit(cache=True)
+def flight_accel(u: complex, du: complex, k: complex, gamma: float, omega: float) -> complex:
+    """U'' of free flight (MODEL.md §3): -(gamma + 2i) U' + (1 - omega^2 - i gamma) (U - k)."""
+    return -complex(gamma, 2.0) * du + complex(1.0 - omega * omega, -gamma) * (u - k)
 
 
 @njit(cache=True)
@@ -61,9 +82,8 @@ def scaled_cs(t: float, gamma: float, h2: float) -> tuple[float, float]:
 @njit(cache=True)
 def propagate(v0: complex, dv0: complex, t: float, gamma: float, omega: float) -> tuple[complex, complex]:
     """Exact flow of the homogeneous part: (V, V') at time t from (V, V') = (v0, dv0) at 0."""
-    a = complex(0.5 * gamma, 1.0)
-    b = complex(1.0 - omega * omega, -gamma)
-    h2 = 0.25 * gamma * gamma - omega * omega
+    a, b = flight_coefficients(gamma, omega)
+    h2 = half_discriminant(gamma, omega)
     c, s = scaled_cs(t, gamma, h2)
     rot = complex(math.cos(t), -math.sin(t))
     v = rot * (c * v0 + s * (a * v0 + dv0))

@@ -7,6 +7,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..model.angles import angle_difference
+
 if TYPE_CHECKING:
     from .trajectory import Trajectory
 
@@ -112,7 +114,7 @@ class MotionSummary:
 
 
 def _angle_diff(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.abs(np.angle(np.exp(1j * (a - b))))
+    return np.abs(angle_difference(a, b))
 
 
 def detect_period(theta, rdot, thetadot, t, *, max_p: int = MAX_PERIOD_IMPACTS, tol: float = REPEAT_TOL):

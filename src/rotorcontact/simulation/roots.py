@@ -31,7 +31,7 @@ import math
 
 from numba import njit
 
-from ..model.flow import scaled_cs
+from ..model.flow import half_discriminant, scaled_cs
 
 NO_CROSSING = 0
 CROSSING = 1
@@ -45,7 +45,7 @@ EPS = 2.220446049250313e-16
 @njit(cache=True)
 def inertial_flow(w0: complex, dw0: complex, s: float, gamma: float, omega: float) -> tuple[complex, complex]:
     """(W, W') at time s of W'' + gamma W' + omega^2 W = 0 from (w0, dw0) at 0."""
-    h2 = 0.25 * gamma * gamma - omega * omega
+    h2 = half_discriminant(gamma, omega)
     c, sn = scaled_cs(s, gamma, h2)
     g2 = 0.5 * gamma
     w = c * w0 + sn * (g2 * w0 + dw0)
@@ -355,7 +355,7 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
     # the flight's inertial frame: Z(s) = U(s) e^{is}, W = V e^{is}
     w0 = v0
     dw0 = dv0 + 1j * v0
-    h2 = 0.25 * gamma * gamma - omega * omega
+    h2 = half_discriminant(gamma, omega)
     k_abs = abs(k)
     window = 1.0
     s = 0.0

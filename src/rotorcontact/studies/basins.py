@@ -55,6 +55,7 @@ from .batch import (
     parameter_array,
 )
 from ..errors import ParameterError
+from ..model.angles import angle_difference
 from ..model.params import MAX_VELOCITY, Machine, Parameters, check_finite
 from ..model.validation import check_int, check_params
 from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
@@ -381,7 +382,7 @@ def classify(result: BatchResult, orbits, match_tol: float) -> tuple[np.ndarray,
         best = np.full(reg.shape, np.inf)
         for j, o in enumerate(orbits):
             dist = np.maximum.reduce([
-                np.abs(np.angle(np.exp(1j * (th - o.theta)))),
+                np.abs(angle_difference(th, o.theta)),
                 np.abs(rd - o.rdot),
                 np.abs(td - o.thetadot),
             ])

@@ -40,7 +40,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import ParameterError
-from ..model.flow import equilibrium_point, propagate
+from ..model.flow import equilibrium_point, half_discriminant, propagate
 # the regimes of the window: the codes and names of `rotorcontact.simulation.motion` (``"forward-rub"`` and
 # ``"backward-whirl"`` were formerly ``"rub"`` and ``"rolling"``, `rotorcontact.simulation.motion.REGIME_ALIASES`)
 from ..simulation.motion import (
@@ -260,7 +260,7 @@ def _never_touches(u, du, gamma, omega, rho, phi):
     if r >= 1.0 - CERTIFICATE_MARGIN:
         return False
     k = equilibrium_point(gamma, omega, rho, phi)
-    h2 = 0.25 * gamma * gamma - omega * omega
+    h2 = half_discriminant(gamma, omega)
     if abs(h2) < 1e-8:
         return False
     h = complex(math.sqrt(h2), 0.0) if h2 > 0.0 else complex(0.0, math.sqrt(-h2))
