@@ -77,6 +77,7 @@ __all__ = [
     "BoundaryEquilibrium",
     "Equilibria",
     "BEBOmegaRanges",
+    "EquilibriumEvent",
     "BranchEvent",
     "PseudoBranch",
     "EquilibriumBranches",
@@ -797,7 +798,7 @@ def equilibria(params: Parameters) -> Equilibria:
 
 
 @dataclass(frozen=True)
-class BranchEvent:
+class EquilibriumEvent:
     """A point along a branch where an equilibrium changes character.
 
     Attributes
@@ -840,6 +841,11 @@ class BranchEvent:
         )
 
 
+#: Former name of `EquilibriumEvent` (the events of continued orbit branches are
+#: `rotorcontact.continuation.results.BranchEvent`).
+BranchEvent = EquilibriumEvent
+
+
 @dataclass(frozen=True)
 class PseudoBranch:
     """One pseudo-equilibrium along a parameter range (arrays over `EquilibriumBranches.values`).
@@ -879,7 +885,7 @@ class EquilibriumBranches:
     regular_admissible, regular_stable : numpy.ndarray of bool
     pseudo : tuple of PseudoBranch
         (P1, P2).
-    events : tuple of BranchEvent
+    events : tuple of EquilibriumEvent
         Sorted by value. At an event value the boolean flags are those of
         either side (the event is the border).
     """
@@ -892,20 +898,20 @@ class EquilibriumBranches:
     regular_admissible: np.ndarray
     regular_stable: np.ndarray
     pseudo: tuple[PseudoBranch, PseudoBranch]
-    events: tuple[BranchEvent, ...]
+    events: tuple[EquilibriumEvent, ...]
 
     def params_at(self, value: float) -> Parameters:
         """The parameters at ``value`` of the varied parameter."""
         return self.base.replace(**{self.param: value})
 
-    def select(self, branch: str | None = None, kind: str | None = None) -> tuple[BranchEvent, ...]:
+    def select(self, branch: str | None = None, kind: str | None = None) -> tuple[EquilibriumEvent, ...]:
         """The events of one branch and/or one kind."""
         return tuple(
             e for e in self.events if (branch is None or e.branch == branch) and (kind is None or e.kind == kind)
         )
 
     @property
-    def boundary_points(self) -> tuple[BranchEvent, ...]:
+    def boundary_points(self) -> tuple[EquilibriumEvent, ...]:
         """The boundary equilibrium bifurcations: x_R crossing r = 1."""
         return self.select("x_R", "admissibility")
 
@@ -1041,7 +1047,7 @@ def equilibrium_branches(
         ("P1", lambda p: _pseudo_events(p, 0)),
         ("P2", lambda p: _pseudo_events(p, 1)),
     ]
-    events: list[BranchEvent] = []
+    events: list[EquilibriumEvent] = []
     for branch, source in sources:
         table = [source(at(v)) for v in grid]
         for kind in table[0]:
@@ -1060,7 +1066,7 @@ def equilibrium_branches(
                     if reg.theta is not None:
                         partner, _ = _partner(reg.theta, pseudo_equilibria(at(value)))
                 events.append(
-                    BranchEvent(
+                    EquilibriumEvent(
                         branch=branch,
                         kind=kind,
                         param=param,

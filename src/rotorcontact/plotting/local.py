@@ -65,7 +65,7 @@ def plot_local_estimate(
     Parameters
     ----------
     model : Parameters or LinearImpactingSystem
-        The rotor (x-axis gamma, global orbits from `impactmap.one_impact_orbits`)
+        The rotor (x-axis gamma, global orbits from `rotorcontact.maps.impact_map.one_impact_orbits`)
         or a general system (x-axis eps, global orbits from
         `LinearImpactingSystem.fixed_points`).
     quantity : {"rdot", "thetadot"}

@@ -381,7 +381,7 @@ def _fig7(p: Parameters, rep: Reproduction, out: Path, branches) -> Figure:
 
 def _first(events, type_: str, orbit: str | None = None, sign: int = 0):
     for e in sorted(events, key=lambda e: e.value):
-        if e.type == type_ and (orbit is None or orbit in e.orbits) and (sign == 0 or sign * e.value > 0):
+        if e.kind == type_ and (orbit is None or orbit in e.orbits) and (sign == 0 or sign * e.value > 0):
             return e
     return None
 
@@ -390,7 +390,7 @@ def _fold_values(events) -> list[float | None]:
     """gamma_F,n for n = 1, 2, 3: the smooth fold where B_n,a meets B_n,b."""
     out = []
     for n in (1, 2, 3):
-        e = next((e for e in events if e.type == "fold" and {f"B{n},a", f"B{n},b"} <= set(e.orbits)), None)
+        e = next((e for e in events if e.kind == "fold" and {f"B{n},a", f"B{n},b"} <= set(e.orbits)), None)
         out.append(None if e is None else e.value)
     return out
 
@@ -443,7 +443,7 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
     nsfh = _first(events, "nsfh", sign=1)
     graze = _first(events, "grazing", "B1,d", sign=1)
     stab = next((e for e in sorted(events, key=lambda e: e.value)
-                 if e.type in STABILITY_TYPES and "B1,d" in e.orbits and e.value > 0), None)
+                 if e.kind in STABILITY_TYPES and "B1,d" in e.orbits and e.value > 0), None)
     extrema = _first(events, "extrema-change", "B1,d", sign=1)
     coalesce = _first(events, "ac-coalescence", sign=-1)
     # of the points where gamma_F,1(omega) = gamma_DIB(omega), the one nearest the run's omega
@@ -464,7 +464,7 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
         "gamma_F": folds,
         "gamma_DIB": None if nsfh is None else nsfh.value,
         "B1d_grazing": None if graze is None else graze.value,
-        "B1d_stability": {"gamma": None if stab is None else stab.value, "type": None if stab is None else stab.type},
+        "B1d_stability": {"gamma": None if stab is None else stab.value, "type": None if stab is None else stab.kind},
         "B1d_extrema_change": None if extrema is None else extrema.value,
         "ac_coalescence": None if coalesce is None else coalesce.value,
         "codim2_fold_dib": {
