@@ -143,3 +143,30 @@ def test_design_map_draws_the_map_of_the_settings_given_ranges():
     assert REGIMES == OUTCOMES
     with pytest.raises(ParameterError, match="give no map"):
         design_map(machine, {"damping": (500.0, 1500.0)}, 5)
+
+
+def test_recovery_of_a_map_is_one_study_equal_to_the_basins_of_each_point():
+    """The recovery probabilities of a map (one chunked study) are the no-contact fractions that `basins`
+    computes on each point's shock grid, whatever the executor and the chunking."""
+    from rotorcontact.studies.basins import basins, shock_grid
+    from rotorcontact.studies.design_map import recovery_probabilities
+
+    m = reference_machine()
+    shock = 5e-3
+    dmap = speed_map(m, np.linspace(1800.0, 2600.0, 5), shock=shock)
+    bistable = [pt for pt in dmap.points if pt.regime == "bistable"]
+    assert len(bistable) >= 2
+    assert all(pt.recovery_probability is None for pt in dmap.points if pt.regime != "bistable")
+    machines = [m.with_speed(rpm_to_rad_s(pt.speed_rpm)) for pt in bistable]
+    directions = 24
+    step = 2.0 * math.pi / directions
+    for pt, machine in zip(bistable, machines):
+        kick = shock / (machine.clearance * machine.speed)
+        grid = shock_grid((kick, kick, 1), (-math.pi, math.pi - step, directions))
+        expected = basins(machine.parameters(), grid, progress=False, n_jobs=1).fractions.get("no-contact", 0.0)
+        assert pt.recovery_probability == expected
+    serial = recovery_probabilities(machines, shock, chunk_size=1)
+    assert list(serial) == [pt.recovery_probability for pt in bistable]
+    assert np.array_equal(recovery_probabilities(machines, shock, chunk_size=3, n_jobs=2), serial)
+    with pytest.raises(ParameterError, match="chunk_size"):
+        recovery_probabilities(machines, shock, chunk_size=0)

@@ -14,6 +14,7 @@ from ..model.params import load_machine
 from ..model.units import quantity_in
 from .options import json_result, parse_int, print_json
 from .outputs import check_output_folder
+from .scale import add_executor_options, executor_kwargs
 
 _UNITS = {"speed": "rpm", "stiffness": "N/m", "damping": "N s/m"}
 
@@ -46,7 +47,8 @@ def register(sub) -> None:
     )
     p.add_argument("--out", default=None, metavar="DIR", help="write map.png and map.nc here")
     p.add_argument("--json", action="store_true", help="print the map as JSON on stdout")
-    p.add_argument("--no-progress", dest="progress", action="store_false",
+    g = add_executor_options(p)
+    g.add_argument("--no-progress", dest="progress", action="store_false",
                    help="no progress bar on stderr (shown with --shock, whose recovery probabilities are simulated)")
     p.set_defaults(func=run)
 
@@ -154,7 +156,7 @@ def build_map(args: argparse.Namespace) -> DesignMap:
             "choose the map: --speed A:B; or --speed with --stiffness or --damping; or --stiffness with --damping"
         )
     progress = bool(getattr(args, "progress", True)) and shock is not None
-    return design_map(machine, ranges, n, shock=shock, progress=progress)
+    return design_map(machine, ranges, n, shock=shock, progress=progress, **executor_kwargs(args))
 
 
 def _table(dmap: DesignMap) -> str:

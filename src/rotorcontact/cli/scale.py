@@ -24,14 +24,20 @@ MAX_STUDY_EVENTS = 10_000_000_000  # simulations x (transient + record): hours o
 MAX_KEPT_EVENTS = 50_000_000  # simulations x kept events: 32 bytes each, 1.6 GB of sections
 
 
-def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str) -> None:
-    """Add --n-jobs, --scheduler, --chunk-size, --no-resume, --keep-chunks, --no-progress."""
+def add_executor_options(parser: argparse.ArgumentParser) -> argparse._ArgumentGroup:
+    """Add the group "execution" with --n-jobs and --scheduler, and return it."""
     g = parser.add_argument_group("execution")
     g.add_argument("--n-jobs", dest="n_jobs", default=None, metavar="N",
                    help="joblib worker processes (-1: one per core); default: this process, all cores")
     g.add_argument("--scheduler", default=None, metavar="ADDR",
                    help="run on Dask: 'local' starts a LocalCluster (--n-jobs workers), or a scheduler address "
                         "such as tcp://10.0.0.1:8786 (its workers need rotorcontact installed)")
+    return g
+
+
+def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str) -> None:
+    """Add --n-jobs, --scheduler, --chunk-size, --no-resume, --keep-chunks, --no-progress."""
+    g = add_executor_options(parser)
     g.add_argument("--chunk-size", dest="chunk_size", default=None, metavar="K",
                    help=f"simulations per chunk written to disk (default {default_chunk}); results do not depend on "
                         "it, and an interrupted run resumes with the chunk size it was started with")
@@ -101,8 +107,8 @@ def check_study_size(simulations: int, settings, what: str) -> None:
         )
 
 
-def scale_kwargs(args: argparse.Namespace) -> dict[str, Any]:
-    """Keyword arguments of `sweep` / `basins` from the execution options.
+def executor_kwargs(args: argparse.Namespace) -> dict[str, Any]:
+    """``n_jobs`` and ``scheduler`` from --n-jobs and --scheduler (`add_executor_options`).
 
     More local workers than cores (--n-jobs, for joblib or ``--scheduler local``)
     are capped at the cores, with a note on stderr.
@@ -120,8 +126,13 @@ def scale_kwargs(args: argparse.Namespace) -> dict[str, Any]:
                 print(f"note: --n-jobs {n_jobs} is more than the {n} cores available; using {n} workers",
                       file=sys.stderr)
             n_jobs = n if n_jobs != -1 else -1
-    out: dict[str, Any] = dict(n_jobs=n_jobs, scheduler=args.scheduler, resume=args.resume,
-                               keep_chunks=args.keep_chunks, progress=args.progress)
+    return {"n_jobs": n_jobs, "scheduler": args.scheduler}
+
+
+def scale_kwargs(args: argparse.Namespace) -> dict[str, Any]:
+    """Keyword arguments of `sweep` / `basins` from the execution options (`add_scale_options`)."""
+    out: dict[str, Any] = dict(executor_kwargs(args), resume=args.resume, keep_chunks=args.keep_chunks,
+                               progress=args.progress)
     if args.chunk_size is not None:
         out["chunk_size"] = parse_int("chunk-size", args.chunk_size, 1, MAX_CHUNK)
     return out

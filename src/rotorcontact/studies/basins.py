@@ -394,6 +394,13 @@ def classify(result: BatchResult, orbits, match_tol: float) -> tuple[np.ndarray,
     return out, matched
 
 
+def basin_settings(n_transient: int = 300, n_record: int = 50, t_transient: float | None = None,
+                   t_record: float | None = None, settle: int = 25) -> BatchSettings:
+    """The batch settings of a basin study (`basins`): the last impact of each window is kept."""
+    return BatchSettings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
+                         t_record=t_record, n_keep=1, settle=settle)
+
+
 def basins(
     params: Parameters,
     grid: BasinGrid | str,
@@ -455,8 +462,8 @@ def basins(
         raise ParameterError(f"match_tol = {match_tol!r} must be > 0")
     chunk_size = check_int("chunk_size", chunk_size, 1)
     if settings is None:
-        settings = BatchSettings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
-                                 t_record=t_record, n_keep=1, settle=settle)
+        settings = basin_settings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
+                                  t_record=t_record, settle=settle)
     elif settings.keep < 1:  # pragma: no cover - BatchSettings forbids it
         raise ParameterError("settings must keep at least one impact")
     u0, du0, inside = grid.initial_states(params)

@@ -15,9 +15,11 @@ The point's *outcome* (`OUTCOMES`; reported under the key ``"regime"``) is
 admissible and a stable contact motion coexists, so a touchdown can persist
 after a disturbance) or ``"contact-certain"`` (no admissible contact-free
 whirl). It is not a contact regime of a motion
-(`rotorcontact.simulation.motion.REGIMES`) but a verdict on a machine setting. Orbits with several impacts per period, rolling
-and chaotic motions are not found by this analysis; `recovery_probability`
-samples disturbances with the simulator, which sees all of them.
+(`rotorcontact.simulation.motion.REGIMES`) but a verdict on a machine setting.
+Orbits with several impacts per period, rolling and chaotic motions are not
+found by this analysis; `recovery_probability` samples disturbances with the
+simulator, which sees all of them (`recovery_probabilities` does so for a whole
+map as one chunked study).
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from ..maps.impact_map import one_impact_orbits
 from ..model.params import Machine, check_range
 from ..model.validation import check_int
 from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
+from .driver import run_study
 
 __all__ = [
     "OUTCOMES",
@@ -46,6 +49,7 @@ __all__ = [
     "plane_map",
     "design_map",
     "recovery_probability",
+    "recovery_probabilities",
     "rpm_to_rad_s",
     "rad_s_to_rpm",
 ]
@@ -229,6 +233,100 @@ def classify_machine(machine: Machine, *, t_max: float = 12.0) -> MapPoint:
     )
 
 
+def _check_whirl(machine: Machine):
+    p = machine.parameters()
+    if abs(p.k) >= 1.0:
+        raise ParameterError(
+            f"recovery needs admissible contact-free whirl; at speed = {machine.speed:g} rad/s, "
+            f"|k| = {abs(p.k):.4g} >= 1"
+        )
+    return p
+
+
+def recovery_probabilities(
+    machines: Sequence[Machine],
+    shock: float,
+    *,
+    directions: int = 24,
+    chunk_size: int = 8,
+    n_jobs: int | None = None,
+    scheduler: Any = None,
+    processes: bool = True,
+    progress: bool = False,
+) -> np.ndarray:
+    """`recovery_probability` of each machine, as one chunked study (`rotorcontact.studies.driver.run_study`).
+
+    Each machine contributes ``directions`` simulations of the batch kernel, in
+    chunks of ``chunk_size`` machines, run in this process, through joblib
+    (``n_jobs``) or on Dask (``scheduler``); the results do not depend on the
+    executor or the chunk size.
+
+    Returns
+    -------
+    numpy.ndarray
+        The fraction of shocks that recover, per machine.
+
+    Raises
+    ------
+    ParameterError
+        If contact-free whirl is not admissible for a machine, or on invalid arguments.
+    """
+    from .basins import basin_settings, shock_grid
+    from .batch import NO_CONTACT, BatchResult, parameter_array
+    from .execution import ChunkTask, study_digest
+
+    shock = check_range("shock", shock, low=0.0)
+    directions = check_int("directions", directions, 1)
+    chunk_size = check_int("chunk_size", chunk_size, 1)
+    settings = basin_settings()
+    step = 2.0 * math.pi / directions
+    lanes = []
+    for machine in machines:
+        p = _check_whirl(machine)
+        kick = shock / (machine.clearance * machine.speed)
+        u0, du0, _ = shock_grid((kick, kick, 1), (-math.pi, math.pi - step, directions)).initial_states(p)
+        lanes.append((parameter_array(p), u0.ravel(), du0.ravel()))
+    n = len(lanes)
+    manifest = {"study": "recovery", "machines": [m.as_dict() for m in machines], "shock": shock,
+                "directions": directions, "settings": settings.as_dict()}
+
+    def keys(size: int) -> list[str]:
+        return [f"recovery-{c:06d}" for c in range(math.ceil(n / size))]
+
+    def waves(size: int, sink):
+        tasks = []
+        for c, key in enumerate(keys(size)):
+            part = lanes[c * size : (c + 1) * size]
+            tasks.append(ChunkTask(
+                key=key,
+                params=np.concatenate([np.broadcast_to(row, (directions, 1, row.size)) for row, _, _ in part]),
+                u0=np.concatenate([u for _, u, _ in part]).reshape(-1, 1),
+                du0=np.concatenate([du for _, _, du in part]).reshape(-1, 1),
+                carry=False,
+                settings=settings,
+            ))
+        yield tasks
+
+    def assemble(size: int, load):
+        import xarray as xr
+
+        recovered = np.concatenate([
+            BatchResult.from_arrays(res["sections"], res["summary"], settings).regime[:, 0] == NO_CONTACT
+            for res in map(load, keys(size))
+        ]).reshape(n, directions)
+        fraction = recovered.sum(axis=1) / directions
+        impacts = sum(BatchResult.from_arrays(res["sections"], res["summary"], settings).impacts_simulated
+                      for res in map(load, keys(size)))
+        return xr.Dataset({"recovery_probability": (("machine",), fraction)}), impacts
+
+    if n == 0:
+        return np.zeros(0)
+    run = run_study(manifest, study_digest(manifest), keys=keys, waves=waves, assemble=assemble,
+                    n_items=n * directions, desc="recovery", chunk_size=chunk_size, n_jobs=n_jobs,
+                    scheduler=scheduler, processes=processes, progress=progress)
+    return run.dataset["recovery_probability"].values
+
+
 def recovery_probability(
     machine: Machine,
     shock: float,
@@ -238,32 +336,19 @@ def recovery_probability(
     """Fraction of velocity shocks of size ``shock`` (m/s) from contact-free whirl that recover.
 
     This is a one-amplitude slice of the basin computation
-    (`rotorcontact.studies.basins.basins` on a `shock_grid`): the rotor starts at the
-    regular equilibrium with its velocity kicked by ``shock`` in each of
-    ``directions`` equally spaced directions, runs through the batch kernel
-    (impacts, chatter and contact included), and has recovered when its
-    attractor is ``"no-contact"``.
+    (`rotorcontact.studies.basins.basins` on a `shock_grid`, with its batch
+    settings): the rotor starts at the regular equilibrium with its velocity
+    kicked by ``shock`` in each of ``directions`` equally spaced directions,
+    runs through the batch kernel (impacts, chatter and contact included), and
+    has recovered when its attractor is ``"no-contact"``.
+    `recovery_probabilities` computes it for many machines at once.
 
     Raises
     ------
     ParameterError
         If contact-free whirl is not admissible, or on invalid arguments.
     """
-    from .basins import basins, shock_grid
-
-    shock = check_range("shock", shock, low=0.0)
-    directions = check_int("directions", directions, 1)
-    p = machine.parameters()
-    if abs(p.k) >= 1.0:
-        raise ParameterError(
-            f"recovery needs admissible contact-free whirl; at speed = {machine.speed:g} rad/s, "
-            f"|k| = {abs(p.k):.4g} >= 1"
-        )
-    kick = shock / (machine.clearance * machine.speed)
-    step = 2.0 * math.pi / directions
-    grid = shock_grid((kick, kick, 1), (-math.pi, math.pi - step, directions))
-    result = basins(p, grid, progress=False, n_jobs=1)
-    return float(result.fractions.get("no-contact", 0.0))
+    return float(recovery_probabilities([machine], shock, directions=directions, n_jobs=1)[0])
 
 
 @dataclass(frozen=True)
@@ -355,12 +440,6 @@ class DesignMap:
         return ds
 
 
-def _with_recovery(point: MapPoint, machine: Machine, shock: float | None) -> MapPoint:
-    if shock is None or point.regime != "bistable":
-        return point
-    return replace(point, recovery_probability=recovery_probability(machine, shock))
-
-
 def _check_grid(name: str, values: Sequence[float], positive: bool = True) -> np.ndarray:
     arr = np.asarray(values, dtype=float).ravel()
     if arr.size < 1 or not np.all(np.isfinite(arr)) or (positive and np.any(arr <= 0.0)):
@@ -368,35 +447,49 @@ def _check_grid(name: str, values: Sequence[float], positive: bool = True) -> np
     return arr
 
 
-def _classify_all(machines: list[Machine], shock: float | None, t_max: float, progress: bool) -> tuple[MapPoint, ...]:
-    """Classify each setting (with its recovery probability), with a progress bar on stderr if asked."""
+def _classify_all(machines: list[Machine], shock: float | None, t_max: float, progress: bool,
+                  **scale: Any) -> tuple[MapPoint, ...]:
+    """Classify each setting, with a progress bar on stderr if asked; the recovery probabilities of the
+    bistable points (with ``shock``) are one chunked study, run as ``scale`` says
+    (`recovery_probabilities`)."""
     from .execution import progress_bar
 
     pts = []
     with progress_bar(len(machines), "design map", progress, unit="point") as bar:
         for m in machines:
-            pts.append(_with_recovery(classify_machine(m, t_max=t_max), m, shock))
+            pts.append(classify_machine(m, t_max=t_max))
             bar.update(1)
+    if shock is None:
+        return tuple(pts)
+    bistable = [i for i, pt in enumerate(pts) if pt.regime == "bistable"]
+    recovery = recovery_probabilities([machines[i] for i in bistable], shock, progress=progress, **scale)
+    for i, value in zip(bistable, recovery):
+        pts[i] = replace(pts[i], recovery_probability=float(value))
     return tuple(pts)
 
 
 def speed_map(machine: Machine, speeds_rpm: Sequence[float], *, shock: float | None = None,
-              t_max: float = 12.0, progress: bool = False) -> DesignMap:
+              t_max: float = 12.0, progress: bool = False, n_jobs: int | None = None, scheduler: Any = None,
+              processes: bool = True) -> DesignMap:
     """Classify ``machine`` at each speed (rpm); see `classify_machine` and `recovery_probability`.
 
     ``progress`` shows a progress bar over the speeds on stderr (worth it with ``shock``, whose
-    recovery probabilities are simulated).
+    recovery probabilities are simulated, as one study run as ``n_jobs``, ``scheduler`` and
+    ``processes`` say: `rotorcontact.studies.execution.make_executor`).
     """
     speeds = _check_grid("speeds_rpm", speeds_rpm)
     machines = [machine.with_speed(rpm_to_rad_s(s)) for s in speeds]
-    return DesignMap(machine, ("speed_rpm",), (speeds,), _classify_all(machines, shock, t_max, progress), shock)
+    points = _classify_all(machines, shock, t_max, progress, n_jobs=n_jobs, scheduler=scheduler, processes=processes)
+    return DesignMap(machine, ("speed_rpm",), (speeds,), points, shock)
 
 
 def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], second: Sequence[float], *,
-              shock: float | None = None, t_max: float = 12.0, progress: bool = False) -> DesignMap:
+              shock: float | None = None, t_max: float = 12.0, progress: bool = False, n_jobs: int | None = None,
+              scheduler: Any = None, processes: bool = True) -> DesignMap:
     """Classify a plane of settings: ("speed_rpm", "stiffness") or ("stiffness", "damping").
 
-    The other fields of ``machine`` stay fixed. ``progress`` shows a progress bar over the points on stderr.
+    The other fields of ``machine`` stay fixed. ``progress`` shows a progress bar over the points on stderr;
+    ``n_jobs``, ``scheduler`` and ``processes`` as for `speed_map`.
     """
     allowed = (("speed_rpm", "stiffness"), ("stiffness", "damping"), ("speed_rpm", "damping"))
     if tuple(axes) not in allowed:
@@ -415,11 +508,13 @@ def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], s
                 else:
                     changes[name] = val
             machines.append(replace(machine, **changes))
-    return DesignMap(machine, tuple(axes), (a, b), _classify_all(machines, shock, t_max, progress), shock)
+    points = _classify_all(machines, shock, t_max, progress, n_jobs=n_jobs, scheduler=scheduler, processes=processes)
+    return DesignMap(machine, tuple(axes), (a, b), points, shock)
 
 
 def design_map(machine: Machine, ranges: dict[str, tuple[float, float]], n: int, *, shock: float | None = None,
-               t_max: float = 12.0, progress: bool = False) -> DesignMap:
+               t_max: float = 12.0, progress: bool = False, n_jobs: int | None = None, scheduler: Any = None,
+               processes: bool = True) -> DesignMap:
     """The map over the settings given ranges: a speed map, or a plane of two settings.
 
     Parameters
@@ -431,7 +526,7 @@ def design_map(machine: Machine, ranges: dict[str, tuple[float, float]], n: int,
         ``"damping"`` (N s/m), in a combination of `MAP_AXES`.
     n : int
         Points along the range of a speed map; a plane has ``min(n, MAX_PLANE_SIDE)`` along each side.
-    shock, t_max, progress
+    shock, t_max, progress, n_jobs, scheduler, processes
         As for `speed_map` and `plane_map`.
 
     Raises
@@ -447,6 +542,7 @@ def design_map(machine: Machine, ranges: dict[str, tuple[float, float]], n: int,
     side = n if len(ranges) == 1 else min(n, MAX_PLANE_SIDE)
     grids = {name: np.linspace(a, b, side) for name, (a, b) in ranges.items()}
     first, *second = [grids["speed" if axis == "speed_rpm" else axis] for axis in axes]
+    scale = {"n_jobs": n_jobs, "scheduler": scheduler, "processes": processes}
     if not second:
-        return speed_map(machine, first, shock=shock, t_max=t_max, progress=progress)
-    return plane_map(machine, axes, first, second[0], shock=shock, t_max=t_max, progress=progress)
+        return speed_map(machine, first, shock=shock, t_max=t_max, progress=progress, **scale)
+    return plane_map(machine, axes, first, second[0], shock=shock, t_max=t_max, progress=progress, **scale)
