@@ -55,7 +55,7 @@ from ..model import contact_law
 from ..model.flow import flight_coefficients, has_regular_equilibrium
 from ..model.impact_law import impact_q, relative_velocity
 from ..model.params import Parameters, check_finite
-from ..model.validation import check_params
+from ..model.validation import check_int, check_params
 
 __all__ = [
     "STATE_NAMES",
@@ -1032,8 +1032,7 @@ def equilibrium_branches(
     stop = check_finite("stop", stop)
     if not start < stop:
         raise ParameterError(f"range {start!r} .. {stop!r} is empty; allowed: start < stop")
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
-        raise ParameterError(f"n = {n!r} is invalid; allowed: an integer >= 2")
+    n = check_int("n", n, 2)
     base.replace(**{param: start})  # validates both ends (every range of validity is an interval)
     base.replace(**{param: stop})
 

@@ -56,6 +56,7 @@ from typing import Callable, Iterator, Literal, Sequence
 import numpy as np
 
 from ..errors import ParameterError
+from ..model.validation import check_int
 
 __all__ = [
     "ContinuationSettings",
@@ -138,8 +139,7 @@ class ContinuationSettings:
                 raise ParameterError(f"{name} = {value!r} is invalid; allowed: a finite number > 0")
         for name in ("max_points", "max_newton", "max_location_iterations"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-                raise ParameterError(f"{name} = {value!r} is invalid; allowed: an integer >= 1")
+            check_int(name, value, 1)
         if not self.min_step <= self.step <= self.max_step:
             raise ParameterError(
                 f"step = {self.step!r} is invalid; allowed: min_step <= step <= max_step "

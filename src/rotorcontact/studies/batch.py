@@ -59,6 +59,7 @@ from ..simulation.motion import (
     WINDOW,
 )
 from ..model.params import Parameters, check_range
+from ..model.validation import check_int
 from ..model.impact_law import polar_velocity
 from ..simulation.simulator import (
     BOUNDARY_TOL,
@@ -421,12 +422,6 @@ def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_
 # ---------------------------------------------------------------------------
 
 
-def _check_count(name: str, value: Any, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise ParameterError(f"{name} = {value!r} is invalid; allowed: an integer >= {low}")
-    return int(value)
-
-
 @dataclass(frozen=True)
 class BatchSettings:
     """How long each item runs and what is kept.
@@ -468,11 +463,11 @@ class BatchSettings:
     chatter: Any = None
 
     def __post_init__(self) -> None:
-        _check_count("n_transient", self.n_transient, 0)
-        _check_count("n_record", self.n_record, 1)
+        check_int("n_transient", self.n_transient, 0)
+        check_int("n_record", self.n_record, 1)
         if self.n_keep is not None:
-            _check_count("n_keep", self.n_keep, 1)
-        _check_count("settle", self.settle, 0)
+            check_int("n_keep", self.n_keep, 1)
+        check_int("settle", self.settle, 0)
         for name in ("t_transient", "t_record"):
             value = getattr(self, name)
             if value is not None:
