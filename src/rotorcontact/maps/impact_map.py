@@ -689,7 +689,7 @@ def _impact_map_kernel(gamma, omega, k, d, mu, r_ratio, theta, rdot, thetadot, h
 
 def _params_tuple(params: Parameters):
     check_params(params)
-    if not has_regular_equilibrium(params.gamma, params.omega):
+    if not has_regular_equilibrium.py_func(params.gamma, params.omega):
         raise ParameterError(
             "omega = 1 with gamma = 0 has no regular equilibrium (k is infinite); "
             "allowed: omega != 1 or gamma != 0"
@@ -860,7 +860,7 @@ def a_derivatives(params: Parameters, T: float) -> tuple[complex, complex, compl
 
 
 def _q(params: Parameters) -> complex:
-    return impact_q(params.d, params.mu)
+    return impact_q.py_func(params.d, params.mu)  # the compiled formula run as Python: no dispatch cost
 
 
 def f1(params: Parameters, T):
@@ -914,7 +914,7 @@ def flight_growth(params: Parameters) -> float:
     The terms of the flight behave like e^{growth T} (MODEL.md §3), so F1 is
     evaluated for periods T up to ``MAX_GROWTH / growth`` (`period_limit`).
     """
-    h2 = half_discriminant(params.gamma, params.omega)
+    h2 = half_discriminant.py_func(params.gamma, params.omega)
     return max(abs(params.gamma) / 2.0, math.sqrt(h2) if h2 > 0 else 0.0)
 
 
@@ -964,7 +964,7 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
     zt, zd, zf, s0, status = _f1_zeros_kernel(params.gamma, params.omega, params.d, params.mu, t_max)
     if status != ISO_OK:
         raise RuntimeError("F1 zero isolation did not finish (iteration limit)")
-    h2 = half_discriminant(params.gamma, params.omega)
+    h2 = half_discriminant.py_func(params.gamma, params.omega)
     q = _q(params)
     inside = [(float(t), direction, flag) for t, direction, flag in zip(zt, zd, zf) if 0.0 < t <= t_max]
     zeros = []

@@ -102,7 +102,7 @@ class ClosedForm:
 
 def closed_form(T: float, gamma: float, omega: float) -> ClosedForm:
     """D(T), P(T), S(T), C(T) and derivatives for the given damping and stiffness."""
-    h2 = half_discriminant(gamma, omega)
+    h2 = half_discriminant.py_func(gamma, omega)
     c, s, em, ch, d0, d1, d2, p0, p1, p2 = period_closed_form(float(T), float(gamma), h2)
     return ClosedForm(D=complex(d0), P=complex(p0), S=float(s), C=float(c), D_T=complex(d1), P_T=complex(p1),
                       D_TT=complex(d2), P_TT=complex(p2), h2=h2)
@@ -130,7 +130,7 @@ def with_parameters(base: Parameters, changes: dict[str, float], *, extend: bool
 
 
 def _q(p: Parameters) -> complex:
-    return impact_q(p.d, p.mu)
+    return impact_q.py_func(p.d, p.mu)  # the compiled formula run as Python: no dispatch cost
 
 
 def regularised_residual(params: Parameters, T: float, rdot: float) -> tuple[np.ndarray, np.ndarray]:

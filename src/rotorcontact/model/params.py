@@ -208,11 +208,16 @@ class Parameters:
     def k(self) -> complex:
         """Regular equilibrium U = k = rho e^{i phi} / (omega^2 - 1 + i gamma) (MODEL.md §3).
 
-        The value of `rotorcontact.model.flow.equilibrium_point`, which the simulator uses.
+        The value of `rotorcontact.model.flow.equilibrium_point`, which the simulator uses
+        (computed once per parameter set).
         """
-        from .flow import equilibrium_point  # compiled: loaded on first use, not with the parameters
+        k = self.__dict__.get("_k")
+        if k is None:
+            from .flow import equilibrium_point  # compiled: loaded on first use, not with the parameters
 
-        return complex(equilibrium_point(self.gamma, self.omega, self.rho, self.phi))
+            k = complex(equilibrium_point(self.gamma, self.omega, self.rho, self.phi))
+            object.__setattr__(self, "_k", k)
+        return k
 
 
 _MACHINE_RULES: dict[str, dict[str, Any]] = {

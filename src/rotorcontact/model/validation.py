@@ -12,14 +12,13 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import ParameterError
+from .params import Parameters
 
 __all__ = ["check_params", "check_int", "check_float", "check_choice"]
 
 
 def check_params(params: Any, name: str = "params"):
     """Return ``params`` if it is a `rotorcontact.model.params.Parameters`, else raise `ParameterError`."""
-    from .params import Parameters
-
     if not isinstance(params, Parameters):
         raise ParameterError(f"{name} = {params!r} is not a Parameters object; allowed: rotorcontact.Parameters")
     return params
