@@ -50,15 +50,30 @@ class CommandLine:
         assert code == 0, err
         return strict_json(out)
 
-    def exe(self, *argv: str, cwd=None, timeout: float = 120) -> tuple[int, str, str]:
+    @staticmethod
+    def exe(*argv: str, cwd=None, timeout: float = 120) -> tuple[int, str, str]:
         """(exit status, stdout, stderr) of the installed program."""
         assert EXE.exists(), EXE
         proc = subprocess.run([str(EXE), *map(str, argv)], capture_output=True, text=True, timeout=timeout,
                               cwd=cwd)
         return proc.returncode, proc.stdout, proc.stderr
 
+    @staticmethod
+    def exe_json(*argv: str, timeout: float = 300):
+        """The ``--json`` output of the installed program for a command that must succeed, read strictly."""
+        code, out, err = CommandLine.exe(*argv, "--json", timeout=timeout)
+        assert code == 0, err
+        return strict_json(out)
+
 
 @pytest.fixture
 def cli(capsys) -> CommandLine:
     """The command line (see `CommandLine`)."""
     return CommandLine(capsys)
+
+
+@pytest.fixture(scope="session")
+def program() -> CommandLine:
+    """The command line for fixtures wider than one test: only the installed program (`CommandLine.exe`,
+    `CommandLine.exe_json`), since output is captured per test."""
+    return CommandLine(None)

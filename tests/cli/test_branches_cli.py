@@ -2,38 +2,15 @@
 
 from __future__ import annotations
 
-import json
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.continuation.branches import EVENT_TYPES, orbit_branches
-from rotorcontact.cli.main import main
-
-EXE = Path(sys.executable).parent / "rotorcontact"
-
-
-def _no_nan(text):
-    def bad(value):
-        raise AssertionError(f"non-finite JSON constant {value}")
-
-    return json.loads(text, parse_constant=bad)
-
-
-def run_json(capsys, *args):
-    assert main(["branches", "--json", *args]) == 0
-    return _no_nan(capsys.readouterr().out)
 
 
 @pytest.fixture(scope="module")
-def reference_json():
-    out = subprocess.run([str(EXE), "branches", "--param", "gamma", "--from", "-0.6", "--to", "0.25", "--json"],
-                         capture_output=True, text=True, timeout=300)
-    assert out.returncode == 0, out.stderr
-    return _no_nan(out.stdout)
+def reference_json(program):
+    return program.exe_json("branches", "--param", "gamma", "--from", "-0.6", "--to", "0.25")
 
 
 def test_json_contract_at_the_reference(reference_json):
@@ -62,8 +39,8 @@ def test_json_agrees_with_the_library(reference_json):
     assert reference_json["branches"]["B1,d"]["T"] == [None if x != x else x for x in b.T.tolist()]
 
 
-def test_other_parameter_and_options(capsys):
-    data = run_json(capsys, "--param", "omega", "--from", "0.7", "--to", "0.9", "--t-max", "4", "--seeds", "5",
+def test_other_parameter_and_options(cli):
+    data = cli.json("branches", "--param", "omega", "--from", "0.7", "--to", "0.9", "--t-max", "4", "--seeds", "5",
                     "--gamma", "0.1")
     assert data["param"] == "omega"
     assert all(set(v) == {"omega", "T", "rdot", "thetadot", "stable"} for v in data["branches"].values())
@@ -71,10 +48,10 @@ def test_other_parameter_and_options(capsys):
     assert any(e["type"] == "nsfh" for e in data["events"])
 
 
-def test_table_and_plot(tmp_path, capsys):
+def test_table_and_plot(tmp_path, cli):
     png = tmp_path / "b.png"
-    assert main(["branches", "--from", "0.05", "--to", "0.2", "--t-max", "4", "--seeds", "4", "--plot", str(png)]) == 0
-    out = capsys.readouterr().out
+    code, out, err = cli.run("branches", "--from", "0.05", "--to", "0.2", "--t-max", "4", "--seeds", "4", "--plot", png)
+    assert code == 0, err
     assert "fold" in out and "B1,a, B1,b" in out and "figure written" in out
     assert png.stat().st_size > 0
 
@@ -93,17 +70,13 @@ def test_table_and_plot(tmp_path, capsys):
         ["--gamma", "nan"],
     ],
 )
-def test_bad_input_exits_2(args, capsys):
-    try:
-        status = main(["branches", *args])
-    except SystemExit as exc:  # argparse's own errors
-        status = exc.code
-    assert status == 2
-    err = capsys.readouterr().err
+def test_bad_input_exits_2(args, cli):
+    code, _, err = cli.run("branches", *args)
+    assert code == 2
     assert "error" in err and "Traceback" not in err
 
 
-def test_bad_input_in_a_real_process_has_no_traceback():
-    out = subprocess.run([str(EXE), "branches", "--from", "abc"], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 2
-    assert "Traceback" not in out.stderr and "error" in out.stderr
+def test_bad_input_in_a_real_process_has_no_traceback(cli):
+    code, _, err = cli.exe("branches", "--from", "abc")
+    assert code == 2
+    assert "Traceback" not in err and "error" in err

@@ -2,35 +2,19 @@
 
 from __future__ import annotations
 
-import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.maps import impact_map as im
-from rotorcontact.cli.main import main
 
-EXE = Path(sys.executable).parent / "rotorcontact"
 REF = Parameters.reference()
 
 
-def _no_nan(text):
-    def bad(value):
-        raise AssertionError(f"non-finite JSON constant {value}")
-
-    return json.loads(text, parse_constant=bad)
-
-
 @pytest.fixture(scope="module")
-def reference_json():
-    out = subprocess.run([str(EXE), "codim2", "--params", "gamma,omega", "--json"], capture_output=True, text=True,
-                         timeout=300)
-    assert out.returncode == 0, out.stderr
-    return _no_nan(out.stdout)
+def reference_json(program):
+    return program.exe_json("codim2", "--params", "gamma,omega")
 
 
 def test_json_contract(reference_json):
@@ -60,18 +44,17 @@ def test_curves_and_points_satisfy_their_equations(reference_json):
         assert abs(im.f1(p, T)) < 1e-8 and abs(im.f1_derivative(p, T)) < 1e-3
 
 
-def test_plane_order_other_box_and_options(tmp_path, capsys):
+def test_plane_order_other_box_and_options(tmp_path, cli):
     png = tmp_path / "c.png"
-    assert main(["codim2", "--params", "omega,gamma", "--from", "0.7,0.0", "--to", "1.0,0.3", "--grazing", "none",
-                 "--json", "--plot", str(png)]) == 0
-    data = _no_nan(capsys.readouterr().out)
+    data = cli.json("codim2", "--params", "omega,gamma", "--from", "0.7,0.0", "--to", "1.0,0.3", "--grazing", "none",
+                    "--plot", png)
     assert set(data["curves"]) == {"fold_1", "dib"}
     for w, g in (p for p in data["curves"]["dib"] if p is not None):
         assert 0.7 - 1e-12 <= w <= 1.0 + 1e-12 and -1e-12 <= g <= 0.3 + 1e-12
     assert all(set(p) == {"type", "omega", "gamma"} for p in data["points"])
     assert png.stat().st_size > 0
-    assert main(["codim2", "--folds", "1,2", "--grazing", "none", "--from", "0,0.7", "--to", "0.25,0.9"]) == 0
-    out = capsys.readouterr().out
+    code, out, err = cli.run("codim2", "--folds", "1,2", "--grazing", "none", "--from", "0,0.7", "--to", "0.25,0.9")
+    assert code == 0, err
     assert "fold_2" in out and "fold-dib" in out
 
 
@@ -90,17 +73,13 @@ def test_plane_order_other_box_and_options(tmp_path, capsys):
         ["--plot", "out.gif"],
     ],
 )
-def test_bad_input_exits_2(args, capsys):
-    try:
-        status = main(["codim2", *args])
-    except SystemExit as exc:  # argparse's own errors
-        status = exc.code
-    assert status == 2
-    err = capsys.readouterr().err
+def test_bad_input_exits_2(args, cli):
+    code, _, err = cli.run("codim2", *args)
+    assert code == 2
     assert "error" in err and "Traceback" not in err
 
 
-def test_bad_input_in_a_real_process_has_no_traceback():
-    out = subprocess.run([str(EXE), "codim2", "--from", "abc"], capture_output=True, text=True, timeout=120)
-    assert out.returncode == 2
-    assert "Traceback" not in out.stderr and "error" in out.stderr
+def test_bad_input_in_a_real_process_has_no_traceback(cli):
+    code, _, err = cli.exe("codim2", "--from", "abc")
+    assert code == 2
+    assert "Traceback" not in err and "error" in err

@@ -2,19 +2,13 @@
 
 from __future__ import annotations
 
-import json
-import subprocess
-import sys
-
 import pytest
 
-from rotorcontact.cli.main import main
 
-
-def test_speed_map_writes_png_nc_and_table(tmp_path, capsys):
-    assert main(["design-map", "--machine", "reference", "--speed", "1000:3000rpm", "--n", "30",
-                 "--out", str(tmp_path)]) == 0
-    out = capsys.readouterr().out
+def test_speed_map_writes_png_nc_and_table(tmp_path, cli):
+    code, out, err = cli.run("design-map", "--machine", "reference", "--speed", "1000:3000rpm", "--n", "30",
+                             "--out", tmp_path)
+    assert code == 0, err
     assert "regime" in out and "boundary near" in out
     png = (tmp_path / "map.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
@@ -24,9 +18,8 @@ def test_speed_map_writes_png_nc_and_table(tmp_path, capsys):
     assert ds.sizes["speed_rpm"] == 30 and ds["speed_rpm"].attrs["units"] == "rpm"
 
 
-def test_json_contract(capsys):
-    assert main(["design-map", "--machine", "reference", "--speed", "1500:2500", "--n", "5", "--json"]) == 0
-    data = json.loads(capsys.readouterr().out)
+def test_json_contract(cli):
+    data = cli.json("design-map", "--machine", "reference", "--speed", "1500:2500", "--n", "5")
     assert len(data["points"]) == 5
     for pt in data["points"]:
         for key in ("speed_rpm", "gamma", "omega", "regime", "coexisting"):
@@ -36,7 +29,7 @@ def test_json_contract(capsys):
     assert data["points"][0]["speed_rpm"] == pytest.approx(1500.0)
 
 
-def test_machine_file_with_units_and_plane(tmp_path, capsys):
+def test_machine_file_with_units_and_plane(tmp_path, cli):
     path = tmp_path / "rig.toml"
     path.write_text(
         'mass = "50 kg"\ndamping = 1400\nstiffness = "980 kN/m"\neccentricity = "0.3 mm"\n'
@@ -44,9 +37,7 @@ def test_machine_file_with_units_and_plane(tmp_path, capsys):
         "friction = 0.15\nrestitution = 0.95\n",
         encoding="utf-8",
     )
-    assert main(["design-map", str(path), "--stiffness", "0.5:1.5MN/m", "--damping", "0.5:3kN*s/m",
-                 "--n", "4", "--json"]) == 0
-    data = json.loads(capsys.readouterr().out)
+    data = cli.json("design-map", path, "--stiffness", "0.5:1.5MN/m", "--damping", "0.5:3kN*s/m", "--n", "4")
     assert data["axes"] == ["stiffness", "damping"] and len(data["points"]) == 16
     assert data["points"][0]["stiffness"] == pytest.approx(5e5) and data["points"][0]["damping"] == pytest.approx(500)
 
@@ -63,8 +54,7 @@ def test_machine_file_with_units_and_plane(tmp_path, capsys):
         (["--machine", "nosuchfile.toml", "--speed", "1000:2000"], "no such file"),
     ],
 )
-def test_bad_input_exits_2_without_traceback(args, fragment):
-    proc = subprocess.run([sys.executable, "-m", "rotorcontact.cli.main", "design-map", *args],
-                          capture_output=True, text=True)
-    assert proc.returncode == 2
-    assert fragment in proc.stderr and "Traceback" not in proc.stderr
+def test_bad_input_exits_2_without_traceback(args, fragment, cli):
+    code, _, err = cli.exe("design-map", *args)
+    assert code == 2
+    assert fragment in err and "Traceback" not in err

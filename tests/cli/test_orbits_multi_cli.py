@@ -2,38 +2,20 @@
 
 from __future__ import annotations
 
-import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
 from rotorcontact import Parameters
-from rotorcontact.cli.main import main
 from rotorcontact.maps.impact_map import impact_map
 from rotorcontact.continuation.multi_impact_branches import multi_impact_orbits
 
-EXE = Path(sys.executable).parent / "rotorcontact"
 KEYS = {"label", "impacts", "period", "points", "multipliers", "stable", "plausible"}
 POINT_KEYS = {"theta", "rdot", "thetadot", "dt"}
 
 
-def _no_nan(text):
-    def bad(value):
-        raise AssertionError(f"non-finite JSON constant {value}")
-
-    return json.loads(text, parse_constant=bad)
-
-
-def run_json(capsys, *args):
-    assert main(["orbits", "--json", *args]) == 0
-    return _no_nan(capsys.readouterr().out)
-
-
-def test_period_two_orbit_json_contract(capsys):
-    data = run_json(capsys, "--impacts", "2", "--gamma", "0.083")
+def test_period_two_orbit_json_contract(cli):
+    data = cli.json("orbits", "--impacts", "2", "--gamma", "0.083")
     assert set(data) == {"parameters", "orbits"} and data["parameters"]["gamma"] == 0.083
     (orbit,) = data["orbits"]
     assert set(orbit) == KEYS
@@ -55,34 +37,34 @@ def test_period_two_orbit_json_contract(capsys):
     assert [o.to_dict() for o in lib] == data["orbits"]
 
 
-def test_one_impact_contract_is_unchanged(capsys):
-    plain = run_json(capsys, "--gamma", "0.1")
-    assert run_json(capsys, "--gamma", "0.1", "--impacts", "1") == plain
+def test_one_impact_contract_is_unchanged(cli):
+    plain = cli.json("orbits", "--gamma", "0.1")
+    assert cli.json("orbits", "--gamma", "0.1", "--impacts", "1") == plain
     assert [o["label"] for o in plain["orbits"]] == ["B1,a", "B1,b", "B1,c", "B1,d"]
     assert "impacts" not in plain["orbits"][0] and "n" in plain["orbits"][0]
 
 
-def test_no_orbit_is_an_empty_list(capsys):
+def test_no_orbit_is_an_empty_list(cli):
     # beyond the grazing that ends the period-2 branch, B1,d's period-doubled orbit is gone
-    assert run_json(capsys, "--impacts", "2", "--gamma", "0.1")["orbits"] == []
+    assert cli.json("orbits", "--impacts", "2", "--gamma", "0.1")["orbits"] == []
 
 
-def test_text_table(capsys):
-    assert main(["orbits", "--impacts", "2", "--gamma", "0.083"]) == 0
-    out = capsys.readouterr().out
+def test_text_table(cli):
+    code, out, err = cli.run("orbits", "--impacts", "2", "--gamma", "0.083")
+    assert code == 0, err
     assert "B1,d/PD" in out and "2 impacts" in out and "stable" in out
 
 
 @pytest.mark.parametrize("value", ["0", "-2", "x", "2.5"])
-def test_bad_impacts_exit_2_without_traceback(capsys, value):
-    assert main(["orbits", "--impacts", value, "--json"]) == 2
-    captured = capsys.readouterr()
-    assert captured.out == ""
-    assert "--impacts" in captured.err and "Traceback" not in captured.err
+def test_bad_impacts_exit_2_without_traceback(cli, value):
+    code, out, err = cli.run("orbits", "--impacts", value, "--json")
+    assert code == 2
+    assert out == ""
+    assert "--impacts" in err and "Traceback" not in err
 
 
-def test_bad_impacts_from_the_shell():
-    proc = subprocess.run([str(EXE), "orbits", "--impacts", "0", "--json"], capture_output=True, text=True)
-    assert proc.returncode == 2
-    assert proc.stdout == ""
-    assert "--impacts" in proc.stderr and "Traceback" not in proc.stderr
+def test_bad_impacts_from_the_shell(cli):
+    code, out, err = cli.exe("orbits", "--impacts", "0", "--json")
+    assert code == 2
+    assert out == ""
+    assert "--impacts" in err and "Traceback" not in err
