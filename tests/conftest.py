@@ -396,10 +396,10 @@ def ref():
 
 @pytest.fixture(scope="session")
 def reference_params():
-    """The reference machine's dimensionless parameters (MODEL.md §1-§2)."""
-    from rotorcontact import Parameters
+    """The reference machine's dimensionless parameters (MODEL.md §1-§2; tests/reference_parameters.py)."""
+    from reference_parameters import REF
 
-    return Parameters.reference()
+    return REF
 
 
 @pytest.fixture(scope="session", autouse=True)

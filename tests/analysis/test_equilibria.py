@@ -34,6 +34,8 @@ from rotorcontact.analysis.equilibria import (
     regular_equilibrium,
     wrap_angle,
 )
+from reference_parameters import REF
+
 
 TOL = 1e-12
 
@@ -251,7 +253,7 @@ def test_pseudo_equilibria_stability_P1_saddle_P2_stable():
 def test_pseudo_equilibria_stability_by_integrating_the_contact_dynamics():
     """Integrating the 2D contact dynamics with solve_ivp: from near P2 (stable) the rotor settles on P2,
     from near P1 (saddle) it leaves."""
-    p = Parameters.reference().replace(omega=0.76, gamma=0.15)
+    p = REF.replace(omega=0.76, gamma=0.15)
     p1, p2 = pseudo_equilibria(p)
     assert p1.admissible and p2.admissible and p2.stable and not p1.stable
 
@@ -266,7 +268,7 @@ def test_pseudo_equilibria_stability_by_integrating_the_contact_dynamics():
 
 def _pseudo_convergence_cases():
     rng = np.random.default_rng(16)
-    cases = [Parameters.reference(), Parameters.reference().replace(omega=1.0, gamma=0.3)]
+    cases = [REF, REF.replace(omega=1.0, gamma=0.3)]
     for p in random_params(rng, 400, gamma=(0.05, 1.0), omega=(0.2, 1.4)):
         p2 = pseudo_equilibria(p)[1]
         if p2.exists and p2.admissible and p2.normal_force > 0.1 and p2.stable and len(cases) < 6:
@@ -289,7 +291,7 @@ def test_simulation_near_stable_admissible_pseudo_equilibrium_converges_to_it(p)
 
 
 def test_simulation_near_the_saddle_pseudo_equilibrium_leaves_it():
-    p = Parameters.reference()
+    p = REF
     p1 = pseudo_equilibria(p)[0]
     assert p1.admissible and not p1.stable
     traj = simulate(p, cmath.exp(1j * (p1.theta + 1e-4)), 0j, 200.0)
@@ -298,7 +300,7 @@ def test_simulation_near_the_saddle_pseudo_equilibrium_leaves_it():
 
 
 def test_pseudo_equilibria_without_real_arccos_do_not_exist_with_a_reason():
-    p = Parameters.reference().replace(gamma=0.8)  # (gamma + mu(1 - omega^2)) / (rho sqrt(1 + mu^2)) > 1
+    p = REF.replace(gamma=0.8)  # (gamma + mu(1 - omega^2)) / (rho sqrt(1 + mu^2)) > 1
     for pe in pseudo_equilibria(p):
         assert not pe.exists and pe.theta is None and pe.normal_force is None
         assert not pe.admissible and pe.stable is None
@@ -310,7 +312,7 @@ def test_pseudo_equilibria_without_real_arccos_do_not_exist_with_a_reason():
 
 def test_pseudo_equilibria_at_zero_friction_are_the_limit_and_solve_the_frictionless_balance():
     """mu = 0, where arctan(1/mu) is undefined: a defined answer, the mu -> 0+ limit, rho sin psi = gamma."""
-    p0 = Parameters.reference().replace(mu=0.0)
+    p0 = REF.replace(mu=0.0)
     p_small = p0.replace(mu=1e-10)
     for pe0, pes in zip(pseudo_equilibria(p0), pseudo_equilibria(p_small)):
         assert pe0.exists and math.isfinite(pe0.theta) and math.isfinite(pe0.normal_force)
@@ -348,7 +350,7 @@ def test_boundary_equilibrium_lies_on_the_stator_and_solves_F_equal_zero():
 def test_reference_omega_076_is_a_nonsmooth_fold_with_P1():
     """MODEL.md §4: omega = 0.76 gives a non-smooth fold of x_R with x_P1 at gamma* ~ 0.072;
     both virtual below, both admissible above."""
-    p = Parameters.reference().replace(omega=0.76)
+    p = REF.replace(omega=0.76)
     b = boundary_equilibrium(p)
     assert round(b.gamma_star, 3) == 0.072
     assert b.kind == "nonsmooth-fold" and b.partner == "P1"
@@ -361,7 +363,7 @@ def test_reference_omega_076_is_a_nonsmooth_fold_with_P1():
 
 def test_reference_omega_1_is_persistence_with_P2_at_gamma_star_rho():
     """MODEL.md §4: omega = 1 gives persistence of x_P2 into x_R at gamma* = rho."""
-    p = Parameters.reference().replace(omega=1.0)
+    p = REF.replace(omega=1.0)
     b = boundary_equilibrium(p)
     assert b.gamma_star == pytest.approx(p.rho, rel=1e-15)
     assert b.kind == "persistence" and b.partner == "P2" and b.coefficient < 0
@@ -478,7 +480,7 @@ def test_degenerate_boundary_equilibria_are_unclassified_with_a_reason():
 
 
 def test_no_real_gamma_star_gives_none_and_a_reason():
-    p = Parameters.reference().replace(omega=0.3)
+    p = REF.replace(omega=0.3)
     b = boundary_equilibrium(p)
     assert b.gamma_star is None and b.theta is None and b.kind is None and b.partner is None
     assert "no real gamma*" in b.reason
@@ -490,7 +492,7 @@ def test_no_real_gamma_star_gives_none_and_a_reason():
 
 
 def test_results_are_frozen():
-    eq = equilibria(Parameters.reference())
+    eq = equilibria(REF)
     for obj in (eq, eq.regular, eq.pseudo[0], eq.boundary):
         with pytest.raises(dataclasses.FrozenInstanceError):
             obj.theta = 0.0  # type: ignore[misc]
@@ -500,7 +502,7 @@ def test_bad_input_raises_parameter_error():
     with pytest.raises(ParameterError):
         regular_equilibrium("reference")
     with pytest.raises(ParameterError, match="r = "):
-        polar_field([0.0, 0.0, 0.0, 0.0], Parameters.reference())
+        polar_field([0.0, 0.0, 0.0, 0.0], REF)
     with pytest.raises(ParameterError, match="rho"):
         beb_omega_ranges(-1.0, 0.1)
     with pytest.raises(ParameterError, match="mu"):
@@ -514,7 +516,7 @@ def test_bad_input_raises_parameter_error():
 
 def _convergence_cases():
     rng = np.random.default_rng(15)
-    cases = [Parameters.reference().replace(gamma=0.3), Parameters.reference().replace(omega=0.76, gamma=0.1)]
+    cases = [REF.replace(gamma=0.3), REF.replace(omega=0.76, gamma=0.1)]
     for p in random_params(rng, 200, gamma=(0.05, 1.5), omega=(0.2, 1.6)):
         if regular_equilibrium(p).r < 0.95 and len(cases) < 8:
             cases.append(p)
@@ -550,7 +552,7 @@ def test_simulation_near_unstable_regular_equilibrium_leaves_it():
 
 
 def test_gamma_branch_locates_the_boundary_equilibrium_exactly():
-    p = Parameters.reference().replace(omega=0.76)
+    p = REF.replace(omega=0.76)
     br = equilibrium_branches(p, "gamma", 0.0, 0.2, 101)
     gs = boundary_gamma(p)
     (beb,) = br.boundary_points
@@ -564,7 +566,7 @@ def test_gamma_branch_locates_the_boundary_equilibrium_exactly():
 
 
 def test_gamma_branch_persistence_and_pseudo_fold():
-    p = Parameters.reference().replace(omega=1.0)
+    p = REF.replace(omega=1.0)
     br = equilibrium_branches(p, "gamma", 0.01, 0.8)
     (beb,) = br.boundary_points
     assert beb.value == pytest.approx(p.rho, abs=1e-13) and beb.partner == "P2"
@@ -580,7 +582,7 @@ def test_gamma_branch_persistence_and_pseudo_fold():
 
 def test_stability_changes_are_located():
     """x_R changes stability at gamma = 0, P2 at gamma = -2 mu (trace of the contact Jacobian)."""
-    p = Parameters.reference().replace(rho=0.9)
+    p = REF.replace(rho=0.9)
     br = equilibrium_branches(p, "gamma", -0.55, 0.47, 203)
     (reg,) = br.select("x_R", "stability")
     assert reg.value == pytest.approx(0.0, abs=1e-12) and (reg.before, reg.after) == ("unstable", "stable")
@@ -590,7 +592,7 @@ def test_stability_changes_are_located():
 
 
 def test_omega_and_rho_branches_locate_the_closed_form_crossings():
-    p = Parameters.reference()
+    p = REF
     br = equilibrium_branches(p, "omega", 0.3, 1.6)
     root = math.sqrt(p.rho**2 - p.gamma**2)
     expected = sorted([math.sqrt(1 - root), math.sqrt(1 + root)])
@@ -606,7 +608,7 @@ def test_omega_and_rho_branches_locate_the_closed_form_crossings():
 
 
 def test_branches_reject_bad_input():
-    p = Parameters.reference()
+    p = REF
     with pytest.raises(ParameterError, match="phi"):
         equilibrium_branches(p, "phi", 0.0, 1.0)
     with pytest.raises(ParameterError, match="start < stop"):

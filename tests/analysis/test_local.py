@@ -22,7 +22,7 @@ import pytest
 import scipy.linalg
 from scipy.integrate import solve_ivp
 
-from rotorcontact import ParameterError, Parameters
+from rotorcontact import ParameterError
 from rotorcontact.analysis.equilibria import boundary_gamma
 from rotorcontact.maps.impact_map import a_matrix as rotor_a_matrix
 from rotorcontact.maps.impact_map import f1_zeros as rotor_f1_zeros
@@ -34,6 +34,8 @@ from rotorcontact.analysis.local import (
     global_fixed_points,
     local_analysis,
 )
+from reference_parameters import REF
+
 
 DECADE = np.geomspace(1e-3, 1e-2, 5)
 QUANTITIES = ("theta", "rdot", "thetadot")
@@ -58,7 +60,7 @@ def _fitted_order(comp, label, quantity):
 
 @pytest.fixture(scope="module")
 def rotor():
-    return Parameters.reference()
+    return REF
 
 
 @pytest.fixture(scope="module")

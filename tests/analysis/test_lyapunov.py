@@ -26,8 +26,7 @@ from rotorcontact.analysis.lyapunov import (
     trajectory_lyapunov,
     trajectory_tangent,
 )
-
-REF = Parameters.reference()
+from reference_parameters import REF
 
 
 def _x(u: complex, du: complex) -> np.ndarray:

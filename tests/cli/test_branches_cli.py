@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from rotorcontact import Parameters
 from rotorcontact.continuation.branches import EVENT_TYPES, orbit_branches
+from reference_parameters import REF
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +33,7 @@ def test_json_contract_at_the_reference(reference_json):
 
 
 def test_json_agrees_with_the_library(reference_json):
-    lib = orbit_branches(Parameters.reference(), "gamma", -0.6, 0.25)
+    lib = orbit_branches(REF, "gamma", -0.6, 0.25)
     assert reference_json["events"] == [e.to_dict() for e in lib.events]
     b = lib.branch("B1,d")
     assert reference_json["branches"]["B1,d"]["T"] == [None if x != x else x for x in b.T.tolist()]

@@ -6,10 +6,8 @@ import math
 
 import pytest
 
-from rotorcontact import Parameters
 from rotorcontact.maps import impact_map as im
-
-REF = Parameters.reference()
+from reference_parameters import REF
 
 
 @pytest.fixture(scope="module")

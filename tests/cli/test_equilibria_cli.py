@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 import math
-import subprocess
 
 import pytest
 
-from rotorcontact import Parameters
-from rotorcontact.cli.main import main
 from rotorcontact.analysis.equilibria import equilibria
+from reference_parameters import REF
 
 
 def test_json_contract_at_the_reference(cli):
@@ -24,7 +22,7 @@ def test_json_contract_at_the_reference(cli):
     b = data["boundary"]
     assert {"gamma_star", "theta", "kind", "partner"} <= set(b)
     # the numbers are the library's
-    eq = equilibria(Parameters.reference())
+    eq = equilibria(REF)
     assert reg["r"] == eq.regular.r and reg["theta"] == eq.regular.theta
     assert reg["admissible"] is True and reg["stable"] is True
     assert [pe["theta"] for pe in data["pseudo"]] == [pe.theta for pe in eq.pseudo]
@@ -64,18 +62,18 @@ def test_json_with_a_range_reports_the_events(cli):
     assert beb[0]["value"] == pytest.approx(data["boundary"]["gamma_star"], abs=1e-12)
 
 
-def test_text_output(capsys):
-    assert main(["equilibria", "--omega", "1"]) == 0
-    out = capsys.readouterr().out
+def test_text_output(cli):
+    code, out, err = cli.run("equilibria", "--omega", "1")
+    assert code == 0, err
     assert "x_R" in out and "x_P1" in out and "x_P2" in out and "persistence with x_P2" in out
 
 
-def test_plot(tmp_path, capsys):
+def test_plot(tmp_path, cli):
     path = tmp_path / "fig3a.png"
-    args = ["--omega", "0.76", "--plot", str(path), "--param", "gamma", "--from", "0", "--to", "0.2"]
-    code = main(["equilibria", *args])
+    code, out, _ = cli.run("equilibria", "--omega", "0.76", "--plot", path, "--param", "gamma", "--from", "0",
+                           "--to", "0.2")
     assert code == 0 and path.is_file() and path.stat().st_size > 1000
-    assert "figure written" in capsys.readouterr().out
+    assert "figure written" in out
 
 
 @pytest.mark.parametrize(
@@ -93,18 +91,16 @@ def test_plot(tmp_path, capsys):
         (["--from", "0", "--to", "0.1", "--points", "1"], "points"),
     ],
 )
-def test_bad_input_exits_2_with_a_message(args, word, capsys, tmp_path, monkeypatch):
+def test_bad_input_exits_2_with_a_message(args, word, cli, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    assert main(["equilibria", *args]) == 2
-    err = capsys.readouterr().err
+    code, _, err = cli.run("equilibria", *args)
+    assert code == 2
     assert word in err and "Traceback" not in err
     assert not list(tmp_path.iterdir())
 
 
 def test_subprocess_exit_status(cli):
-    ok = subprocess.run([str(cli.exe_path), "equilibria", "--json"], capture_output=True, text=True, timeout=300)
-    assert ok.returncode == 0, ok.stderr
-    assert cli.loads(ok.stdout)["boundary"]["kind"] in ("nonsmooth-fold", "persistence")
-    bad = subprocess.run([str(cli.exe_path), "equilibria", "--mu", "-1"], capture_output=True, text=True, timeout=300)
-    assert bad.returncode == 2
-    assert "mu" in bad.stderr and "Traceback" not in bad.stderr
+    assert cli.exe_json("equilibria")["boundary"]["kind"] in ("nonsmooth-fold", "persistence")
+    code, _, err = cli.exe("equilibria", "--mu", "-1", timeout=300)
+    assert code == 2
+    assert "mu" in err and "Traceback" not in err

@@ -2,17 +2,9 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import pytest
 
 from rotorcontact.cli.main import main
-
-
-def _run(*args):
-    return subprocess.run([sys.executable, "-m", "rotorcontact.cli.main", *args], capture_output=True, text=True,
-                          timeout=300)
 
 
 @pytest.mark.parametrize(
@@ -22,12 +14,12 @@ def _run(*args):
         ("equilibria", "--plot", "/dev/null/x.png", "--from", "0", "--to", "0.2"),
     ],
 )
-def test_an_unwritable_output_is_bad_input(args):
-    proc = _run(*args)
-    assert proc.returncode == 2
+def test_an_unwritable_output_is_bad_input(args, cli):
+    code, _, err = cli.exe(*args, timeout=300)
+    assert code == 2
     # refused before the computation, naming the option and why
-    assert "--plot = '/dev/null/x.png': '/dev/null' is a file, not a folder" in proc.stderr
-    assert "Traceback" not in proc.stderr
+    assert "--plot = '/dev/null/x.png': '/dev/null' is a file, not a folder" in err
+    assert "Traceback" not in err
 
 
 @pytest.mark.parametrize(
@@ -43,16 +35,16 @@ def test_an_unwritable_output_is_bad_input(args):
         (("design-map", "--machine", "reference", "--speed=-1000:6000rpm"), "--speed"),
     ],
 )
-def test_unbounded_or_empty_work_is_refused_at_once(args, fragment):
-    proc = _run(*args)
-    assert proc.returncode == 2, proc.stderr
-    assert fragment in proc.stderr and "Traceback" not in proc.stderr
+def test_unbounded_or_empty_work_is_refused_at_once(args, fragment, cli):
+    code, _, err = cli.exe(*args, timeout=300)
+    assert code == 2, err
+    assert fragment in err and "Traceback" not in err
 
 
-def test_a_failed_computation_exits_1_with_one_line():
-    proc = _run("lyapunov", "--gamma=-1e6", "--t-end", "10")
-    assert proc.returncode == 1
-    assert "failed" in proc.stderr and "Traceback" not in proc.stderr
+def test_a_failed_computation_exits_1_with_one_line(cli):
+    code, _, err = cli.exe("lyapunov", "--gamma=-1e6", "--t-end", "10", timeout=300)
+    assert code == 1
+    assert "failed" in err and "Traceback" not in err
 
 
 # ---------------------------------------------------------------------------

@@ -6,11 +6,12 @@ import math
 
 import pytest
 
-from rotorcontact import Parameters, reference_machine
+from rotorcontact import reference_machine
 from rotorcontact.analysis.equilibria import equilibria
 from rotorcontact.analysis.lyapunov import lyapunov_spectrum
+from reference_parameters import REF
 
-REF = Parameters.reference()
+
 MACHINE = reference_machine()
 
 

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import subprocess
 
 import pytest
 
-from rotorcontact import Parameters
-from rotorcontact.cli.main import main
 from rotorcontact.analysis.equilibria import boundary_gamma
 from rotorcontact.maps.impact_map import f1_zeros
 from rotorcontact.analysis.local import local_analysis
+from reference_parameters import REF
+
 
 ORBIT_KEYS = {"label", "T", "rdot_slope", "thetadot_slope", "theta_slope"}
 
@@ -18,7 +17,7 @@ ORBIT_KEYS = {"label", "T", "rdot_slope", "thetadot_slope", "theta_slope"}
 def test_json_contract_at_the_reference(cli):
     data = cli.json("local")
     assert set(data) == {"parameters", "gamma_star", "orbits"}
-    p = Parameters.reference()
+    p = REF
     assert data["gamma_star"] == boundary_gamma(p)
     assert [o["label"] for o in data["orbits"]] == ["B1,a", "B1,b"]
     lib = local_analysis(p, 12.0)
@@ -36,7 +35,7 @@ def test_json_contract_at_the_reference(cli):
 def test_gamma_is_replaced_by_gamma_star_and_options_apply(cli):
     assert cli.json("local", "--gamma", "0.3") == cli.json("local")
     data = cli.json("local", "--omega", "0.7565", "--t-max", "40")
-    p = Parameters.reference().replace(omega=0.7565)
+    p = REF.replace(omega=0.7565)
     assert data["gamma_star"] == pytest.approx(boundary_gamma(p))
     zeros = f1_zeros(p.replace(gamma=data["gamma_star"]), 40.0)
     assert len(data["orbits"]) == len(zeros) == 10
@@ -50,9 +49,9 @@ def test_gamma_is_replaced_by_gamma_star_and_options_apply(cli):
     assert cli.json("local", "--t-max", "0.5")["orbits"] == []  # T0,1,a is about 0.67
 
 
-def test_table_output(capsys):
-    assert main(["local"]) == 0
-    out = capsys.readouterr().out
+def test_table_output(cli):
+    code, out, err = cli.run("local")
+    assert code == 0, err
     assert "gamma*" in out and "B1,a" in out and "B1,b" in out and "gamma > gamma*" in out
 
 
@@ -67,15 +66,14 @@ def test_table_output(capsys):
         (["--d", "2"], "--d"),
     ],
 )
-def test_bad_input_exits_2_with_a_message(capsys, args, message):
-    assert main(["local", "--json", *args]) == 2
-    captured = capsys.readouterr()
-    assert captured.out == ""
-    assert message in captured.err and "Traceback" not in captured.err
+def test_bad_input_exits_2_with_a_message(cli, args, message):
+    code, out, err = cli.run("local", "--json", *args)
+    assert code == 2
+    assert out == ""
+    assert message in err and "Traceback" not in err
 
 
 def test_installed_command_exits_2_without_traceback(cli):
-    proc = subprocess.run([str(cli.exe_path), "local", "--json", "--rho", "0.75", "--omega", "0.5"],
-                          capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 2
-    assert "not asymptotically stable" in proc.stderr and "Traceback" not in proc.stderr
+    code, _, err = cli.exe("local", "--json", "--rho", "0.75", "--omega", "0.5")
+    assert code == 2
+    assert "not asymptotically stable" in err and "Traceback" not in err

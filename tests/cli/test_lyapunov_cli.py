@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 import math
-import subprocess
 
 import pytest
 
-from rotorcontact import Parameters
-from rotorcontact.cli.main import main
 from rotorcontact.analysis.lyapunov import lyapunov_spectrum
+from reference_parameters import REF
 
 
 def test_json_contract_on_the_stable_one_impact_orbit(cli):
@@ -18,7 +16,7 @@ def test_json_contract_on_the_stable_one_impact_orbit(cli):
     ex = data["exponents"]
     assert len(ex) == 4 and all(isinstance(x, float) for x in ex)
     assert ex == sorted(ex, reverse=True)
-    lib = lyapunov_spectrum(Parameters.reference().replace(gamma=0.1), 0j, 0j, 800.0)
+    lib = lyapunov_spectrum(REF.replace(gamma=0.1), 0j, 0j, 800.0)
     assert ex == list(lib.exponents)
     assert ex[0] == pytest.approx(0.0, abs=1e-6) and ex[1] < 0.0
 
@@ -34,16 +32,16 @@ def test_annihilated_directions_are_null(cli):
 
 
 def test_options_reach_the_library(cli):
-    p = Parameters.reference().replace(gamma=0.15, omega=0.7)
+    p = REF.replace(gamma=0.15, omega=0.7)
     ex = cli.json("lyapunov", "--gamma", "0.15", "--omega", "0.7", "--u0", "0.2,-0.1", "--du0", "0.3,0.4",
                   "--t-end", "300", "--t-transient", "100", "--qr-interval", "0.5")["exponents"]
     lib = lyapunov_spectrum(p, 0.2 - 0.1j, 0.3 + 0.4j, 300.0, t_transient=100.0, qr_interval=0.5)
     assert ex == [x if math.isfinite(x) else None for x in lib.exponents]
 
 
-def test_text_output(capsys):
-    assert main(["lyapunov", "--gamma", "0.065", "--t-end", "200"]) == 0
-    out = capsys.readouterr().out
+def test_text_output(cli):
+    code, out, err = cli.run("lyapunov", "--gamma", "0.065", "--t-end", "200")
+    assert code == 0, err
     assert "largest first" in out and out.count("-inf") == 3
 
 
@@ -59,14 +57,14 @@ def test_text_output(capsys):
         ["--mu", "-1"],
     ],
 )
-def test_bad_input_exits_2_without_traceback(capsys, args):
-    assert main(["lyapunov", "--json", *args]) == 2
-    captured = capsys.readouterr()
-    assert captured.out == ""
-    assert "error" in captured.err and "Traceback" not in captured.err
+def test_bad_input_exits_2_without_traceback(cli, args):
+    code, out, err = cli.run("lyapunov", "--json", *args)
+    assert code == 2
+    assert out == ""
+    assert "error" in err and "Traceback" not in err
 
 
 def test_bad_input_from_the_shell(cli):
-    proc = subprocess.run([str(cli.exe_path), "lyapunov", "--du0", "x,1"], capture_output=True, text=True)
-    assert proc.returncode == 2
-    assert "--du0" in proc.stderr and "Traceback" not in proc.stderr
+    code, _, err = cli.exe("lyapunov", "--du0", "x,1")
+    assert code == 2
+    assert "--du0" in err and "Traceback" not in err

@@ -6,8 +6,10 @@ import math
 
 import pytest
 
-from rotorcontact import Parameters, reference_machine
+from rotorcontact import reference_machine
 from rotorcontact.maps.impact_map import one_impact_orbits
+from reference_parameters import REF
+
 
 KEYS = {
     "label", "n", "branch", "T", "theta", "rdot", "thetadot", "admissible", "plausible",
@@ -18,10 +20,10 @@ KEYS = {
 def test_json_contract_at_the_reference_with_gamma_01(cli):
     data = cli.json("orbits", "--gamma", "0.1")
     assert set(data) == {"parameters", "orbits"}
-    assert data["parameters"] == Parameters.reference().replace(gamma=0.1).as_dict()
+    assert data["parameters"] == REF.replace(gamma=0.1).as_dict()
     orbits = data["orbits"]
     assert [o["label"] for o in orbits] == ["B1,a", "B1,b", "B1,c", "B1,d"]
-    lib = one_impact_orbits(Parameters.reference().replace(gamma=0.1), 12.0)
+    lib = one_impact_orbits(REF.replace(gamma=0.1), 12.0)
     for o, ref in zip(orbits, lib):
         assert set(o) == KEYS
         assert o["label"] == f"B{o['n']},{o['branch']}"

@@ -6,9 +6,10 @@ import math
 
 import pytest
 
-from rotorcontact import Parameters
 from rotorcontact.maps.impact_map import impact_map
 from rotorcontact.continuation.multi_impact_branches import multi_impact_orbits
+from reference_parameters import REF
+
 
 KEYS = {"label", "impacts", "period", "points", "multipliers", "stable", "plausible"}
 POINT_KEYS = {"theta", "rdot", "thetadot", "dt"}
@@ -25,7 +26,7 @@ def test_period_two_orbit_json_contract(cli):
     assert len(orbit["multipliers"]) == 3 and all(len(m) == 2 for m in orbit["multipliers"])
     assert orbit["stable"] is True and orbit["plausible"] is True
     # dt is the time to the next impact, and the points follow each other under P_I
-    p = Parameters.reference().replace(gamma=0.083)
+    p = REF.replace(gamma=0.083)
     for i, q in enumerate(orbit["points"]):
         nxt = orbit["points"][(i + 1) % 2]
         step = impact_map(p, (q["theta"], q["rdot"], q["thetadot"]))

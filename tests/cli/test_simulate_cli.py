@@ -9,26 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from rotorcontact import Parameters, load_machine, simulate
-
-
-TOML_RIG = """\
-mass = 50.0
-damping = 1400.0
-stiffness = 9.8e5
-eccentricity = 0.3e-3
-clearance = 0.7e-3
-rotor_radius = 0.04
-unbalance_phase = 0.21
-speed = 184.2
-friction = 0.15
-restitution = 0.95
-"""
-
-
-def replace_line(text, key, new_line):
-    lines = [new_line if line.split("=")[0].strip() == key else line for line in text.splitlines()]
-    return "\n".join(lines) + "\n"
+from rotorcontact import load_machine, simulate
+from reference_parameters import REF, REF_MACHINE_TOML, replace_line
 
 
 # ---------------------------------------------------------------------------
@@ -81,20 +63,20 @@ def machine_file(tmp_path, text, name="machine.toml"):
 
 BAD_MACHINES = [
     # file text, strings the message must contain
-    (TOML_RIG + "colour = 1.0\n", ["colour", "unknown"]),
-    ("\n".join(TOML_RIG.splitlines()[1:]) + "\n", ["'mass'", "missing"]),
+    (REF_MACHINE_TOML + "colour = 1.0\n", ["colour", "unknown"]),
+    ("\n".join(REF_MACHINE_TOML.splitlines()[1:]) + "\n", ["'mass'", "missing"]),
     ("mass = \n", ["malformed"]),
     ("[machine\n", ["malformed"]),
-    (replace_line(TOML_RIG, "mass", 'mass = "heavy"'), ["mass", "'heavy'"]),
-    (replace_line(TOML_RIG, "mass", "mass = 0.0"), ["mass", "0.0", "(0, inf)"]),
-    (replace_line(TOML_RIG, "mass", "mass = nan"), ["mass", "nan"]),
-    (replace_line(TOML_RIG, "stiffness", "stiffness = -1.0"), ["stiffness", "-1.0"]),
-    (replace_line(TOML_RIG, "clearance", "clearance = 0"), ["clearance", "0"]),
-    (replace_line(TOML_RIG, "speed", "speed = -184.2"), ["speed", "-184.2"]),
-    (replace_line(TOML_RIG, "restitution", "restitution = 1.2"), ["restitution", "1.2", "[0, 1]"]),
-    (replace_line(TOML_RIG, "friction", "friction = -0.1"), ["friction", "-0.1"]),
-    (replace_line(TOML_RIG, "eccentricity", "eccentricity = -1e-4"), ["eccentricity", "-0.0001"]),
-    (replace_line(TOML_RIG, "damping", "damping = inf"), ["damping", "inf"]),
+    (replace_line(REF_MACHINE_TOML, "mass", 'mass = "heavy"'), ["mass", "'heavy'"]),
+    (replace_line(REF_MACHINE_TOML, "mass", "mass = 0.0"), ["mass", "0.0", "(0, inf)"]),
+    (replace_line(REF_MACHINE_TOML, "mass", "mass = nan"), ["mass", "nan"]),
+    (replace_line(REF_MACHINE_TOML, "stiffness", "stiffness = -1.0"), ["stiffness", "-1.0"]),
+    (replace_line(REF_MACHINE_TOML, "clearance", "clearance = 0"), ["clearance", "0"]),
+    (replace_line(REF_MACHINE_TOML, "speed", "speed = -184.2"), ["speed", "-184.2"]),
+    (replace_line(REF_MACHINE_TOML, "restitution", "restitution = 1.2"), ["restitution", "1.2", "[0, 1]"]),
+    (replace_line(REF_MACHINE_TOML, "friction", "friction = -0.1"), ["friction", "-0.1"]),
+    (replace_line(REF_MACHINE_TOML, "eccentricity", "eccentricity = -1e-4"), ["eccentricity", "-0.0001"]),
+    (replace_line(REF_MACHINE_TOML, "damping", "damping = inf"), ["damping", "inf"]),
 ]
 
 
@@ -132,7 +114,7 @@ def test_bad_input_through_the_installed_command(argv, needles, cli):
 
 
 def test_bad_machine_file_through_the_installed_command(tmp_path, cli):
-    path = machine_file(tmp_path, replace_line(TOML_RIG, "restitution", "restitution = -0.5"))
+    path = machine_file(tmp_path, replace_line(REF_MACHINE_TOML, "restitution", "restitution = -0.5"))
     code, out, err = cli.exe("simulate", "--machine", str(path))
     assert code == 2 and "restitution" in err and "-0.5" in err and "Traceback" not in err
 
@@ -150,7 +132,7 @@ def test_undamped_resonance_is_not_a_traceback(cli):
 
 
 def test_machine_with_underflowing_groups_is_not_a_traceback(tmp_path, cli):
-    path = machine_file(tmp_path, replace_line(TOML_RIG, "speed", "speed = 1e-170"))
+    path = machine_file(tmp_path, replace_line(REF_MACHINE_TOML, "speed", "speed = 1e-170"))
     code, out, err = cli.exe("simulate", "--machine", str(path), "--t-end", "1")
     assert "Traceback" not in err
     assert code == 2
@@ -167,7 +149,7 @@ def test_equals_form_with_negative_values(cli):
     data = cli.loads(out)
     assert data["initial_state"]["du0"] == [-1.2, 0.4]
     assert data["initial_state"]["u0"] == [-0.2, 0.1]
-    p = Parameters.reference().replace(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     traj = simulate(p, -0.2 + 0.1j, -1.2 + 0.4j, 20.0)
     assert [row["t"] for row in data["impacts"]] == list(traj.impacts.t)
 
@@ -183,11 +165,11 @@ def test_equals_form_through_the_installed_command(cli):
 def test_default_parameters_are_the_reference_machine(cli):
     code, out, err = cli.run("simulate", "--t-end=5", "--json")
     assert code == 0
-    assert cli.loads(out)["parameters"] == Parameters.reference().as_dict()
+    assert cli.loads(out)["parameters"] == REF.as_dict()
 
 
 def test_machine_file_and_overrides(tmp_path, cli):
-    path = machine_file(tmp_path, TOML_RIG.replace("damping = 1400.0", "damping = 921.0"))
+    path = machine_file(tmp_path, REF_MACHINE_TOML.replace("damping = 1400.0", "damping = 921.0"))
     code, out, err = cli.run("simulate", "--machine", str(path), "--t-end=30", "--json")
     assert code == 0, err
     data = cli.loads(out)
@@ -259,7 +241,7 @@ def test_json_contract_in_process(argv, args, cli):
     assert code == 0, err
     data = cli.loads(out)
     gamma, u0, du0, t_end = args
-    traj = simulate(Parameters.reference().replace(gamma=gamma), u0, du0, t_end)
+    traj = simulate(REF.replace(gamma=gamma), u0, du0, t_end)
     check_contract(data, traj)
 
 
@@ -268,7 +250,7 @@ def test_json_contract_at_chatter(cli):
     assert code == 0, err
     data = cli.loads(out)
     assert data["status"] == "chatter"
-    traj = simulate(Parameters.reference().replace(gamma=0.2), 0j, 0j, 100.0, on_chatter="stop")
+    traj = simulate(REF.replace(gamma=0.2), 0j, 0j, 100.0, on_chatter="stop")
     check_contract(data, traj)
 
 
@@ -276,7 +258,7 @@ def test_json_contract_through_the_installed_command(tmp_path, cli):
     code, out, err = cli.exe("simulate", "--gamma", "0.1", "--t-end", "300", "--json", cwd=tmp_path)
     assert code == 0, err
     data = cli.loads(out)
-    check_contract(data, simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, 300.0))
+    check_contract(data, simulate(REF.replace(gamma=0.1), 0j, 0j, 300.0))
     assert data["summary"]["motion"] == "periodic-impacting"
     assert data["summary"]["impacts_per_period"] == 1
     # theta is wrapped to (-pi, pi] over a long sequence
@@ -299,7 +281,7 @@ def test_json_of_a_long_run_is_proportionate(cli):
     code, out, err = cli.run("simulate", "--gamma=0.1", "--t-end=3000", "--json")
     assert code == 0, err
     data = cli.loads(out)
-    traj = simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, 3000.0)
+    traj = simulate(REF.replace(gamma=0.1), 0j, 0j, 3000.0)
     n = len(traj.impacts)
     assert n > 1000
     assert set(data) == SMALL_RUN_KEYS | {"impacts_total", "impacts_truncated"}

@@ -8,31 +8,19 @@ MODEL.md and the scales m c_r Omega^2 (force), m c_r Omega (impulse) and c_r Ome
 from __future__ import annotations
 
 import math
-import subprocess
 
 import numpy as np
 import pytest
 
-from rotorcontact import Parameters, load_machine, simulate
+from rotorcontact import load_machine, simulate
+from reference_parameters import REF, REF_MACHINE_TOML, replace_line
+
 
 KINDS = {"sliding-forward", "rolling", "sliding-backward"}
 REGIMES = {"no-contact", "periodic-impacting", "irregular-impacting", "forward-rub", "backward-whirl", "mixed"}
 
 # the reference rig with the bearing damping lowered to c = 460.5 N s/m (gamma = c / (m Omega) = 0.05)
-TOML_LOW_DAMPING = """\
-mass = 50.0
-damping = 460.5
-stiffness = 9.8e5
-eccentricity = 0.3e-3
-clearance = 0.7e-3
-rotor_radius = 0.04
-unbalance_phase = 0.21
-speed = 184.2
-friction = 0.15
-restitution = 0.95
-"""
-
-
+TOML_LOW_DAMPING = replace_line(REF_MACHINE_TOML, "damping", "damping = 460.5")
 
 
 def normal(p, theta, thetadot):
@@ -70,7 +58,7 @@ def test_json_contact_intervals_and_regime(d, regime, kinds, cli):
     assert data["summary"]["regime"] == regime
     assert data["summary"]["regime"] in REGIMES
     assert ci[-1]["t_end"] == 120.0
-    traj = simulate(Parameters.reference().replace(gamma=0.05, d=float(d)), 0.5, 0.8 + 0.3j, 120.0)
+    traj = simulate(REF.replace(gamma=0.05, d=float(d)), 0.5, 0.8 + 0.3j, 120.0)
     assert ci == [c.to_dict() for c in traj.contact_intervals]
     # every impact comes before the contact
     assert all(row["t"] <= ci[0]["t_start"] for row in data["impacts"])
@@ -92,7 +80,7 @@ def test_json_chatter_stop_has_the_regime_key(cli):
     assert data["status"] == "chatter"
     assert "regime" in data["summary"]
     assert data["contact_intervals"] == []
-    traj = simulate(Parameters.reference().replace(gamma=0.05, d=0.5), 0.5, 0.8 + 0.3j, 120.0)
+    traj = simulate(REF.replace(gamma=0.05, d=0.5), 0.5, 0.8 + 0.3j, 120.0)
     assert data["t_stop"] == pytest.approx(traj.contact_intervals[0].t_start, abs=1e-12)
 
 
@@ -172,14 +160,10 @@ def test_json_with_the_reference_machine(cli):
 
 
 def test_json_contact_through_the_installed_command(tmp_path, cli):
-    assert cli.exe_path.exists(), cli.exe_path
-    proc = subprocess.run(
-        [str(cli.exe_path), "simulate", "--gamma", "0.05", "--u0", "0.5,0", "--du0", "0.8,0.3", "--t-end", "60",
-         "--on-chatter", "contact", "--json"],
-        capture_output=True, text=True, timeout=120, cwd=tmp_path,
-    )
-    assert proc.returncode == 0, proc.stderr
-    data = cli.loads(proc.stdout)
+    code, out, err = cli.exe("simulate", "--gamma", "0.05", "--u0", "0.5,0", "--du0", "0.8,0.3", "--t-end", "60",
+                             "--on-chatter", "contact", "--json", cwd=tmp_path)
+    assert code == 0, err
+    data = cli.loads(out)
     ci = check_intervals(data)
     assert [row["kind"] for row in ci] == ["sliding-forward", "rolling"]
     assert data["summary"]["regime"] == "backward-whirl"

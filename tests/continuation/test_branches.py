@@ -18,21 +18,16 @@ import numpy as np
 import pytest
 from scipy.optimize import fsolve
 
-from rotorcontact import ParameterError, Parameters, simulate
+from rotorcontact import ParameterError, simulate
 from rotorcontact.maps import impact_map as im
 from rotorcontact.continuation.branches import EVENT_TYPES, orbit_branches
 from rotorcontact.analysis.equilibria import boundary_gamma
-
-REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
-
-
-def P(**kw) -> Parameters:
-    return Parameters(**{**REF, **kw})
+from reference_parameters import REF
 
 
 @pytest.fixture(scope="module")
 def ref_branches():
-    return orbit_branches(P(gamma=0.1), "gamma", -0.6, 0.25)
+    return orbit_branches(REF.replace(gamma=0.1), "gamma", -0.6, 0.25)
 
 
 def angle_diff(a: float, b: float) -> float:
@@ -137,7 +132,7 @@ def test_multipliers_match_finite_differences(ref_branches):
         b = ref_branches.branch(label)
         idx = [i for i in range(len(b.values)) if b.plausible[i] and 0.08 < b.values[i] < 0.17]
         for i in idx[:: max(1, len(idx) // 3)]:
-            p = P(gamma=float(b.values[i]))
+            p = REF.replace(gamma=float(b.values[i]))
             x = np.array([b.theta[i], b.rdot[i], b.thetadot[i]])
             fd = fd_jacobian(p, x, 1e-5 * max(1e-2, b.rdot[i]))
             _, jac, _ = im.impact_map_jacobian(p, x, float(b.T[i]), law=im.IDEAL)
@@ -154,7 +149,7 @@ def test_a_stable_branch_point_is_the_attractor_of_a_long_simulation(ref_branche
     b = ref_branches.branch("B1,d")
     i = min((i for i in range(len(b.values)) if b.stable[i] is True and b.plausible[i]),
             key=lambda i: abs(b.values[i] - 0.13))
-    p = P(gamma=float(b.values[i]))
+    p = REF.replace(gamma=float(b.values[i]))
     x = np.array([b.theta[i], b.rdot[i], b.thetadot[i]])
     u0, du0 = im.post_impact_state(p, x)
     traj = simulate(p, 0.97 * u0, du0 + 0.05, 800.0)
@@ -179,12 +174,12 @@ def test_headline_values_at_the_reference(ref_branches):
 
 
 def test_headline_values_at_omega_exactly_076():
-    b = orbit_branches(P(gamma=0.1, omega=0.76), "gamma", 0.05, 0.2, t_max=4.0)
+    b = orbit_branches(REF.replace(gamma=0.1, omega=0.76), "gamma", 0.05, 0.2, t_max=4.0)
     fold = events(b, "fold", "B1,a")
     nsfh = events(b, "nsfh", "B1,b")
     assert len(fold) == 1 and abs(fold[0].value - 0.178) < 5e-3
     assert len(nsfh) == 1 and abs(nsfh[0].value - 0.072) < 5e-3
-    assert abs(nsfh[0].value - boundary_gamma(P(gamma=0.1, omega=0.76))) < 1e-8
+    assert abs(nsfh[0].value - boundary_gamma(REF.replace(gamma=0.1, omega=0.76))) < 1e-8
 
 
 def test_event_types_are_the_documented_ones(ref_branches):
@@ -197,7 +192,7 @@ def test_folds_are_double_zeros_of_f1(ref_branches):
     assert len(folds) >= 4
     for e in folds:
         def eqs(z):
-            p = P(gamma=z[1])
+            p = REF.replace(gamma=z[1])
             return [im.f1(p, z[0]), im.f1_derivative(p, z[0])]
 
         sol = fsolve(eqs, [e.T + 1e-3, e.value + 1e-4], xtol=1e-12)
@@ -208,7 +203,7 @@ def test_folds_are_double_zeros_of_f1(ref_branches):
 
 
 def test_nsfh_is_at_the_boundary_equilibrium(ref_branches):
-    gs = boundary_gamma(P(gamma=0.1))
+    gs = boundary_gamma(REF.replace(gamma=0.1))
     nsfh = events(ref_branches, "nsfh")
     positive = [e for e in nsfh if e.value > 0]
     assert {lab for e in positive for lab in e.orbits} == {"B1,a", "B1,b"}
@@ -221,53 +216,53 @@ def test_grazing_of_b1d_has_its_interior_maximum_on_the_clearance(ref_branches):
     graz = events(ref_branches, "grazing", "B1,d")
     assert len(graz) == 1
     e = graz[0]
-    o = orbit_with_label(P(gamma=e.value), "B1,d")
+    o = orbit_with_label(REF.replace(gamma=e.value), "B1,d")
     ext = im.flight_extrema(o.params, o.state, o.T)
     assert abs(ext.r_max - 1.0) < 1e-8
     # below it the orbit crosses the clearance, above it stays inside
-    assert orbit_with_label(P(gamma=e.value - 1e-4), "B1,d").plausible is False
-    assert orbit_with_label(P(gamma=e.value + 1e-4), "B1,d").plausible is True
+    assert orbit_with_label(REF.replace(gamma=e.value - 1e-4), "B1,d").plausible is False
+    assert orbit_with_label(REF.replace(gamma=e.value + 1e-4), "B1,d").plausible is True
 
 
 def test_period_doubling_has_a_multiplier_at_minus_one(ref_branches):
     pd = events(ref_branches, "period-doubling", "B1,d")
     pd = [e for e in pd if e.value > 0]
     assert len(pd) == 1
-    o = orbit_with_label(P(gamma=pd[0].value), "B1,d")
+    o = orbit_with_label(REF.replace(gamma=pd[0].value), "B1,d")
     res = im.impact_map(o.params, o.state, jacobian=True)
     ev = np.linalg.eigvals(res.jacobian)
     assert np.min(np.abs(ev + 1.0)) < 1e-6
     # stable above, unstable below
-    assert orbit_with_label(P(gamma=pd[0].value + 1e-4), "B1,d").stable is True
-    assert orbit_with_label(P(gamma=pd[0].value - 1e-4), "B1,d").stable is False
+    assert orbit_with_label(REF.replace(gamma=pd[0].value + 1e-4), "B1,d").stable is True
+    assert orbit_with_label(REF.replace(gamma=pd[0].value - 1e-4), "B1,d").stable is False
 
 
 def test_extrema_change_is_where_the_count_changes(ref_branches):
     changes = events(ref_branches, "extrema-change", "B1,d")
     assert len(changes) == 1
     v = changes[0].value
-    below = orbit_with_label(P(gamma=v - 1e-6), "B1,d").interior_extrema
-    above = orbit_with_label(P(gamma=v + 1e-6), "B1,d").interior_extrema
+    below = orbit_with_label(REF.replace(gamma=v - 1e-6), "B1,d").interior_extrema
+    above = orbit_with_label(REF.replace(gamma=v + 1e-6), "B1,d").interior_extrema
     assert below != above
 
 
 def test_ac_coalescence_is_a_double_root_at_negative_gamma(ref_branches):
     ac = events(ref_branches, "ac-coalescence")
     assert len(ac) == 1 and ac[0].value < 0 and set(ac[0].orbits) == {"B1,a", "B1,c"}
-    p = P(gamma=ac[0].value)
+    p = REF.replace(gamma=ac[0].value)
     zero = min(im.f1_zeros(p, 12.0), key=lambda z: abs(z.T - ac[0].T))
     q = (1 + p.d) * complex(1, p.mu)
     a12 = im.a_matrix(p, zero.T)[0, 1]
     disc, _ = im.rdot_roots(p, zero.T)
     assert abs(disc) < 1e-8 * (q * a12).real ** 2
     # real roots on one side, none on the other
-    assert len(im.rdot_roots(P(gamma=ac[0].value + 1e-4), zero.T)[1]) == 2
-    assert im.one_impact_orbits(P(gamma=ac[0].value - 1e-3), 1.0) == ()
+    assert len(im.rdot_roots(REF.replace(gamma=ac[0].value + 1e-4), zero.T)[1]) == 2
+    assert im.one_impact_orbits(REF.replace(gamma=ac[0].value - 1e-3), 1.0) == ()
 
 
 def test_nsfh_against_omega_is_where_k_has_modulus_one():
-    gamma, rho = 0.1, REF["rho"]
-    b = orbit_branches(P(gamma=gamma), "omega", 0.7, 0.9, t_max=4.0, n_seeds=5)
+    gamma, rho = 0.1, REF.rho
+    b = orbit_branches(REF.replace(gamma=gamma), "omega", 0.7, 0.9, t_max=4.0, n_seeds=5)
     nsfh = events(b, "nsfh")
     omega_star = math.sqrt(1.0 - math.sqrt(rho**2 - gamma**2))
     assert nsfh and all(abs(e.value - omega_star) < 1e-8 for e in nsfh)
@@ -303,4 +298,4 @@ def test_bad_input_is_rejected(kw):
     args = dict(param="gamma", start=0.0, stop=0.2)
     args.update(kw)
     with pytest.raises(ParameterError):
-        orbit_branches(P(gamma=0.1), **args)
+        orbit_branches(REF.replace(gamma=0.1), **args)

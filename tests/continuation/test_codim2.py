@@ -14,25 +14,20 @@ import math
 import numpy as np
 import pytest
 
-from rotorcontact import ParameterError, Parameters
+from rotorcontact import ParameterError
 from rotorcontact.maps import impact_map as im
 from rotorcontact.continuation.branches import orbit_branches
 from rotorcontact.continuation.codim2 import classify_plane, codim2_diagram, dib_curve, fold_curve, region
-
-REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
-
-
-def P(**kw) -> Parameters:
-    return Parameters(**{**REF, **kw})
+from reference_parameters import REF
 
 
-def gamma_dib(omega: float, rho: float = REF["rho"]) -> float:
+def gamma_dib(omega: float, rho: float = REF.rho) -> float:
     return math.sqrt(max(0.0, rho**2 - (1.0 - omega**2) ** 2))
 
 
 @pytest.fixture(scope="module")
 def diagram():
-    return codim2_diagram(P(gamma=0.1), ("gamma", "omega"), ((0.0, 0.5), (0.6, 1.25)))
+    return codim2_diagram(REF.replace(gamma=0.1), ("gamma", "omega"), ((0.0, 0.5), (0.6, 1.25)))
 
 
 def test_dib_curve_is_gamma_dib_of_omega(diagram):
@@ -41,25 +36,25 @@ def test_dib_curve_is_gamma_dib_of_omega(diagram):
     assert len(xy) > 20
     for g, w in xy:
         # gamma^2 + (1 - omega^2)^2 = rho^2, i.e. gamma = gamma_DIB(omega) (|k| = 1)
-        assert abs(g**2 + (1.0 - w**2) ** 2 - REF["rho"] ** 2) < 1e-12
+        assert abs(g**2 + (1.0 - w**2) ** 2 - REF.rho ** 2) < 1e-12
         if g > 1e-3:
             assert abs(g - gamma_dib(w)) < 1e-10
     # the whole arc in the box: from omega = sqrt(1 - rho) to sqrt(1 + rho) at gamma = 0, through (rho, 1)
-    assert xy[:, 0].max() == pytest.approx(REF["rho"], abs=1e-4)
-    assert sorted(xy[[0, -1], 1]) == pytest.approx([math.sqrt(1 - REF["rho"]), math.sqrt(1 + REF["rho"])], abs=1e-9)
+    assert xy[:, 0].max() == pytest.approx(REF.rho, abs=1e-4)
+    assert sorted(xy[[0, -1], 1]) == pytest.approx([math.sqrt(1 - REF.rho), math.sqrt(1 + REF.rho)], abs=1e-9)
 
 
 def test_fold_curve_is_a_double_zero_of_f1(diagram):
     curve = diagram.curves["fold_1"]
     assert len(curve.pieces) == 1
     for T, g, w in curve.pieces[0]:
-        p = P(gamma=g, omega=w)
+        p = REF.replace(gamma=g, omega=w)
         assert abs(im.f1(p, T)) < 1e-10 and abs(im.f1_derivative(p, T)) < 1e-8
     # it spans the box in omega and passes the one-parameter fold at the reference omega
     xy = curve.xy()
     assert xy[:, 1].min() == pytest.approx(0.6) and xy[:, 1].max() == pytest.approx(1.25)
-    g_ref = np.interp(REF["omega"], xy[:, 1], xy[:, 0])
-    fold = [e for e in orbit_branches(P(gamma=0.1), "gamma", 0.15, 0.2, t_max=3.0, n_seeds=3).events
+    g_ref = np.interp(REF.omega, xy[:, 1], xy[:, 0])
+    fold = [e for e in orbit_branches(REF.replace(gamma=0.1), "gamma", 0.15, 0.2, t_max=3.0, n_seeds=3).events
             if e.type == "fold"]
     assert fold and abs(fold[0].value - g_ref) < 1e-5
 
@@ -70,11 +65,11 @@ def test_fold_dib_points_satisfy_both_curve_equations(diagram):
     for pt in pts:
         g, w = pt.values
         assert abs(g - gamma_dib(w)) < 1e-9
-        p = P(gamma=g, omega=w)
+        p = REF.replace(gamma=g, omega=w)
         assert abs(im.f1(p, pt.T)) < 1e-10 and abs(im.f1_derivative(p, pt.T)) < 1e-8
         # the pair n = 1 merges there: it exists just below gamma, not just above
-        assert any(z.n == 1 for z in im.f1_zeros(P(gamma=g - 1e-4, omega=w)))
-        assert not any(z.n == 1 for z in im.f1_zeros(P(gamma=g + 1e-4, omega=w)))
+        assert any(z.n == 1 for z in im.f1_zeros(REF.replace(gamma=g - 1e-4, omega=w)))
+        assert not any(z.n == 1 for z in im.f1_zeros(REF.replace(gamma=g + 1e-4, omega=w)))
 
 
 def test_grazing_curve_of_b1d_touches_the_clearance(diagram):
@@ -82,15 +77,15 @@ def test_grazing_curve_of_b1d_touches_the_clearance(diagram):
     rows = np.vstack(curve.pieces)
     assert len(rows) > 10
     for T, rdot, tg, g, w in rows[::4]:
-        o = next(o for o in im.one_impact_orbits(P(gamma=g, omega=w)) if o.label == "B1,d")
+        o = next(o for o in im.one_impact_orbits(REF.replace(gamma=g, omega=w)) if o.label == "B1,d")
         assert abs(o.T - T) < 1e-9 and abs(o.rdot - rdot) < 1e-9
         assert abs(o.r_max_interior - 1.0) < 1e-8
     # at the reference omega it is the grazing point of the B1,d branch
-    b = orbit_branches(P(gamma=0.1), "gamma", 0.05, 0.08, t_max=4.0, n_seeds=3)
+    b = orbit_branches(REF.replace(gamma=0.1), "gamma", 0.05, 0.08, t_max=4.0, n_seeds=3)
     graz = [e for e in b.events if e.type == "grazing"]
     xy = curve.xy()
     order = np.argsort(xy[:, 1])
-    assert abs(np.interp(REF["omega"], xy[order, 1], xy[order, 0]) - graz[0].value) < 1e-5
+    assert abs(np.interp(REF.omega, xy[order, 1], xy[order, 0]) - graz[0].value) < 1e-5
 
 
 def test_grazing_dib_point_is_on_both_curves(diagram):
@@ -105,7 +100,7 @@ def test_regions_follow_their_definitions():
     # sample points on either side of the fold and DIB curves at the reference omega
     checks = {}
     for g in (0.03, 0.1, 0.3):
-        p = P(gamma=g)
+        p = REF.replace(gamma=g)
         orbits = [o for o in im.one_impact_orbits(p) if o.n == 1]
         xr_admissible = abs(p.k) < 1.0
         checks[g] = region(p)
@@ -117,11 +112,11 @@ def test_regions_follow_their_definitions():
         else:
             assert checks[g] == "R4" and all(o.admissible for o in orbits)
     assert checks == {0.03: "R1", 0.1: "R4", 0.3: "R3"}
-    assert region(P(gamma=0.3, omega=1.0)) == "R2"
+    assert region(REF.replace(gamma=0.3, omega=1.0)) == "R2"
 
 
 def test_classified_plane_changes_region_on_the_curves(diagram):
-    v1, v2, labels = classify_plane(P(gamma=0.1), ("gamma", "omega"), ((0.0, 0.5), (0.85, 0.95)), (51, 3))
+    v1, v2, labels = classify_plane(REF.replace(gamma=0.1), ("gamma", "omega"), ((0.0, 0.5), (0.85, 0.95)), (51, 3))
     row = labels[1]  # omega = 0.9
     g_dib = gamma_dib(0.9)
     fold = diagram.curves["fold_1"].xy()
@@ -136,11 +131,11 @@ def test_classified_plane_changes_region_on_the_curves(diagram):
 
 
 def test_other_planes_and_json_shape():
-    d = dib_curve(P(gamma=0.1), ("rho", "omega"), ((0.05, 1.0), (0.6, 1.2)))
+    d = dib_curve(REF.replace(gamma=0.1), ("rho", "omega"), ((0.05, 1.0), (0.6, 1.2)))
     for rho, w in d.xy():
         if np.isfinite(rho):
             assert abs(rho**2 - (0.1**2 + (1 - w**2) ** 2)) < 1e-10
-    c, pts = fold_curve(P(gamma=0.1), ("omega", "gamma"), ((0.6, 1.25), (0.0, 0.5)))
+    c, pts = fold_curve(REF.replace(gamma=0.1), ("omega", "gamma"), ((0.6, 1.25), (0.0, 0.5)))
     assert c.xy().shape[1] == 2 and all(len(pair) == 2 for pair in c.to_list() if pair is not None)
     assert {tuple(p.to_dict()) for p in pts} == {("type", "omega", "gamma")}
 
@@ -154,15 +149,15 @@ def test_bad_input_is_rejected(args):
     kw = dict(params2=("gamma", "omega"), ranges=None)
     kw.update(args)
     with pytest.raises(ParameterError):
-        codim2_diagram(P(gamma=0.1), kw["params2"], kw["ranges"])
+        codim2_diagram(REF.replace(gamma=0.1), kw["params2"], kw["ranges"])
 
 
 def test_a_curve_parallel_to_an_axis_is_found_once():
     # F1 does not depend on rho: in the (rho, mu) plane the fold is the line mu = mu_F
-    c, _ = fold_curve(P(gamma=0.1), ("rho", "mu"), ((0.05, 1.0), (0.0, 0.5)))
+    c, _ = fold_curve(REF.replace(gamma=0.1), ("rho", "mu"), ((0.05, 1.0), (0.0, 0.5)))
     assert len(c.pieces) == 1
     xy = c.xy()
     assert xy[:, 0].min() == pytest.approx(0.05) and xy[:, 0].max() == pytest.approx(1.0)
-    fold = [e for e in orbit_branches(P(gamma=0.1), "mu", 0.05, 0.15, t_max=4.0, n_seeds=3).events
+    fold = [e for e in orbit_branches(REF.replace(gamma=0.1), "mu", 0.05, 0.15, t_max=4.0, n_seeds=3).events
             if e.type == "fold"]
     assert fold and np.all(np.abs(xy[:, 1] - fold[0].value) < 1e-8)

@@ -17,12 +17,7 @@ from scipy.optimize import minimize_scalar
 
 from rotorcontact import ParameterError, Parameters, simulate
 from rotorcontact.maps import impact_map as im
-
-REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
-
-
-def P(**kw) -> Parameters:
-    return Parameters(**{**REF, **kw})
+from reference_parameters import REF
 
 
 # ---------------------------------------------------------------------------
@@ -86,9 +81,9 @@ def fd_jacobian(p: Parameters, x: np.ndarray, h: float, law: str) -> tuple[np.nd
 # ---------------------------------------------------------------------------
 
 A_CASES = [
-    P(gamma=0.1),
-    P(gamma=-0.3),
-    P(gamma=0.15, d=1.0, mu=0.0),
+    REF.replace(gamma=0.1),
+    REF.replace(gamma=-0.3),
+    REF.replace(gamma=0.15, d=1.0, mu=0.0),
     Parameters(gamma=1.6, omega=0.7, rho=2.0, mu=0.3, d=0.8, phi=-1.0, r_ratio=20.0),  # overdamped
     Parameters(gamma=1.4, omega=0.7, rho=0.5, mu=0.2, d=0.5),  # critical damping gamma = 2 omega
 ]
@@ -105,15 +100,15 @@ def test_a_matrix_and_f1_match_expm(p, T):
 
 def test_f1_tends_to_its_limit_at_zero_and_one_at_infinity():
     # F1(0+) = 1 - (1 + d)/2 and F1 -> 1 as T -> infinity for gamma > 0
-    p = P(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     assert im.f1(p, 1e-9) == pytest.approx((1.0 - p.d) / 2.0, abs=1e-9)
     assert im.f1(p, 400.0) == pytest.approx(1.0, abs=1e-6)
     # and -> 1 - (1 + d) = -d for gamma < 0
-    assert im.f1(P(gamma=-0.2), 400.0) == pytest.approx(-0.95, abs=1e-6)
+    assert im.f1(REF.replace(gamma=-0.2), 400.0) == pytest.approx(-0.95, abs=1e-6)
 
 
 def test_f1_vectorised_and_derivative_by_finite_differences():
-    p = P(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     T = np.linspace(0.1, 12.0, 37)
     vals = im.f1(p, T)
     assert vals.shape == T.shape
@@ -124,7 +119,7 @@ def test_f1_vectorised_and_derivative_by_finite_differences():
 
 
 def test_a_derivatives_and_fixed_point_residual_jacobian():
-    p = P(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     h = 1e-6
     for T, rdot in [(0.7, 0.1), (2.8, 0.7), (5.0, 0.3)]:
         a12, a22, da12, da22 = im.a_derivatives(p, T)
@@ -169,7 +164,7 @@ def sign_changes_expm(p, t_max, n=6000, t0=0.02):
     [(0.1, 30.0), (0.05, 40.0), (0.03, 30.0), (0.01, 30.0), (0.17, 12.0), (-0.2, 12.0), (0.25, 12.0)],
 )
 def test_every_zero_of_f1_is_found_and_is_a_zero(gamma, t_max):
-    p = P(gamma=gamma)
+    p = REF.replace(gamma=gamma)
     zeros = im.f1_zeros(p, t_max)
     lo, hi = sign_changes_expm(p, t_max)
     # each sign change of the independent F1 on a fine grid holds exactly one reported zero
@@ -184,19 +179,19 @@ def test_every_zero_of_f1_is_found_and_is_a_zero(gamma, t_max):
 
 
 def test_zeros_are_labelled_in_pairs():
-    zeros = im.f1_zeros(P(gamma=0.01), 30.0)
+    zeros = im.f1_zeros(REF.replace(gamma=0.01), 30.0)
     assert [z.kind for z in zeros] == ["a", "b"] * (len(zeros) // 2)
     assert [z.n for z in zeros] == [i // 2 + 1 for i in range(len(zeros))]
     assert all(z1.T < z2.T for z1, z2 in zip(zeros, zeros[1:]))
     # negative damping: F1 -> -d, the last zero has no partner
-    neg = im.f1_zeros(P(gamma=-0.3), 12.0)
+    neg = im.f1_zeros(REF.replace(gamma=-0.3), 12.0)
     assert [(z.n, z.kind) for z in neg] == [(1, "a")]
 
 
 def test_restitution_one_starts_from_the_sign_of_gamma_minus_two_mu():
     # d = 1: F1(0) = 0 and F1 ~ 2 (gamma - 2 mu) T / 12 near 0
     for gamma in (0.1, 0.5):
-        p = P(gamma=gamma, d=1.0)
+        p = REF.replace(gamma=gamma, d=1.0)
         zeros = im.f1_zeros(p, 20.0)
         lo, hi = sign_changes_expm(p, 20.0, t0=1e-3)
         assert len(zeros) == len(lo)
@@ -206,7 +201,7 @@ def test_restitution_one_starts_from_the_sign_of_gamma_minus_two_mu():
 
 
 def _min_f1_expm(gamma):
-    p = P(gamma=gamma)
+    p = REF.replace(gamma=gamma)
     r = minimize_scalar(lambda T: f1_expm(p, T), bounds=(1.0, 2.5), method="bounded", options={"xatol": 1e-12})
     return r.fun, r.x
 
@@ -226,7 +221,7 @@ def test_first_smooth_fold_and_near_merging_zeros():
     t_star = _min_f1_expm(gamma_f)[1]
     # just below the fold both zeros of the pair are reported, however close
     for delta, gap in [(1e-3, 1e-2), (1e-6, 1e-4), (1e-9, 5e-6)]:
-        p = P(gamma=gamma_f - delta)
+        p = REF.replace(gamma=gamma_f - delta)
         zeros = im.f1_zeros(p)
         assert [(z.n, z.kind, z.double) for z in zeros] == [(1, "a", False), (1, "b", False)], delta
         a, b = zeros
@@ -235,12 +230,12 @@ def test_first_smooth_fold_and_near_merging_zeros():
         assert len(im.one_impact_orbits(p)) == 4
     # just above it there is none
     for delta in (1e-9, 1e-6, 1e-3):
-        assert im.f1_zeros(P(gamma=gamma_f + delta)) == ()
+        assert im.f1_zeros(REF.replace(gamma=gamma_f + delta)) == ()
     # the library's own zero count changes at the same gamma
     lo2, hi2 = 0.15, 0.2
     while hi2 - lo2 > 1e-11:
         mid = 0.5 * (lo2 + hi2)
-        if im.f1_zeros(P(gamma=mid)):
+        if im.f1_zeros(REF.replace(gamma=mid)):
             lo2 = mid
         else:
             hi2 = mid
@@ -248,7 +243,7 @@ def test_first_smooth_fold_and_near_merging_zeros():
 
 
 def test_gamma_zero_skips_the_poles_of_f1():
-    p = P(gamma=0.0)
+    p = REF.replace(gamma=0.0)
     zeros = im.f1_zeros(p, 12.0)
     nu = p.omega
     poles = [2 * math.pi * j / (1 + nu) for j in range(1, 4)]
@@ -256,7 +251,7 @@ def test_gamma_zero_skips_the_poles_of_f1():
         assert abs(f1_expm(p, z.T)) < 1e-9
         assert min(abs(z.T - t) for t in poles) > 1e-3
     # the labels are those of gamma -> 0+ (the poles are the limits of the b zeros)
-    small = im.f1_zeros(P(gamma=1e-9), 12.0)
+    small = im.f1_zeros(REF.replace(gamma=1e-9), 12.0)
     assert {(z.n, z.kind) for z in zeros} <= {(z.n, z.kind) for z in small}
 
 
@@ -265,14 +260,14 @@ def test_gamma_zero_skips_the_poles_of_f1():
 # ---------------------------------------------------------------------------
 
 MAP_CASES = [
-    ("slipping", P(gamma=0.1), [0.3, 0.4, -0.2], "slip-bounded", False),
-    ("slow-impact", P(gamma=0.1), [-2.69, 0.0022, -0.00025], "slip-bounded", False),
-    ("sticking", P(gamma=0.1, r_ratio=0.0), [0.5, 0.6, -1.05], "slip-bounded", True),
-    ("slipping-backwards", P(gamma=0.1, r_ratio=0.0), [0.5, 0.3, -1.5], "slip-bounded", False),
-    ("ideal-law", P(gamma=0.1, r_ratio=0.0), [0.5, 0.6, -1.05], "ideal", False),
+    ("slipping", REF.replace(gamma=0.1), [0.3, 0.4, -0.2], "slip-bounded", False),
+    ("slow-impact", REF.replace(gamma=0.1), [-2.69, 0.0022, -0.00025], "slip-bounded", False),
+    ("sticking", REF.replace(gamma=0.1, r_ratio=0.0), [0.5, 0.6, -1.05], "slip-bounded", True),
+    ("slipping-backwards", REF.replace(gamma=0.1, r_ratio=0.0), [0.5, 0.3, -1.5], "slip-bounded", False),
+    ("ideal-law", REF.replace(gamma=0.1, r_ratio=0.0), [0.5, 0.6, -1.05], "ideal", False),
     ("overdamped", Parameters(gamma=1.6, omega=0.7, rho=2.0, mu=0.3, d=0.8, phi=-1.0, r_ratio=20.0),
      [0.2, 0.5, 0.3], "slip-bounded", False),
-    ("negative-gamma", P(gamma=-0.1), [1.0, 0.2, 0.1], "slip-bounded", False),
+    ("negative-gamma", REF.replace(gamma=-0.1), [1.0, 0.2, 0.1], "slip-bounded", False),
 ]
 
 
@@ -291,7 +286,7 @@ def test_jacobian_matches_finite_differences(label, p, x, law, sticks):
 
 
 def test_map_reproduces_one_simulator_step():
-    p = P(gamma=0.12)
+    p = REF.replace(gamma=0.12)
     x = np.array([0.4, 0.3, -0.5])
     res = im.impact_map(p, x)
     u0, du0 = im.post_impact_state(p, x)
@@ -305,7 +300,7 @@ def test_map_reproduces_one_simulator_step():
 
 def test_map_without_an_impact_reports_it():
     # gamma = 0.3: x_R is admissible and stable; after this bounce the flight settles onto it
-    p = P(gamma=0.3)
+    p = REF.replace(gamma=0.3)
     res = im.impact_map(p, [-3.0, 0.3, 0.0], horizon=200.0)
     assert res.status == "no-impact" and res.state is None and res.time is None
     u0, du0 = im.post_impact_state(p, [-3.0, 0.3, 0.0])
@@ -313,7 +308,7 @@ def test_map_without_an_impact_reports_it():
 
 
 def test_bad_input_raises_parameter_error():
-    p = P(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     with pytest.raises(ParameterError):
         im.impact_map(p, [0.0, 0.1])
     with pytest.raises(ParameterError):
@@ -347,7 +342,7 @@ ORBIT_CASES = [(0.1, 12.0), (0.15, 12.0), (0.08, 12.0), (0.05, 40.0), (0.01, 20.
 @pytest.mark.parametrize("gamma,t_max", ORBIT_CASES)
 def test_orbits_solve_the_fixed_point_equations_with_expm(gamma, t_max):
     # e^{AT} (U0 - k, U'+) = (U0 - k, U'-): the flight from the impact returns to it
-    p = P(gamma=gamma)
+    p = REF.replace(gamma=gamma)
     orbits = im.one_impact_orbits(p, t_max)
     assert orbits
     k = p.k
@@ -366,7 +361,7 @@ def test_orbits_solve_the_fixed_point_equations_with_expm(gamma, t_max):
 
 
 def test_orbit_roots_are_ordered_as_in_model():
-    p = P(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     orbits = {o.label: o for o in im.one_impact_orbits(p)}
     assert set(orbits) == {"B1,a", "B1,b", "B1,c", "B1,d"}
     assert orbits["B1,a"].T == orbits["B1,c"].T < orbits["B1,b"].T == orbits["B1,d"].T
@@ -380,7 +375,7 @@ def test_orbit_roots_are_ordered_as_in_model():
 
 def test_complex_roots_give_no_orbit():
     # at gamma = -0.6 the a and c roots have coalesced (MODEL.md §5): a zero of F1 but no orbit
-    p = P(gamma=-0.6)
+    p = REF.replace(gamma=-0.6)
     zeros = im.f1_zeros(p)
     assert len(zeros) == 1
     disc, roots = im.rdot_roots(p, zeros[0].T)
@@ -390,7 +385,7 @@ def test_complex_roots_give_no_orbit():
 
 @pytest.mark.parametrize("gamma,t_max", ORBIT_CASES)
 def test_admissible_orbits_are_fixed_points_of_the_simulator(gamma, t_max):
-    p = P(gamma=gamma)
+    p = REF.replace(gamma=gamma)
     checked = 0
     for o in im.one_impact_orbits(p, t_max):
         if not o.admissible:
@@ -422,7 +417,7 @@ def test_admissible_orbits_are_fixed_points_of_the_simulator(gamma, t_max):
 
 @pytest.mark.parametrize("gamma", [0.1, 0.15, 0.05])
 def test_multipliers_match_finite_differences_of_the_simulated_map(gamma):
-    p = P(gamma=gamma)
+    p = REF.replace(gamma=gamma)
     for o in im.one_impact_orbits(p):
         if not o.plausible:
             continue
@@ -436,7 +431,7 @@ def test_multipliers_match_finite_differences_of_the_simulated_map(gamma):
 
 def test_stable_orbit_is_the_attractor_of_a_long_simulation():
     # reference parameters, gamma = 0.1: from rest the rotor settles onto B1,d (T ~ 2.8635)
-    p = P(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     orbits = {o.label: o for o in im.one_impact_orbits(p)}
     stable = [o for o in orbits.values() if o.plausible and o.stable]
     assert [o.label for o in stable] == ["B1,d"]
@@ -455,7 +450,7 @@ def test_stable_orbit_is_the_attractor_of_a_long_simulation():
 
 
 def test_unstable_orbit_is_left_by_the_simulation():
-    p = P(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     b = {o.label: o for o in im.one_impact_orbits(p)}["B1,b"]
     assert b.plausible and not b.stable and abs(b.multipliers[0]) > 1
     u0, du0 = b.initial_condition()
@@ -466,13 +461,13 @@ def test_unstable_orbit_is_left_by_the_simulation():
 
 def test_small_orbits_shrink_onto_the_boundary_equilibrium_at_gamma_star():
     # NSFH (MODEL.md §5): at gamma* = sqrt(rho^2 - (1 - omega^2)^2), |k| = 1 and rdot of B1,a, B1,b is 0
-    omega, rho = REF["omega"], REF["rho"]
+    omega, rho = REF.omega, REF.rho
     gstar = math.sqrt(rho**2 - (1 - omega**2) ** 2)
     assert abs(gstar - 0.072) < 2e-3
-    at = {o.label: o for o in im.one_impact_orbits(P(gamma=gstar))}
+    at = {o.label: o for o in im.one_impact_orbits(REF.replace(gamma=gstar))}
     assert abs(at["B1,a"].rdot) < 1e-12 and abs(at["B1,b"].rdot) < 1e-12
-    above = {o.label: o for o in im.one_impact_orbits(P(gamma=gstar + 1e-3))}
-    below = {o.label: o for o in im.one_impact_orbits(P(gamma=gstar - 1e-3))}
+    above = {o.label: o for o in im.one_impact_orbits(REF.replace(gamma=gstar + 1e-3))}
+    below = {o.label: o for o in im.one_impact_orbits(REF.replace(gamma=gstar - 1e-3))}
     for lab in ("B1,a", "B1,b"):
         assert above[lab].admissible and not below[lab].admissible
         assert above[lab].rdot < 1e-2 and below[lab].rdot > -1e-2
@@ -490,7 +485,7 @@ def _sampled_extrema(p, o, n=20001):
 
 @pytest.mark.parametrize("gamma,t_max", [(0.05, 40.0), (0.1, 12.0), (0.065, 12.0), (0.0, 12.0)])
 def test_interior_extrema_match_dense_sampling(gamma, t_max):
-    p = P(gamma=gamma)
+    p = REF.replace(gamma=gamma)
     for o in im.one_impact_orbits(p, t_max):
         count, r_max, r_sample_max = _sampled_extrema(p, o)
         assert o.interior_extrema == count, o.label
@@ -505,15 +500,15 @@ def test_interior_extrema_match_dense_sampling(gamma, t_max):
 
 def test_grazing_of_b1d_between_gamma_005_and_0072():
     # MODEL.md Fig. 2(b): B1,d is near grazing at gamma = 0.065; its interior maximum crosses r = 1
-    below = {o.label: o for o in im.one_impact_orbits(P(gamma=0.05))}["B1,d"]
-    above = {o.label: o for o in im.one_impact_orbits(P(gamma=0.072))}["B1,d"]
+    below = {o.label: o for o in im.one_impact_orbits(REF.replace(gamma=0.05))}["B1,d"]
+    above = {o.label: o for o in im.one_impact_orbits(REF.replace(gamma=0.072))}["B1,d"]
     assert below.r_max_interior > 1.0 and not below.plausible
     assert above.r_max_interior < 1.0 and above.plausible
     assert below.interior_extrema == above.interior_extrema == 3
 
 
 def test_flight_extrema_function():
-    p = P(gamma=0.05)
+    p = REF.replace(gamma=0.05)
     d = {o.label: o for o in im.one_impact_orbits(p)}["B1,d"]
     ext = im.flight_extrema(p, d.state, d.T)
     assert ext.count == 3 and list(ext.maxima) == [False, True, False]
@@ -523,7 +518,7 @@ def test_flight_extrema_function():
 
 def test_not_slipping_orbits_are_not_plausible():
     # without the rotor's surface speed (r_ratio = 0) some impacts would reverse v_rel = 1 + thetadot
-    p = P(gamma=0.1, r_ratio=0.0)
+    p = REF.replace(gamma=0.1, r_ratio=0.0)
     orbits = im.one_impact_orbits(p)
     assert orbits
     for o in orbits:
@@ -537,7 +532,7 @@ def test_not_slipping_orbits_are_not_plausible():
 def test_an_orbit_whose_friction_would_reverse_is_neither_stable_nor_plausible(r_ratio):
     # below r_ratio ~ 0.37 the relative surface velocity at the impact of B1,d is at most
     # mu (1 + d) rdot-: the law of F1 would reverse the slip, the simulator's friction stops at v_rel = 0
-    p = P(gamma=0.1, r_ratio=r_ratio)
+    p = REF.replace(gamma=0.1, r_ratio=r_ratio)
     d = {o.label: o for o in im.one_impact_orbits(p)}["B1,d"]
     assert d.admissible and r_ratio + 1.0 + d.thetadot <= p.mu * (1 + p.d) * d.rdot
     assert d.friction_reverses is True
@@ -547,7 +542,7 @@ def test_an_orbit_whose_friction_would_reverse_is_neither_stable_nor_plausible(r
 
 
 def test_at_the_reference_friction_never_reverses():
-    orbits = im.one_impact_orbits(P(gamma=0.1))
+    orbits = im.one_impact_orbits(REF.replace(gamma=0.1))
     assert orbits and not any(o.friction_reverses for o in orbits)
     d = {o.label: o for o in orbits}["B1,d"]
     assert d.stable is True and d.plausible
@@ -559,10 +554,10 @@ def test_at_the_reference_friction_never_reverses():
 # ---------------------------------------------------------------------------
 
 BOUND_CASES = [
-    P(gamma=0.1),
-    P(gamma=0.01),
-    P(gamma=-0.4),
-    P(gamma=0.15, d=1.0),
+    REF.replace(gamma=0.1),
+    REF.replace(gamma=0.01),
+    REF.replace(gamma=-0.4),
+    REF.replace(gamma=0.15, d=1.0),
     Parameters(gamma=1.6, omega=0.7, rho=2.0, mu=0.3, d=0.8),
     Parameters(gamma=1.4, omega=0.7, rho=0.5, mu=0.2, d=0.5),
 ]
@@ -602,7 +597,7 @@ def test_g_is_f1_times_a_positive_factor(p):
 
 
 def test_second_derivative_bound_of_r_rdot_holds():
-    p = P(gamma=0.05)
+    p = REF.replace(gamma=0.05)
     k = p.k
     for o in im.one_impact_orbits(p, 40.0):
         u0, du0 = o.initial_condition()

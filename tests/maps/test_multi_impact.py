@@ -26,8 +26,9 @@ from rotorcontact.maps.multi_impact import (
     periodic_residual,
     solve_multi_impact,
 )
+from reference_parameters import REF
 
-REF = Parameters.reference()
+
 GAMMA = 0.083  # between the end of the period-2 branch (grazing) and the period doubling
 
 

@@ -12,23 +12,23 @@ from scipy.integrate import solve_ivp
 
 from rotorcontact import Parameters, free_flight, to_inertial
 from rotorcontact.model.flow import equilibrium_point
+from reference_parameters import REF_VALUES
 
-REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
 
 TIMES = [0.0, 1e-9, 0.013, 0.3, 1.0, 2.7, 6.4, 13.0, 31.7, 50.0]
 
 FLOWS = [
     # (label, parameters, u0, du0)
-    ("reference-gamma0.1", dict(REF, gamma=0.1), 0.0, 0.0),
-    ("undamped", dict(REF, gamma=0.0), 0.3 - 0.4j, 1.1 + 0.2j),
-    ("negative-damping", dict(REF, gamma=-0.05), 0.1j, -0.3 + 0.2j),
-    ("stiff", dict(REF, gamma=0.4, omega=2.7, rho=1.3, phi=-2.0), -0.5 + 0.5j, 2.0 - 1.0j),
-    ("soft", dict(REF, gamma=0.05, omega=0.06, rho=0.01, phi=3.0), 0.9, 0.0),
-    ("overdamped", dict(REF, gamma=2.0), 0.2 + 0.1j, -1.0 + 0.5j),
-    ("strongly-overdamped", dict(REF, gamma=3.0, omega=0.3, rho=1.7, phi=1.0), 0.7j, 3.0),
-    ("near-critical-below", dict(REF, gamma=2 * 0.76 * (1 - 1e-9), omega=0.76), 0.4, 0.3j),
-    ("near-critical-above", dict(REF, gamma=2 * 0.76 * (1 + 1e-9), omega=0.76), 0.4, 0.3j),
-    ("near-critical-1e-5", dict(REF, gamma=2 * 0.76 * (1 + 1e-5), omega=0.76), -0.4, 0.3 + 1j),
+    ("reference-gamma0.1", dict(REF_VALUES, gamma=0.1), 0.0, 0.0),
+    ("undamped", dict(REF_VALUES, gamma=0.0), 0.3 - 0.4j, 1.1 + 0.2j),
+    ("negative-damping", dict(REF_VALUES, gamma=-0.05), 0.1j, -0.3 + 0.2j),
+    ("stiff", dict(REF_VALUES, gamma=0.4, omega=2.7, rho=1.3, phi=-2.0), -0.5 + 0.5j, 2.0 - 1.0j),
+    ("soft", dict(REF_VALUES, gamma=0.05, omega=0.06, rho=0.01, phi=3.0), 0.9, 0.0),
+    ("overdamped", dict(REF_VALUES, gamma=2.0), 0.2 + 0.1j, -1.0 + 0.5j),
+    ("strongly-overdamped", dict(REF_VALUES, gamma=3.0, omega=0.3, rho=1.7, phi=1.0), 0.7j, 3.0),
+    ("near-critical-below", dict(REF_VALUES, gamma=2 * 0.76 * (1 - 1e-9), omega=0.76), 0.4, 0.3j),
+    ("near-critical-above", dict(REF_VALUES, gamma=2 * 0.76 * (1 + 1e-9), omega=0.76), 0.4, 0.3j),
+    ("near-critical-1e-5", dict(REF_VALUES, gamma=2 * 0.76 * (1 + 1e-5), omega=0.76), -0.4, 0.3 + 1j),
 ]
 
 

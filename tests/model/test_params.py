@@ -8,33 +8,9 @@ import math
 import pytest
 
 from rotorcontact import Machine, ParameterError, Parameters, load_machine, reference_machine
+from reference_parameters import REF, REF_MACHINE, REF_MACHINE_TOML, REF_VALUES, replace_line
 
-RIG = dict(
-    mass=50.0,
-    damping=1400.0,
-    stiffness=9.8e5,
-    eccentricity=0.3e-3,
-    clearance=0.7e-3,
-    rotor_radius=0.04,
-    unbalance_phase=0.21,
-    speed=184.2,
-    friction=0.15,
-    restitution=0.95,
-)
 PARAMS = dict(gamma=0.1, omega=0.76, rho=0.4, mu=0.15, d=0.95, phi=0.21, r_ratio=57.0)
-
-TOML_RIG = """\
-mass = 50.0
-damping = 1400.0
-stiffness = 9.8e5
-eccentricity = 0.3e-3
-clearance = 0.7e-3
-rotor_radius = 0.04
-unbalance_phase = 0.21
-speed = 184.2
-friction = 0.15
-restitution = 0.95
-"""
 
 
 def write(tmp_path, text, name="machine.toml", mode="w"):
@@ -46,11 +22,6 @@ def write(tmp_path, text, name="machine.toml", mode="w"):
     return path
 
 
-def replace_line(text, key, new_line):
-    lines = [new_line if line.split("=")[0].strip() == key else line for line in text.splitlines()]
-    return "\n".join(lines) + "\n"
-
-
 # ---------------------------------------------------------------------------
 # conversion
 # ---------------------------------------------------------------------------
@@ -58,12 +29,12 @@ def replace_line(text, key, new_line):
 
 def test_reference_machine_is_the_rig_of_the_model():
     m = reference_machine()
-    assert m.as_dict() == RIG
+    assert m.as_dict() == REF_MACHINE
 
 
 def test_machine_to_parameters_by_hand():
-    p = Machine(**RIG).parameters()
-    m, c, k, e, cr, R, ph, Om, mu, d = (RIG[n] for n in RIG)
+    p = Machine(**REF_MACHINE).parameters()
+    m, c, k, e, cr, R, ph, Om, mu, d = (REF_MACHINE[n] for n in REF_MACHINE)
     assert p.gamma == pytest.approx(c / (m * Om), rel=1e-15)
     assert p.omega == pytest.approx(math.sqrt(k / (m * Om**2)), rel=1e-15)
     assert p.rho == pytest.approx(e / cr, rel=1e-15)
@@ -75,10 +46,12 @@ def test_machine_to_parameters_by_hand():
     assert p.rho == pytest.approx(3 / 7, rel=1e-15)
     assert p.r_ratio == pytest.approx(57.142857, rel=1e-6)
     assert Parameters.reference() == p
+    # the numbers the tests use for the reference set
+    assert p == REF and p.as_dict() == REF_VALUES
 
 
 def test_another_machine_by_hand():
-    data = dict(RIG, mass=12.0, damping=300.0, stiffness=2.0e5, eccentricity=1e-4, clearance=5e-4,
+    data = dict(REF_MACHINE, mass=12.0, damping=300.0, stiffness=2.0e5, eccentricity=1e-4, clearance=5e-4,
                 rotor_radius=0.02, unbalance_phase=-1.0, speed=100.0, friction=0.3, restitution=0.5)
     p = Machine(**data).parameters()
     assert p.gamma == pytest.approx(300.0 / (12.0 * 100.0), rel=1e-15)
@@ -92,12 +65,13 @@ def test_another_machine_by_hand():
 
 
 def test_scales_si():
-    m = Machine(**RIG)
-    assert m.length_scale == RIG["clearance"]
-    assert m.time_scale == pytest.approx(1 / RIG["speed"], rel=1e-15)
-    assert m.force_scale == pytest.approx(RIG["mass"] * RIG["clearance"] * RIG["speed"] ** 2, rel=1e-15)
-    assert m.impulse_scale == pytest.approx(RIG["mass"] * RIG["clearance"] * RIG["speed"], rel=1e-15)
-    assert set(Machine.units()) == set(RIG)
+    m = Machine(**REF_MACHINE)
+    mass, clearance, speed = REF_MACHINE["mass"], REF_MACHINE["clearance"], REF_MACHINE["speed"]
+    assert m.length_scale == clearance
+    assert m.time_scale == pytest.approx(1 / speed, rel=1e-15)
+    assert m.force_scale == pytest.approx(mass * clearance * speed ** 2, rel=1e-15)
+    assert m.impulse_scale == pytest.approx(mass * clearance * speed, rel=1e-15)
+    assert set(Machine.units()) == set(REF_MACHINE)
 
 
 def test_parameters_k_and_replace():
@@ -117,8 +91,8 @@ def test_boundary_values_are_accepted():
     Parameters(**dict(PARAMS, d=0.0, mu=0.0, rho=0.0, r_ratio=0.0, gamma=0.0))
     Parameters(**dict(PARAMS, d=1.0))
     Parameters(**dict(PARAMS, gamma=-0.1))  # negative damping is allowed for orbit analysis
-    Machine(**dict(RIG, damping=0.0, eccentricity=0.0, rotor_radius=0.0, friction=0.0, restitution=0.0))
-    Machine(**dict(RIG, restitution=1.0, unbalance_phase=-7.0))
+    Machine(**dict(REF_MACHINE, damping=0.0, eccentricity=0.0, rotor_radius=0.0, friction=0.0, restitution=0.0))
+    Machine(**dict(REF_MACHINE, restitution=1.0, unbalance_phase=-7.0))
 
 
 # ---------------------------------------------------------------------------
@@ -179,11 +153,11 @@ def test_parameters_out_of_range(name, value, allowed):
     check_message(exc, f"{name} = {value!r}", repr(value), allowed)
 
 
-@pytest.mark.parametrize("name", list(RIG))
+@pytest.mark.parametrize("name", list(REF_MACHINE))
 @pytest.mark.parametrize("value,text", [(math.nan, "nan"), (math.inf, "inf")])
 def test_machine_non_finite(name, value, text):
     with pytest.raises(ParameterError) as exc:
-        Machine(**dict(RIG, **{name: value}))
+        Machine(**dict(REF_MACHINE, **{name: value}))
     check_message(exc, f"{name} =", text, "finite")
 
 
@@ -208,12 +182,12 @@ def test_machine_non_finite(name, value, text):
 )
 def test_machine_out_of_range(name, value, allowed):
     with pytest.raises(ParameterError) as exc:
-        Machine(**dict(RIG, **{name: value}))
+        Machine(**dict(REF_MACHINE, **{name: value}))
     check_message(exc, f"{name} = {value!r}", repr(value), allowed)
 
 
 def test_machine_whose_dimensionless_groups_overflow():
-    m = Machine(**dict(RIG, speed=1e-170))
+    m = Machine(**dict(REF_MACHINE, speed=1e-170))
     with pytest.raises(ParameterError):
         m.parameters()
 
@@ -224,15 +198,15 @@ def test_machine_whose_dimensionless_groups_overflow():
 
 
 def test_load_machine_file_and_table_form(tmp_path):
-    assert load_machine(write(tmp_path, TOML_RIG)) == Machine(**RIG)
-    assert load_machine(write(tmp_path, "[machine]\n" + TOML_RIG, "t.toml")) == Machine(**RIG)
-    assert load_machine("reference") == Machine(**RIG)
+    assert load_machine(write(tmp_path, REF_MACHINE_TOML)) == Machine(**REF_MACHINE)
+    assert load_machine(write(tmp_path, "[machine]\n" + REF_MACHINE_TOML, "t.toml")) == Machine(**REF_MACHINE)
+    assert load_machine("reference") == Machine(**REF_MACHINE)
     # integers are numbers too
-    assert load_machine(write(tmp_path, replace_line(TOML_RIG, "mass", "mass = 50"), "i.toml")).mass == 50.0
+    assert load_machine(write(tmp_path, replace_line(REF_MACHINE_TOML, "mass", "mass = 50"), "i.toml")).mass == 50.0
 
 
 def test_toml_unknown_key(tmp_path):
-    path = write(tmp_path, TOML_RIG + "colour = 3.0\n")
+    path = write(tmp_path, REF_MACHINE_TOML + "colour = 3.0\n")
     with pytest.raises(ParameterError) as exc:
         load_machine(path)
     check_message(exc, "colour", "unknown")
@@ -240,15 +214,15 @@ def test_toml_unknown_key(tmp_path):
 
 
 def test_toml_unknown_key_in_table(tmp_path):
-    path = write(tmp_path, "[machine]\n" + TOML_RIG + "spin = 1.0\n")
+    path = write(tmp_path, "[machine]\n" + REF_MACHINE_TOML + "spin = 1.0\n")
     with pytest.raises(ParameterError) as exc:
         load_machine(path)
     check_message(exc, "spin", "unknown")
 
 
-@pytest.mark.parametrize("key", list(RIG))
+@pytest.mark.parametrize("key", list(REF_MACHINE))
 def test_toml_missing_key(tmp_path, key):
-    text = "\n".join(line for line in TOML_RIG.splitlines() if line.split("=")[0].strip() != key) + "\n"
+    text = "\n".join(line for line in REF_MACHINE_TOML.splitlines() if line.split("=")[0].strip() != key) + "\n"
     with pytest.raises(ParameterError) as exc:
         load_machine(write(tmp_path, text))
     check_message(exc, repr(key), "missing")
@@ -299,7 +273,7 @@ def test_toml_not_utf8(tmp_path):
     ],
 )
 def test_toml_bad_values(tmp_path, key, line, text):
-    path = write(tmp_path, replace_line(TOML_RIG, key, line))
+    path = write(tmp_path, replace_line(REF_MACHINE_TOML, key, line))
     with pytest.raises(ParameterError) as exc:
         load_machine(path)
     check_message(exc, key, text)
@@ -333,19 +307,19 @@ def test_bools_are_refused_for_float_parameters(name, flag):
 
 def test_bools_are_refused_for_machine_values():
     with pytest.raises(ParameterError, match="mass = True is a bool"):
-        Machine(**{**RIG, "mass": True})
+        Machine(**{**REF_MACHINE, "mass": True})
 
 
 def test_machine_takes_strings_with_units_as_machine_files_do(tmp_path):
-    m = Machine(**{**RIG, "speed": "12000 rpm", "clearance": "0.7 mm", "damping": "1.4 kN*s/m"})
+    m = Machine(**{**REF_MACHINE, "speed": "12000 rpm", "clearance": "0.7 mm", "damping": "1.4 kN*s/m"})
     assert m.speed == pytest.approx(12000 * 2 * math.pi / 60, rel=1e-14)
     assert m.clearance == pytest.approx(0.7e-3, rel=1e-14) and m.damping == pytest.approx(1400.0, rel=1e-14)
-    path = write(tmp_path, TOML_RIG.replace("speed = 184.2", 'speed = "12000 rpm"'))
-    assert load_machine(path) == Machine(**{**RIG, "speed": "12000 rpm"})
+    path = write(tmp_path, REF_MACHINE_TOML.replace("speed = 184.2", 'speed = "12000 rpm"'))
+    assert load_machine(path) == Machine(**{**REF_MACHINE, "speed": "12000 rpm"})
     with pytest.raises(ParameterError, match="speed = '12000 bananas'.*unknown unit"):
-        Machine(**{**RIG, "speed": "12000 bananas"})
+        Machine(**{**REF_MACHINE, "speed": "12000 bananas"})
     with pytest.raises(ParameterError, match="speed = '3 m'.*rad/s"):
-        Machine(**{**RIG, "speed": "3 m"})
+        Machine(**{**REF_MACHINE, "speed": "3 m"})
 
 
 # ---------------------------------------------------------------------------
@@ -378,4 +352,4 @@ def test_simulate_refuses_absurd_parameters_and_initial_states():
 
 def test_a_machine_whose_groups_are_out_of_range_names_them():
     with pytest.raises(ParameterError, match=r"gamma = .* is out of range; allowed: \[-1e\+06, 1e\+06\]"):
-        Machine(**dict(RIG, speed=1e-6)).parameters()
+        Machine(**dict(REF_MACHINE, speed=1e-6)).parameters()

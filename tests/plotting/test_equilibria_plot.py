@@ -10,13 +10,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from rotorcontact import ParameterError, Parameters  # noqa: E402
+from rotorcontact import ParameterError  # noqa: E402
 from rotorcontact.analysis.equilibria import boundary_gamma, equilibrium_branches  # noqa: E402
 from rotorcontact.plotting.equilibria import (  # noqa: E402
     plot_equilibria,
     plot_equilibrium_branches,
     save_equilibria_figure,
 )
+from reference_parameters import REF
 
 
 def _lines(ax, branch):
@@ -32,7 +33,7 @@ def _lines(ax, branch):
 
 @pytest.fixture
 def fold_params():
-    return Parameters.reference().replace(omega=0.76)
+    return REF.replace(omega=0.76)
 
 
 def test_nonsmooth_fold_figure_like_fig3a(fold_params):
@@ -67,7 +68,7 @@ def test_nonsmooth_fold_figure_like_fig3a(fold_params):
 
 def test_persistence_figure_like_fig3b():
     """Fig. 3b: at omega = 1, x_P2 admissible below gamma* = rho, x_R admissible above."""
-    p = Parameters.reference().replace(omega=1.0)
+    p = REF.replace(omega=1.0)
     fig, ax = plot_equilibria(p, "gamma", 0.0, 0.8)
     p2 = _lines(ax, "P2")
     admissible = [line for adm, _, line in p2 if adm == "admissible"]

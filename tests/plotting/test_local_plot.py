@@ -10,10 +10,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from rotorcontact import ParameterError, Parameters  # noqa: E402
+from rotorcontact import ParameterError  # noqa: E402
 from rotorcontact.analysis.equilibria import boundary_gamma  # noqa: E402
 from rotorcontact.analysis.local import LinearImpactingSystem, local_analysis  # noqa: E402
 from rotorcontact.plotting.local import plot_local_estimate, plot_local_figure  # noqa: E402
+from reference_parameters import REF  # noqa: E402
 
 
 def _line(ax, gid):
@@ -25,7 +26,7 @@ def _line(ax, gid):
 
 @pytest.fixture(scope="module")
 def rotor():
-    return Parameters.reference()
+    return REF
 
 
 def test_rdot_overlay_like_fig5b(rotor):

@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from rotorcontact import ParameterError, Parameters  # noqa: E402
+from rotorcontact import ParameterError  # noqa: E402
 from rotorcontact.maps import impact_map as im  # noqa: E402
 from rotorcontact.continuation.branches import orbit_branches  # noqa: E402
 from rotorcontact.continuation.codim2 import codim2_diagram  # noqa: E402
@@ -30,8 +30,7 @@ from rotorcontact.plotting.codim2 import OTHER, plot_codim2, region_label_cells 
 from rotorcontact.plotting.f1 import plot_f1, plot_f1_zeros, plot_nsfh_schematic  # noqa: E402
 from rotorcontact.plotting.style import orbit_tex, save_figure  # noqa: E402
 from rotorcontact.continuation.zero_curves import f1_zero_curves  # noqa: E402
-
-REF = Parameters.reference()
+from reference_parameters import REF  # noqa: E402
 
 
 @pytest.fixture(scope="module")

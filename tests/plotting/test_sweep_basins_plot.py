@@ -10,13 +10,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from rotorcontact import ParameterError, Parameters  # noqa: E402
+from rotorcontact import ParameterError  # noqa: E402
 from rotorcontact.studies.basins import basins, displacement_grid  # noqa: E402
 from rotorcontact.plotting.basins import plot_basins, save_basins_figure  # noqa: E402
 from rotorcontact.plotting.sweep import plot_regimes, plot_sweep, save_sweep_figure  # noqa: E402
 from rotorcontact.studies.sweep import one_impact_overlay, sweep, sweep_values  # noqa: E402
-
-REF = Parameters.reference()
+from reference_parameters import REF  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -14,9 +14,11 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib.colors import to_rgba  # noqa: E402
 
-from rotorcontact import ParameterError, Parameters, simulate  # noqa: E402
+from rotorcontact import ParameterError, simulate  # noqa: E402
 from rotorcontact.cli.main import main  # noqa: E402
 from rotorcontact.plotting.trajectory import plot_radius, plot_trajectory  # noqa: E402
+from reference_parameters import REF  # noqa: E402
+
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -70,7 +72,7 @@ def _spans(ax):
 
 
 def test_radius_panel_shades_each_contact_phase_by_kind():
-    traj = simulate(Parameters.reference().replace(gamma=0.05), 0.5, 0.8 + 0.3j, 60.0)
+    traj = simulate(REF.replace(gamma=0.05), 0.5, 0.8 + 0.3j, 60.0)
     phases = traj.contact_intervals
     assert [c.kind for c in phases] == ["sliding-forward", "rolling"]
     fig, ax = plot_radius(traj)
@@ -94,7 +96,7 @@ def test_radius_panel_shades_each_contact_phase_by_kind():
 
 
 def test_no_shading_without_contact():
-    traj = simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, 60.0)
+    traj = simulate(REF.replace(gamma=0.1), 0j, 0j, 60.0)
     assert not traj.contact_intervals
     fig, ax = plot_radius(traj)
     assert _spans(ax) == []
@@ -102,7 +104,7 @@ def test_no_shading_without_contact():
 
 
 def test_three_panels_with_a_rub_and_the_regime_in_the_title():
-    traj = simulate(Parameters.reference().replace(gamma=0.05, d=0.5), 0.5, 0.8 + 0.3j, 40.0)
+    traj = simulate(REF.replace(gamma=0.05, d=0.5), 0.5, 0.8 + 0.3j, 40.0)
     fig, axes = plot_trajectory(traj)
     assert len(axes) == 3
     assert "forward-rub" in fig._suptitle.get_text()
@@ -115,7 +117,7 @@ def test_corotating_panel_names_x_R_and_zooms_on_a_small_orbit():
     from rotorcontact.maps.impact_map import one_impact_orbits
     from rotorcontact.plotting.trajectory import plot_corotating
 
-    p = Parameters.reference().replace(gamma=0.1)
+    p = REF.replace(gamma=0.1)
     orbit = next(o for o in one_impact_orbits(p) if o.label == "B1,a")
     traj = simulate(p, *orbit.initial_condition(), 0.999 * orbit.T)
     fig, ax = plot_corotating(traj)
@@ -136,7 +138,7 @@ def test_corotating_panel_names_x_R_and_zooms_on_a_small_orbit():
 
 
 def test_plot_trajectory_draws_into_given_axes_and_refuses_a_wrong_number():
-    traj = simulate(Parameters.reference().replace(gamma=0.1), 0j, 0j, t_end=60.0)
+    traj = simulate(REF.replace(gamma=0.1), 0j, 0j, t_end=60.0)
     fig, grid = plt.subplots(2, 3)
     back_fig, axes = plot_trajectory(traj, grid[1])
     assert back_fig is fig and list(axes) == list(grid[1])

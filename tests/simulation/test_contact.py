@@ -36,10 +36,11 @@ from scipy.optimize import brentq
 from rotorcontact import Parameters, simulate
 from rotorcontact.simulation.contact import STEADY_TOL
 from rotorcontact.analysis.equilibria import pseudo_equilibria
+from reference_parameters import REF
+
 
 KINDS = {"sliding-forward", "rolling", "sliding-backward"}
 REGIMES = {"no-contact", "periodic-impacting", "irregular-impacting", "forward-rub", "backward-whirl", "mixed"}
-REF = Parameters.reference()
 
 
 # ---------------------------------------------------------------------------
@@ -908,7 +909,7 @@ def test_any_valid_input_returns_in_bounded_time(case):
 
 def test_a_steady_rub_runs_to_any_horizon():
     """On a pseudo-equilibrium reached to rounding the state holds: a very long run completes at once."""
-    p = Parameters.reference()
+    p = REF
     traj = simulate(p, 0j, 0j, 1e7, max_events=10_000)
     assert traj.status == "completed" and traj.summary.regime == "forward-rub"
     assert len(traj.path) < 100_000  # the held rest is one step to the end, not 1e7 units of integration

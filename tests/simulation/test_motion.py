@@ -10,8 +10,7 @@ import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.simulation.motion import classify, detect_period
-
-REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
+from reference_parameters import REF
 
 
 def synthetic(p, n=60, noise=0.0, seed=0, theta_base=None):
@@ -65,7 +64,7 @@ def test_detect_period_too_few_impacts():
 
 
 def test_summary_no_contact(ref):
-    p = Parameters(**REF, gamma=0.3)
+    p = REF.replace(gamma=0.3)
     tr = ref.run(p, p.k, 0j, 200.0)
     s = tr.summary
     assert s.motion == "no-contact"
@@ -83,7 +82,7 @@ def test_summary_early_impacts_then_settling_is_no_contact(ref):
 
 
 def test_summary_periodic(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     tr = ref.run(p, 0j, 0j, 1000.0)
     s = tr.summary
     assert s.motion == "periodic-impacting"
@@ -96,7 +95,7 @@ def test_summary_periodic(ref):
 
 def test_summary_irregular(ref):
     """gamma = 0.08 from rest: impacts keep coming without any period of up to 16 impacts."""
-    p = Parameters(**REF, gamma=0.08)
+    p = REF.replace(gamma=0.08)
     # the chaotic set can be left for contact, and which runs do so is as sensitive to rounding as
     # the trajectory: take the first of several starts near rest that keeps impacting to the end
     for u0 in (0j, 1e-3, 1e-3j, -1e-3, -1e-3j, 2e-3, 2e-3j, -2e-3, -2e-3j, 3e-3, 3e-3j, -3e-3):
@@ -116,13 +115,13 @@ def test_summary_irregular(ref):
 
 
 def test_summary_chatter(ref):
-    tr = ref.run(Parameters(**REF, gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
+    tr = ref.run(REF.replace(gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
     assert tr.status == "chatter"
     assert tr.summary.motion == "chatter"
 
 
 def test_summary_undetermined_with_few_impacts(ref):
-    tr = ref.run(Parameters(**REF, gamma=0.1), 0j, 0j, 1000.0, max_impacts=5)
+    tr = ref.run(REF.replace(gamma=0.1), 0j, 0j, 1000.0, max_impacts=5)
     assert tr.summary.motion == "undetermined"
     assert classify(tr) == tr.summary
 
@@ -132,7 +131,7 @@ def test_a_failed_run_claims_no_regime():
 
     from rotorcontact import simulate
 
-    tr = simulate(Parameters(**REF, gamma=0.1), 0j, 0j, 50.0)
+    tr = simulate(REF.replace(gamma=0.1), 0j, 0j, 50.0)
     failed = dataclasses.replace(tr, status="failed", failure="the impact search exceeded its step limit")
     s = failed.summary
     assert s.motion == "failed" and s.regime is None and s.contact_fraction is None

@@ -17,18 +17,19 @@ import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.simulation.roots import CROSSING, NO_CROSSING, STUCK, next_crossing
+from reference_parameters import REF, REF_VALUES
 
-REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
+
 PI = math.pi
 
 # (label, params, T of the tangency, angle of the tangency point, tangential speed there)
 # At r = 1 with rdot = 0 and thetadot = beta, (|U|^2)''/2 = (1 + beta)^2 - omega^2 + rho cos(phi - alpha),
 # which is negative for these choices: an interior maximum of r.
 GRAZE_CASES = [
-    ("reference-gamma0.1", dict(REF, gamma=0.1), 1.5, 0.21 + PI, -0.5),
-    ("reference-gamma0.1-other-point", dict(REF, gamma=0.1), 2.0, 0.21 + 2.5, -0.7),
-    ("critical-damping", dict(REF, gamma=2 * 0.760043431053203), 1.0, 0.21 + PI, -0.5),
-    ("overdamped", dict(REF, gamma=2.0), 1.0, 0.21 + PI, -1.0),
+    ("reference-gamma0.1", dict(REF_VALUES, gamma=0.1), 1.5, 0.21 + PI, -0.5),
+    ("reference-gamma0.1-other-point", dict(REF_VALUES, gamma=0.1), 2.0, 0.21 + 2.5, -0.7),
+    ("critical-damping", dict(REF_VALUES, gamma=2 * 0.760043431053203), 1.0, 0.21 + PI, -0.5),
+    ("overdamped", dict(REF_VALUES, gamma=2.0), 1.0, 0.21 + PI, -1.0),
 ]
 EXTRA = 0.3  # the runs end at T + EXTRA
 
@@ -124,7 +125,7 @@ def test_tangency_just_below_is_not_an_impact(ref, graze_case, delta, beta_scale
 def test_a_crossing_between_samples_is_found(ref):
     """A free-flight arc whose maximum of |U| exceeds 1 by only 1e-10: a dense fixed sampling of
     the exact solution sees nothing, the guaranteed search finds the crossing."""
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     T, alpha, beta = 1.5, 0.21 + PI, -0.5
     u0, du0 = grazing_state(ref, p, 1e-10, T, alpha, beta)
     fl, tm, top = excursion(ref, p, u0, du0, T)
@@ -144,7 +145,7 @@ def test_a_crossing_between_samples_is_found(ref):
 
 
 def test_next_crossing_on_grazing_pair(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     k = k_of(p)
     T, alpha, beta = 1.5, 0.21 + PI, -0.5
     for delta, expected in ((1e-10, CROSSING), (-1e-10, NO_CROSSING)):
@@ -159,12 +160,12 @@ def test_next_crossing_on_grazing_pair(ref):
 
 
 TRANSVERSAL = [
-    (dict(REF, gamma=0.1), 0.0, 0.0),
-    (dict(REF, gamma=0.1), 0.5 - 0.5j, 0.2 + 0.1j),
-    (dict(REF, gamma=0.0), -0.3j, 0.9 - 0.4j),
-    (dict(REF, gamma=0.6, omega=1.7, rho=1.4, phi=-1.2), 0.1, 0.0),
-    (dict(REF, gamma=2.5, omega=0.4, rho=1.9, phi=2.2), -0.2 + 0.6j, 1.5j),
-    (dict(REF, gamma=0.01, omega=0.1, rho=0.05, phi=0.0), 0.0, 0.3),
+    (dict(REF_VALUES, gamma=0.1), 0.0, 0.0),
+    (dict(REF_VALUES, gamma=0.1), 0.5 - 0.5j, 0.2 + 0.1j),
+    (dict(REF_VALUES, gamma=0.0), -0.3j, 0.9 - 0.4j),
+    (dict(REF_VALUES, gamma=0.6, omega=1.7, rho=1.4, phi=-1.2), 0.1, 0.0),
+    (dict(REF_VALUES, gamma=2.5, omega=0.4, rho=1.9, phi=2.2), -0.2 + 0.6j, 1.5j),
+    (dict(REF_VALUES, gamma=0.01, omega=0.1, rho=0.05, phi=0.0), 0.0, 0.3),
 ]
 
 
@@ -187,7 +188,7 @@ def test_next_crossing_matches_mpmath(ref, kw, u0, du0):
 
 
 def test_next_crossing_from_the_boundary_moving_inwards(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     k = k_of(p)
     u = complex(math.cos(0.4), math.sin(0.4))
     du = u * complex(-0.3, -1.2)  # rdot = -0.3, thetadot = -1.2
@@ -200,7 +201,7 @@ def test_next_crossing_from_the_boundary_moving_inwards(ref):
 
 
 def test_next_crossing_on_boundary_at_rest_pressed_outwards_is_stuck():
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     k = k_of(p)
     # at theta = phi, rdot = 0, thetadot = 0: N = 1 - omega^2 + rho > 0 (pressed outwards)
     u = complex(math.cos(p.phi), math.sin(p.phi))
@@ -210,7 +211,7 @@ def test_next_crossing_on_boundary_at_rest_pressed_outwards_is_stuck():
 
 
 def test_next_crossing_on_boundary_tangent_pulled_inwards_leaves(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     k = k_of(p)
     alpha, beta = p.phi + PI, -0.5
     # N = (1 + beta)^2 - omega^2 + rho cos(phi - alpha) < 0: r has a maximum here
@@ -236,13 +237,13 @@ def test_no_crossing_for_a_decaying_flight():
     q = Parameters(gamma=0.2, omega=0.9, rho=0.0, mu=0.1, d=0.5)
     code, tau = next_crossing(0.5 + 0j, 0.1j, 0j, q.gamma, q.omega, 1e4, False)
     assert code == NO_CROSSING and tau == 1e4
-    p = Parameters(**REF, gamma=0.3)
+    p = REF.replace(gamma=0.3)
     k = k_of(p)
     assert abs(k) < 1
     assert next_crossing(0j, 0j, k, p.gamma, p.omega, 1e4, False) == (NO_CROSSING, 1e4)
 
 
 def test_no_crossing_at_the_regular_equilibrium_over_a_long_horizon():
-    p = Parameters(**REF, gamma=0.3)
+    p = REF.replace(gamma=0.3)
     k = k_of(p)
     assert next_crossing(0j, 0j, k, p.gamma, p.omega, 1e6, False) == (NO_CROSSING, 1e6)

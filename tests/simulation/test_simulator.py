@@ -17,13 +17,13 @@ import numpy as np
 import pytest
 
 from rotorcontact import ParameterError, Parameters, simulate
+from reference_parameters import REF, REF_VALUES
 
-REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
 
 MP_CASES = [
     # label, parameters, u0, du0
-    ("reference-gamma0.1-from-rest", dict(REF, gamma=0.1), 0j, 0j),
-    ("reference-gamma0.14", dict(REF, gamma=0.14), 0.3 - 0.2j, 0.5 + 0.1j),
+    ("reference-gamma0.1-from-rest", dict(REF_VALUES, gamma=0.1), 0j, 0j),
+    ("reference-gamma0.14", dict(REF_VALUES, gamma=0.14), 0.3 - 0.2j, 0.5 + 0.1j),
     ("overdamped", dict(gamma=1.6, omega=0.7, rho=2.0, mu=0.3, d=0.8, phi=-1.0, r_ratio=20.0), 0.2j, 1.5 - 0.5j),
     ("stiff", dict(gamma=0.3, omega=1.2, rho=0.8, mu=0.3, d=0.7, phi=-2.5, r_ratio=5.0), 0.2 + 0.1j, -0.5 + 1j),
 ]
@@ -52,9 +52,9 @@ def test_first_impacts_match_mpmath_closed_form(ref, label, kw, u0, du0):
 
 
 IVP_CASES = [
-    ("reference-gamma0.1-from-rest", dict(REF, gamma=0.1), 0j, 0j),
-    ("reference-gamma0.08-from-rest", dict(REF, gamma=0.08), 0j, 0j),
-    ("reference-gamma0.12-other-phase", dict(REF, gamma=0.12, phi=-2.0), 0.5j, 0.3 + 0j),
+    ("reference-gamma0.1-from-rest", dict(REF_VALUES, gamma=0.1), 0j, 0j),
+    ("reference-gamma0.08-from-rest", dict(REF_VALUES, gamma=0.08), 0j, 0j),
+    ("reference-gamma0.12-other-phase", dict(REF_VALUES, gamma=0.12, phi=-2.0), 0.5j, 0.3 + 0j),
     ("stiff-large-unbalance", dict(gamma=0.2, omega=1.5, rho=1.5, mu=0.2, d=0.9, phi=0.5, r_ratio=30.0), 0j, 0j),
 ]
 
@@ -121,7 +121,7 @@ def f1_eigen(p, T):
 
 @pytest.mark.parametrize("gamma", [0.1, 0.12, 0.14])
 def test_settles_onto_one_impact_orbit_with_period_a_zero_of_F1(ref, gamma):
-    p = Parameters(**REF, gamma=gamma)
+    p = REF.replace(gamma=gamma)
     traj = ref.run(p, 0j, 0j, 1000.0)
     assert traj.status == "completed"
     imp = traj.impacts
@@ -154,7 +154,7 @@ def test_settles_onto_one_impact_orbit_with_period_a_zero_of_F1(ref, gamma):
 def test_gamma_0_2_from_rest_chatters_instead(ref):
     """At gamma = 0.2 (above the fold gamma_F,1 ~ 0.178 of MODEL.md §5) there is no
     one-impact orbit to settle onto: impacts accumulate."""
-    p = Parameters(**REF, gamma=0.2)
+    p = REF.replace(gamma=0.2)
     traj = ref.run(p, 0j, 0j, 1000.0, stop_on_chatter=True)
     assert traj.status == "chatter"
 
@@ -165,7 +165,7 @@ def test_gamma_0_2_from_rest_chatters_instead(ref):
 
 
 def test_chatter_is_detected_with_geometric_accumulation(ref):
-    p = Parameters(**REF, gamma=0.2)
+    p = REF.replace(gamma=0.2)
     traj = ref.run(p, 0j, 0j, 1000.0, stop_on_chatter=True)
     imp = traj.impacts
     assert traj.status == "chatter"
@@ -187,7 +187,7 @@ def test_chatter_is_detected_with_geometric_accumulation(ref):
 
 
 def test_chatter_at_once_from_rest_on_the_stator_pressed_outwards(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     u0 = complex(math.cos(p.phi), math.sin(p.phi))
     assert 1 - p.omega**2 + p.rho > 0  # N > 0 at rest there
     traj = ref.run(p, u0, 0j, 10.0, stop_on_chatter=True)
@@ -202,7 +202,7 @@ def test_chatter_at_once_from_rest_on_the_stator_pressed_outwards(ref):
 
 
 def test_run_length_cap(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     traj = ref.run(p, 0j, 0j, 1000.0, max_impacts=7)
     assert traj.status in ref.MAX_STATUSES
     assert len(traj.impacts) == 7
@@ -213,7 +213,7 @@ def test_run_length_cap(ref):
 
 
 def test_no_impact_at_the_regular_equilibrium(ref):
-    p = Parameters(**REF, gamma=0.3)
+    p = REF.replace(gamma=0.3)
     k = p.rho * complex(math.cos(p.phi), math.sin(p.phi)) / complex(p.omega**2 - 1, p.gamma)
     assert abs(k) < 1
     traj = ref.run(p, k, 0j, 500.0)
@@ -224,14 +224,14 @@ def test_no_impact_at_the_regular_equilibrium(ref):
 
 
 def test_long_run_at_the_regular_equilibrium_completes(ref):
-    p = Parameters(**REF, gamma=0.3)
+    p = REF.replace(gamma=0.3)
     traj = ref.run(p, p.k, 0j, 1e6)
     assert traj.status == "completed"
     assert len(traj.impacts) == 0
 
 
 def test_impact_at_time_zero_when_starting_on_the_stator_moving_outwards(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     e = complex(math.cos(1.0), math.sin(1.0))
     traj = ref.run(p, e, e * complex(0.4, 0.2), 50.0, max_impacts=3)
     imp = traj.impacts
@@ -244,7 +244,7 @@ def test_impact_at_time_zero_when_starting_on_the_stator_moving_outwards(ref):
 
 def test_restart_from_an_impact_reproduces_the_rest(ref):
     """Time invariance: restarting at impact j from its post-impact state gives the same later impacts."""
-    p = Parameters(**REF, gamma=0.12)
+    p = REF.replace(gamma=0.12)
     traj = ref.run(p, 0j, 0j, 200.0, impacts_only=True)
     imp = traj.impacts
     j = 5
@@ -259,7 +259,7 @@ def test_restart_from_an_impact_reproduces_the_rest(ref):
 
 
 def test_initial_state_forms_and_determinism(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     a = ref.run(p, (0.1, -0.2), [0.3, 0.0], 40.0)
     b = ref.run(p, 0.1 - 0.2j, 0.3 + 0j, 40.0)
     c = ref.run(p, np.array([0.1, -0.2]), 0.3, 40.0)
@@ -268,7 +268,7 @@ def test_initial_state_forms_and_determinism(ref):
 
 
 def test_boundary_tolerance_of_the_initial_position(ref):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     # on the stator up to rounding: accepted
     ref.run(p, 1 + 5e-13, 0j, 1.0, stop_on_chatter=True)
     with pytest.raises(ParameterError, match=r"u0"):
@@ -289,7 +289,7 @@ def test_boundary_tolerance_of_the_initial_position(ref):
     ],
 )
 def test_initial_position_outside_the_clearance(u0, text):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     with pytest.raises(ParameterError) as info:
         simulate(p, u0, 0j, 10.0)
     msg = str(info.value)
@@ -314,7 +314,7 @@ def test_initial_position_outside_the_clearance(u0, text):
     ],
 )
 def test_bad_simulate_arguments(kwargs, name):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     args = dict(u0=0j, du0=0j, t_end=10.0)
     args.update(kwargs)
     u0, du0, t_end = args.pop("u0"), args.pop("du0"), args.pop("t_end")
@@ -325,7 +325,7 @@ def test_bad_simulate_arguments(kwargs, name):
 
 @pytest.mark.parametrize("value", [0, -1, 1.5, True])
 def test_bad_run_length_cap(ref, value):
-    p = Parameters(**REF, gamma=0.1)
+    p = REF.replace(gamma=0.1)
     with pytest.raises(ParameterError) as info:
         ref.run(p, 0j, 0j, 10.0, max_impacts=value)
     assert "max_" in str(info.value) and repr(value) in str(info.value)
@@ -420,7 +420,7 @@ def test_no_impact_is_recorded_with_inward_velocity(ref):
 
 
 def test_default_run_through_chatter_stays_inside(ref):
-    p = Parameters(**REF, gamma=0.2)
+    p = REF.replace(gamma=0.2)
     traj = simulate(p, 0j, 0j, 50.0)
     assert len(traj.impacts) > 0
     t = traj.sample(5000)

@@ -11,13 +11,12 @@ import numpy as np
 import pytest
 
 from rotorcontact import ParameterError, Parameters, reference_machine
-
-REF = dict(omega=0.760043431053203, rho=3.0 / 7.0, mu=0.15, d=0.95, phi=0.21, r_ratio=400.0 / 7.0)
+from reference_parameters import REF
 
 
 @pytest.fixture(scope="module")
 def traj(ref):
-    return ref.run(Parameters(**REF, gamma=0.1), 0j, 0j, 60.0, impacts_only=True)
+    return ref.run(REF.replace(gamma=0.1), 0j, 0j, 60.0, impacts_only=True)
 
 
 def segments(traj):
@@ -157,13 +156,13 @@ def test_status_message_success(ref, traj):
     capped = ref.run(traj.params, 0j, 0j, 60.0, max_impacts=3)
     assert capped.status in ref.MAX_STATUSES and not capped.success
     assert "3" in capped.message
-    chat = ref.run(Parameters(**REF, gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
+    chat = ref.run(REF.replace(gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
     assert chat.status == "chatter" and not chat.success
     assert "chatter" in chat.message and f"{chat.t_stop:.6g}"[:6] in chat.message
 
 
 def test_dense_output_stays_inside_up_to_the_chatter_stop(ref):
-    traj = ref.run(Parameters(**REF, gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
+    traj = ref.run(REF.replace(gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
     assert traj.status == "chatter"
     t = np.linspace(traj.impacts.t[-1], traj.t_stop, 1001)
     assert np.max(traj.r(t)) <= 1 + 1e-12
@@ -200,7 +199,7 @@ def test_to_dict_with_machine_has_si_values(ref):
 
 def test_state_between_the_last_impact_of_a_chatter_stop_and_the_accumulation_point(ref):
     """From the last resolved impact to the accumulation point the rotor stays on the stator."""
-    traj = ref.run(Parameters(**REF, gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
+    traj = ref.run(REF.replace(gamma=0.2), 0j, 0j, 100.0, stop_on_chatter=True)
     assert traj.status == "chatter"
     imp = traj.impacts
     assert traj.t_stop > imp.t[-1]
@@ -219,7 +218,7 @@ def test_state_between_the_last_impact_of_a_chatter_stop_and_the_accumulation_po
 def test_to_dict_keeps_the_first_and_last_impacts_past_max_rows():
     from rotorcontact import simulate
 
-    tr = simulate(Parameters(**REF, gamma=0.1), 0j, 0j, 400.0)
+    tr = simulate(REF.replace(gamma=0.1), 0j, 0j, 400.0)
     n = len(tr.impacts)
     assert n > 100
     d = tr.to_dict(max_rows=11)
@@ -238,7 +237,7 @@ def test_to_dict_keeps_the_first_and_last_impacts_past_max_rows():
 def test_to_dict_keeps_the_first_and_last_contact_intervals_past_max_rows():
     from rotorcontact import simulate
 
-    base = Parameters(**REF, gamma=0.15)
+    base = REF.replace(gamma=0.15)
     for changes in (dict(d=0.3, mu=0.6, omega=0.9), dict(d=0.3, mu=0.6, omega=1.1), dict(d=0.3, mu=0.6)):
         tr = simulate(base.replace(**changes), 0.5, 1.5j, 500.0)
         if len(tr.contact_intervals) >= 3:

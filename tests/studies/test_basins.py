@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rotorcontact import ParameterError, Parameters
+from rotorcontact import ParameterError
 from rotorcontact.studies.basins import (
     BasinGrid,
     basins,
@@ -33,8 +33,9 @@ from rotorcontact.studies.basins import (
 from rotorcontact.studies.batch import BatchSettings, simulate_batch
 from rotorcontact.maps.impact_map import one_impact_orbits
 from rotorcontact.studies.sweep import start_state
+from reference_parameters import REF
 
-REF = Parameters.reference()
+
 ORIGIN = displacement_grid((0.0, 0.0, 1), (0.0, 0.0, 1))
 
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rotorcontact import ParameterError, Parameters, simulate
+from rotorcontact import ParameterError, simulate
 from rotorcontact.studies.batch import (
     PARAMETER_ORDER,
     REGIME_NAMES,
@@ -29,8 +29,8 @@ from rotorcontact.studies.batch import (
     simulate_batch,
 )
 from rotorcontact.simulation.motion import REGIME_ALIASES, REGIMES, canonical_regime, detect_period, regime_code
+from reference_parameters import REF
 
-REF = Parameters.reference()
 
 # (gamma, u0, du0): rolling, periodic impacting, rub, kicked starts, no contact
 CASES = [
@@ -43,7 +43,6 @@ CASES = [
     (0.3, 0.5 + 0.1j, 0j),
     (0.0825, 0j, 0j),
 ]
-
 
 
 def _two_runs(p, u0, du0, st: BatchSettings):

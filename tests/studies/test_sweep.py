@@ -22,14 +22,13 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rotorcontact import ParameterError, Parameters
+from rotorcontact import ParameterError
 from rotorcontact.studies.batch import BatchSettings, simulate_batch
 from rotorcontact.maps.impact_map import one_impact_orbits
 from rotorcontact.simulation.motion import REGIMES
 from rotorcontact.studies.execution import chunk_folder
 from rotorcontact.studies.sweep import one_impact_overlay, start_state, sweep, sweep_values
-
-REF = Parameters.reference()
+from reference_parameters import REF
 
 
 def _assert_bitwise(a: xr.Dataset, b: xr.Dataset) -> None:
