@@ -227,11 +227,9 @@ def mp_simulate(p, u0, du0, n_impacts, seg_max=60.0, dt=0.01, dps=DPS):
 # ---------------------------------------------------------------------------
 
 
-def cartesian_rhs(p):
-    """Right-hand side of the Cartesian co-rotating ODE as a real 4-system (x, y, x', y')."""
-    force = p.rho * complex(math.cos(p.phi), math.sin(p.phi))
-    damp = complex(p.gamma, 2.0)
-    stiff = complex(p.omega**2 - 1.0, p.gamma)
+def linear_rhs(force, damp, stiff):
+    """Right-hand side of U'' = force - damp U' - stiff U (complex coefficients) as a real 4-system
+    (x, y, x', y')."""
 
     def rhs(t, y):
         u = complex(y[0], y[1])
@@ -240,6 +238,12 @@ def cartesian_rhs(p):
         return [du.real, du.imag, ddu.real, ddu.imag]
 
     return rhs
+
+
+def cartesian_rhs(p):
+    """Right-hand side of the Cartesian co-rotating ODE as a real 4-system (x, y, x', y')."""
+    force = p.rho * complex(math.cos(p.phi), math.sin(p.phi))
+    return linear_rhs(force, complex(p.gamma, 2.0), complex(p.omega**2 - 1.0, p.gamma))
 
 
 def np_reset(u, du, d, mu, r_ratio):
@@ -379,6 +383,7 @@ def ref():
         mp_reset=mp_reset,
         mp_simulate=mp_simulate,
         cartesian_rhs=cartesian_rhs,
+        linear_rhs=linear_rhs,
         np_reset=np_reset,
         ivp_simulate=ivp_simulate,
         ivp_next_impact=ivp_next_impact,

@@ -322,32 +322,21 @@ def test_rotor_nsfh_criterion(rotor, rotor_analysis):
 # ---------------------------------------------------------------------------
 
 
-def _rhs(system, eps):
-    alpha, beta, big_gamma = system.coefficients(eps)
-
-    def rhs(t, y):
-        z = complex(y[0], y[1])
-        dz = complex(y[2], y[3])
-        ddz = big_gamma - alpha * dz - beta * z
-        return [dz.real, dz.imag, ddz.real, ddz.imag]
-
-    return rhs
-
-
 def _polar(system, z, dz):
     e = z / abs(z)
     w = e.conjugate() * dz
     return cmath.phase(z), w.real, w.imag / abs(z)
 
 
-def _first_impact(system, eps, z, dz, t_end):
+def _first_impact(ref, system, eps, z, dz, t_end):
     """Event-driven flight: the first outward crossing of |z| = sigma after t = 0 (solve_ivp, DOP853)."""
     def hit(t, y):
         return y[0] ** 2 + y[1] ** 2 - system.sigma**2
 
     hit.terminal = True
     hit.direction = 1.0
-    sol = solve_ivp(_rhs(system, eps), (0.0, t_end), [z.real, z.imag, dz.real, dz.imag], method="DOP853",
+    alpha, beta, big_gamma = system.coefficients(eps)
+    sol = solve_ivp(ref.linear_rhs(big_gamma, alpha, beta), (0.0, t_end), [z.real, z.imag, dz.real, dz.imag], method="DOP853",
                     rtol=1e-12, atol=1e-13, events=hit)
     assert sol.success
     if not sol.t_events[0].size:
@@ -362,7 +351,7 @@ def _reset(system, z, dz):
     return dz - q * (z.conjugate() * dz).real * z / abs(z) ** 2
 
 
-def test_general_fixed_points_are_periodic_orbits_of_the_simulated_system(general):
+def test_general_fixed_points_are_periodic_orbits_of_the_simulated_system(ref, general):
     """Each fixed point, started just after its impact, returns to the same impact state after T.
 
     Admissible orbits whose flight stays inside are run event-driven (first crossing of the boundary,
@@ -379,13 +368,13 @@ def test_general_fixed_points_are_periodic_orbits_of_the_simulated_system(genera
             dz = _reset(general, z, dz_minus)
             state = None
             if fp.admissible:
-                hit = _first_impact(general, eps, z, dz, 3.0 * fp.T)
+                hit = _first_impact(ref, general, eps, z, dz, 3.0 * fp.T)
                 if hit is not None and abs(hit[0] - fp.T) < 1e-6:
                     tau, z1, dz1 = hit
                     assert tau == pytest.approx(fp.T, abs=1e-8)
                     state = (z1, dz1)
                     # one more impact: the orbit repeats
-                    hit2 = _first_impact(general, eps, z1, _reset(general, z1, dz1), 3.0 * fp.T)
+                    hit2 = _first_impact(ref, general, eps, z1, _reset(general, z1, dz1), 3.0 * fp.T)
                     assert hit2 is not None and hit2[0] == pytest.approx(fp.T, abs=1e-8)
                     assert abs(hit2[1] - z1) < 1e-8 and abs(hit2[2] - dz1) < 1e-8
                     event_checked.add((fp.label, math.copysign(1.0, eps)))

@@ -29,14 +29,20 @@ def test_polar_velocity_by_hand():
     assert thetadot == pytest.approx(-1.3, abs=1e-15)
 
 
+def random_impact(rng):
+    """A random impact point u on |u| = 1, restitution d, friction mu, R / c_r and incoming rdot > 0."""
+    th = rng.uniform(-math.pi, math.pi)
+    u = complex(math.cos(th), math.sin(th))
+    d, mu = rng.uniform(0, 1), rng.uniform(0, 1)
+    r_ratio = rng.uniform(0, 80)
+    rdot = rng.uniform(1e-6, 3)
+    return u, d, mu, r_ratio, rdot
+
+
 def test_complex_form_for_forward_slip():
     rng = np.random.default_rng(1)
     for _ in range(300):
-        th = rng.uniform(-math.pi, math.pi)
-        u = complex(math.cos(th), math.sin(th))
-        d, mu = rng.uniform(0, 1), rng.uniform(0, 1)
-        r_ratio = rng.uniform(0, 80)
-        rdot = rng.uniform(1e-6, 3)
+        u, d, mu, r_ratio, rdot = random_impact(rng)
         # thetadot such that v_rel exceeds the Coulomb impulse mu (1 + d) rdot
         thetadot = -(r_ratio + 1) + mu * (1 + d) * rdot + rng.uniform(1e-3, 5)
         du = u * complex(rdot, thetadot)
@@ -57,11 +63,7 @@ def test_mirror_form_for_backward_slip():
     """v_rel < 0: the friction impulse acts along +theta: U'+ = U'- - (1 + d)(1 - i mu) rdot U."""
     rng = np.random.default_rng(2)
     for _ in range(300):
-        th = rng.uniform(-math.pi, math.pi)
-        u = complex(math.cos(th), math.sin(th))
-        d, mu = rng.uniform(0, 1), rng.uniform(0, 1)
-        r_ratio = rng.uniform(0, 80)
-        rdot = rng.uniform(1e-6, 3)
+        u, d, mu, r_ratio, rdot = random_impact(rng)
         thetadot = -(r_ratio + 1) - mu * (1 + d) * rdot - rng.uniform(1e-3, 5)
         du = u * complex(rdot, thetadot)
         du_plus, rd, td, rdp, tdp, v_rel, p_n, p_t = unpack(apply_reset(u, du, d, mu, r_ratio))

@@ -184,18 +184,6 @@ def contact_reference(p, t0, theta0, thetadot0, t_end, max_phases=40):
     return phases, "max"
 
 
-def cartesian_rhs(p):
-    force = p.rho * complex(math.cos(p.phi), math.sin(p.phi))
-    damp, stiff = complex(p.gamma, 2.0), complex(p.omega**2 - 1.0, p.gamma)
-
-    def rhs(t, y):
-        u, du = complex(y[0], y[1]), complex(y[2], y[3])
-        a = force - damp * du - stiff * u
-        return [du.real, du.imag, a.real, a.imag]
-
-    return rhs
-
-
 # ---------------------------------------------------------------------------
 # 1. settling onto the stable pseudo-equilibrium x_P2
 # ---------------------------------------------------------------------------
@@ -409,7 +397,7 @@ LIFTOFF_CASES = [c for c in CONTACT_CASES if "liftoff" in c[0]]
 
 
 @pytest.mark.parametrize("label,p,theta0,thetadot0,t_end", LIFTOFF_CASES, ids=[c[0] for c in LIFTOFF_CASES])
-def test_liftoff_at_zero_normal_force_then_exact_free_flight(label, p, theta0, thetadot0, t_end):
+def test_liftoff_at_zero_normal_force_then_exact_free_flight(ref, label, p, theta0, thetadot0, t_end):
     u0, du0 = on_stator(theta0, thetadot0)
     traj = simulate(p, u0, du0, t_end)
     assert traj.status == "completed"
@@ -439,9 +427,9 @@ def test_liftoff_at_zero_normal_force_then_exact_free_flight(label, p, theta0, t
 
     hit.terminal, hit.direction = True, 1.0
     s = t_lift_ref + 1e-3  # start the event search after the tangential departure
-    pre = solve_ivp(cartesian_rhs(p), (t_lift_ref, s), [ue.real, ue.imag, due.real, due.imag], method="DOP853",
+    pre = solve_ivp(ref.cartesian_rhs(p), (t_lift_ref, s), [ue.real, ue.imag, due.real, due.imag], method="DOP853",
                     rtol=1e-13, atol=1e-13)
-    sol = solve_ivp(cartesian_rhs(p), (s, t_end), pre.y[:, -1], method="DOP853", rtol=1e-13, atol=1e-13,
+    sol = solve_ivp(ref.cartesian_rhs(p), (s, t_end), pre.y[:, -1], method="DOP853", rtol=1e-13, atol=1e-13,
                     events=hit, dense_output=True)
     t_hit = float(sol.t_events[0][0]) if len(sol.t_events[0]) else t_end
     if len(next_impacts):

@@ -63,12 +63,10 @@ def graze_case(request):
     return Parameters(**kw), T, alpha, beta
 
 
-EPS = np.finfo(float).eps
-
-
-@pytest.mark.parametrize("beta_scale", [0.9, 1.0, 1.1])
-@pytest.mark.parametrize("delta", [1e-8, 1e-10, 1e-12, 1e-13, 1e-14])
-def test_grazing_crossing_is_found_to_the_rounding_limit(ref, graze_case, delta, beta_scale):
+def grazing_flight(ref, graze_case, delta, beta_scale):
+    """The flight of a grazing case from inside the clearance, with a maximum |U| = 1 + delta (to rounding):
+    (p, T, u0, du0, flight, t_max, max|U| - 1); the test is skipped where the backward flight leaves the
+    clearance."""
     p, T, alpha, beta = graze_case
     u0, du0 = grazing_state(ref, p, delta, T, alpha, beta * beta_scale)
     fl = ref.flight(p, u0, du0)
@@ -76,6 +74,16 @@ def test_grazing_crossing_is_found_to_the_rounding_limit(ref, graze_case, delta,
         if fl.f(0) >= 0:
             pytest.skip("the backward flight leaves the clearance: no flight from inside")
     fl, tm, top = excursion(ref, p, u0, du0, T)
+    return p, T, u0, du0, fl, tm, top
+
+
+EPS = np.finfo(float).eps
+
+
+@pytest.mark.parametrize("beta_scale", [0.9, 1.0, 1.1])
+@pytest.mark.parametrize("delta", [1e-8, 1e-10, 1e-12, 1e-13, 1e-14])
+def test_grazing_crossing_is_found_to_the_rounding_limit(ref, graze_case, delta, beta_scale):
+    p, T, u0, du0, fl, tm, top = grazing_flight(ref, graze_case, delta, beta_scale)
     assert abs(tm - T) < 1e-9
     assert abs(top / delta - 1) < 2e-2  # the construction: max |U| = 1 + delta (to rounding of u0)
     t_hit = ref.mp_first_crossing(fl, T + EXTRA, dt=0.01)
@@ -105,13 +113,7 @@ def test_grazing_crossing_is_found_to_the_rounding_limit(ref, graze_case, delta,
 @pytest.mark.parametrize("delta", [-1e-10, -1e-12, -1e-14])
 def test_tangency_just_below_is_not_an_impact(ref, graze_case, delta, beta_scale):
     """The guarantee's other edge: a maximum 1e-14 below the wall is no impact."""
-    p, T, alpha, beta = graze_case
-    u0, du0 = grazing_state(ref, p, delta, T, alpha, beta * beta_scale)
-    fl = ref.flight(p, u0, du0)
-    with mp.workdps(ref.DPS):
-        if fl.f(0) >= 0:
-            pytest.skip("the backward flight leaves the clearance: no flight from inside")
-    fl, tm, top = excursion(ref, p, u0, du0, T)
+    p, T, u0, du0, fl, tm, top = grazing_flight(ref, graze_case, delta, beta_scale)
     assert abs(top / delta - 1) < 2e-2 and top < 0
     # the reference confirms there is no crossing at all up to the end of the run
     assert ref.mp_first_crossing(fl, T + EXTRA, dt=0.01) is None
