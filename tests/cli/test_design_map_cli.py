@@ -29,6 +29,14 @@ def test_json_contract(cli):
     assert data["points"][0]["speed_rpm"] == pytest.approx(1500.0)
 
 
+def test_recovery_probabilities_are_the_same_on_worker_processes(cli):
+    args = ("design-map", "--machine", "reference", "--speed", "1800:2600rpm", "--n", "3", "--shock", "5mm/s",
+            "--no-progress")
+    serial = cli.json(*args)
+    assert any(pt["recovery_probability"] is not None for pt in serial["points"])
+    assert cli.json(*args, "--n-jobs", "2") == serial
+
+
 def test_machine_file_with_units_and_plane(tmp_path, cli):
     path = tmp_path / "rig.toml"
     path.write_text(
