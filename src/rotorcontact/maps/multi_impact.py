@@ -90,6 +90,8 @@ __all__ = [
     "solve_multi_impact",
     "orbits_from_simulation",
     "find_period_doubling",
+    "period_doubling_at",
+    "doubled_orbit_at_amplitude",
     "period_doubled_orbit",
 ]
 
@@ -550,20 +552,22 @@ class PeriodDoubling:
         The parameter varied (also readable as ``parameter``).
     value : float
         Its value at the period doubling.
-    orbit : ImpactOrbit
-        The one-impact orbit there.
+    orbit : ImpactOrbit or MultiImpactOrbit
+        The orbit that doubles, there (one-impact from `find_period_doubling`,
+        any p from `period_doubling_at`).
     eigenvector : numpy.ndarray
         Real unit eigenvector of the multiplier -1 in (theta, rdot-, thetadot-).
     multiplier : float
         The multiplier nearest -1 at ``value``.
     unstable_side : float
-        +1 when the orbit is unstable (multiplier below -1) above ``value``, -1 below.
+        +1 when the orbit is unstable (multiplier below -1) above ``value``, -1
+        below, 0.0 where not determined.
     """
 
     parent: str
     param: str
     value: float
-    orbit: ImpactOrbit = field(repr=False)
+    orbit: Any = field(repr=False)
     eigenvector: np.ndarray = field(repr=False)
     multiplier: float
     unstable_side: float
@@ -698,18 +702,164 @@ def find_period_doubling(
     )
 
 
+def period_doubling_at(orbit: MultiImpactOrbit, param: str, *, unstable_side: float = 0.0) -> PeriodDoubling:
+    """The period doubling at an orbit with p impacts that has a multiplier -1 (located beforehand).
+
+    Parameters
+    ----------
+    orbit : MultiImpactOrbit
+        The orbit at the period doubling (for example the orbit of a located
+        ``"period-doubling"`` event of a branch); p = 1 is allowed.
+    param : str
+        The parameter in which it was located.
+    unstable_side : float
+        +1 or -1 when known (see `PeriodDoubling`), 0.0 otherwise.
+
+    Raises
+    ------
+    ParameterError
+        When no multiplier is within 1e-4 of -1.
+    """
+    if not isinstance(orbit, MultiImpactOrbit):
+        raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
+    param = _check_parameter(param)
+    ev, vec = np.linalg.eig(orbit.jacobian())
+    i = int(np.argmin(np.abs(ev + 1.0)))
+    if abs(ev[i] + 1.0) > 1e-4:
+        raise ParameterError(f"{orbit.label} has no multiplier -1 at {param} = {getattr(orbit.params, param):.12g} "
+                             f"(nearest {ev[i]:.6g}); allowed: an orbit at a period doubling")
+    v = np.real(vec[:, i])
+    v /= np.linalg.norm(v)
+    if v[np.argmax(np.abs(v))] < 0:
+        v = -v
+    return PeriodDoubling(parent=orbit.label, param=param, value=float(getattr(orbit.params, param)), orbit=orbit,
+                          eigenvector=v, multiplier=float(np.real(ev[i])), unstable_side=float(unstable_side))
+
+
+def _parent_states(pd: PeriodDoubling) -> np.ndarray:
+    """The q points of the orbit that doubles, in the order of the motion (q = 1 for a one-impact orbit)."""
+    if isinstance(pd.orbit, MultiImpactOrbit):
+        return pd.orbit.states
+    return np.asarray(pd.orbit.state, dtype=float)[None, :]
+
+
+def _doubled_guess(pd: PeriodDoubling, amplitude: float) -> np.ndarray:
+    """x_i + a w_i then x_i - a w_i (i < q): w_0 the eigenvector of -1, w_{i+1} = J_i w_i (so w_q = -w_0)."""
+    x = _parent_states(pd)
+    _im, _t, jacs, _s = _chain(pd.orbit.params, x)
+    w = [np.asarray(pd.eigenvector, dtype=float)]
+    for j in jacs[:-1]:
+        w.append(j @ w[-1])
+    w = np.array(w)
+    return np.vstack([x + amplitude * w, x - amplitude * w])
+
+
+def _amplitude_residual(pd: PeriodDoubling, y: np.ndarray, amplitude: float) -> tuple[np.ndarray, np.ndarray]:
+    """G(x, lambda) of P_I^{2q} and v . (x_0 - x_q) - 2a, with the Jacobian in (x, lambda)."""
+    q2 = (y.shape[0] - 1) // 3
+    x = y[:-1].reshape(q2, 3)
+    lam = float(y[-1])
+    base = pd.orbit.params
+    res, jx = periodic_residual(base.replace(**{pd.param: lam}), x)
+    h = 1e-7 * max(1.0, abs(lam))
+    rp = periodic_residual(base.replace(**{pd.param: lam + h}), x)[0]
+    rm = periodic_residual(base.replace(**{pd.param: lam - h}), x)[0]
+    diff = x[0] - x[q2 // 2]
+    diff[0] = math.remainder(diff[0], TWO_PI)
+    v = np.asarray(pd.eigenvector, dtype=float)
+    row = np.zeros(3 * q2 + 1)
+    row[:3] = v
+    row[3 * (q2 // 2) : 3 * (q2 // 2) + 3] = -v
+    jac = np.vstack([np.column_stack([jx, (rp - rm) / (2.0 * h)]), row[None, :]])
+    return np.append(res, v @ diff - 2.0 * amplitude), jac
+
+
+def doubled_orbit_at_amplitude(pd: PeriodDoubling, amplitude: float, *, tol: float = NEWTON_TOL,
+                               max_iter: int = MAX_NEWTON) -> MultiImpactOrbit:
+    """The orbit of the period-doubled branch whose first and (q+1)-th points differ by 2a along v.
+
+    The branch born at a period doubling is parametrised by its amplitude
+    a = v . (x_0 - x_q) / 2 (v the eigenvector of -1): Newton's method on
+    P_I^{2q}(x) = x together with that condition, with the parameter free,
+    is regular at small a whether the doubling is super- or subcritical
+    (with the parameter fixed, the Jacobian of P_I^{2q} - I is singular at
+    the doubling and Newton drifts onto the orbit that doubles). The
+    parameter of the result tells the side on which the branch is born.
+
+    Raises
+    ------
+    NewtonFailure
+        When Newton's method does not converge.
+    """
+    a = check_range("amplitude", amplitude, low=0.0, low_open=True)
+    guess = _doubled_guess(pd, a)
+    y = np.append(guess.ravel(), pd.value)
+    try:
+        res, jac = _amplitude_residual(pd, y, a)
+    except (_MapFailure, ParameterError) as exc:
+        raise NewtonFailure(f"the impact map failed at the starting point: {exc}") from None
+    norm = float(np.max(np.abs(res)))
+    for _ in range(max_iter):
+        if norm <= tol:
+            break
+        try:
+            dy = np.linalg.solve(jac, -res)
+        except np.linalg.LinAlgError:
+            raise NewtonFailure("singular Jacobian of the amplitude system") from None
+        lam = 1.0
+        while lam >= 1.0 / 64.0:
+            try:
+                r_t, j_t = _amplitude_residual(pd, y + lam * dy, a)
+            except (_MapFailure, ParameterError):
+                lam *= 0.5
+                continue
+            n_t = float(np.max(np.abs(r_t)))
+            if n_t < norm:
+                y, res, jac, norm = y + lam * dy, r_t, j_t, n_t
+                break
+            lam *= 0.5
+        else:
+            break
+    if not norm <= tol:
+        raise NewtonFailure(f"no period-doubled orbit of amplitude {a:g} near {pd.parent} (|G| = {norm:.3g})")
+    params = pd.orbit.params.replace(**{pd.param: float(y[-1])})
+    x = y[:-1].reshape(-1, 3)
+    if _least_period(x) < x.shape[0]:
+        raise NewtonFailure(f"amplitude {a:g} converged onto the orbit that doubles")
+    drift = np.abs(x - guess)
+    drift[:, 0] = np.abs(np.remainder(drift[:, 0] + math.pi, TWO_PI) - math.pi)
+    if np.max(drift) > 10.0 * a:
+        # the branch leaves the doubling like x* +- a w + O(a^2): far from the guess is another orbit
+        raise NewtonFailure(f"amplitude {a:g} converged to an orbit away from {pd.parent}'s doubling")
+    return _build_orbit(params, x, f"{pd.parent}/PD")
+
+
 def period_doubled_orbit(
     pd: PeriodDoubling,
     offset: float,
     *,
-    amplitudes: Sequence[float] = (1e-3, 3e-3, 1e-2, 3e-2, 1e-1),
+    amplitudes: Sequence[float] = (1e-3, 3e-3, 1e-2),
     t_max: float = 12.0,
 ) -> MultiImpactOrbit:
-    """The period-2 orbit born at a period doubling, at ``pd.param = pd.value + offset``.
+    """The period-2q orbit born at a period doubling, at ``pd.param = pd.value + offset``.
 
-    Newton on P_I^2 starts from x* + a v, x* - a v (x* the one-impact orbit at
-    the new parameter value, v the eigenvector of -1), for each amplitude a
-    in turn, until it converges to an orbit with two distinct impacts.
+    The branch is entered at a small amplitude a
+    (`doubled_orbit_at_amplitude`), which gives the side on which it is born;
+    near the doubling lambda - lambda_PD grows like a^2, so a is rescaled by
+    sqrt(offset / (lambda(a) - lambda_PD)) (at most 8 times) until lambda(a)
+    is close to the target, and Newton's method with the parameter fixed
+    finishes there. Super- and subcritical doublings are handled alike.
+
+    Parameters
+    ----------
+    pd : PeriodDoubling
+        From `find_period_doubling` (a one-impact orbit) or `period_doubling_at`.
+    offset : float
+        Nonzero distance from the doubling in ``pd.param``.
+    amplitudes : sequence of float
+        First amplitudes tried, in turn, until one converges.
+    t_max : float
+        Unused (kept for the former signature).
 
     Returns
     -------
@@ -719,23 +869,38 @@ def period_doubled_orbit(
     Raises
     ------
     NewtonFailure
-        When no amplitude gives a period-2 orbit (for example on the side of
-        the bifurcation where the branch does not exist).
+        When the branch is born on the other side of the doubling, or when no
+        amplitude converges.
     """
     offset = check_range("offset", offset)
     if offset == 0.0:
         raise ParameterError("offset = 0.0 is invalid; allowed: a nonzero offset from the bifurcation")
-    params = pd.orbit.params.replace(**{pd.param: pd.value + offset})
-    parent = _one_impact(params, pd.parent, t_max)
-    if parent is None:
-        raise NewtonFailure(f"{pd.parent} does not exist at {pd.param} = {pd.value + offset:g}")
-    x_star = parent.state
-    v = pd.eigenvector
+    target = pd.value + offset
+    label = f"{pd.parent}/PD"
     last = "no amplitude tried"
-    for a in amplitudes:
-        guess = np.array([x_star + a * v, x_star - a * v])
+    for a0 in amplitudes:
         try:
-            return solve_multi_impact(params, guess, label=f"{pd.parent}/PD", canonical=False)
+            orbit = doubled_orbit_at_amplitude(pd, a0)
         except NewtonFailure as exc:
             last = str(exc)
-    raise NewtonFailure(f"no period-2 orbit near {pd.parent} at {pd.param} = {pd.value + offset:g}: {last}")
+            continue
+        a = a0
+        for _ in range(8):
+            shift = getattr(orbit.params, pd.param) - pd.value
+            if shift == 0.0 or (shift > 0.0) != (offset > 0.0):
+                raise NewtonFailure(f"no period-doubled orbit of {pd.parent} at {pd.param} = {target:g}: the branch "
+                                    f"is born on the other side of {pd.param} = {pd.value:.12g}")
+            if abs(shift - offset) <= 1e-3 * abs(offset):
+                break
+            a *= math.sqrt(offset / shift)
+            try:
+                orbit = doubled_orbit_at_amplitude(pd, a)
+            except NewtonFailure as exc:
+                last = str(exc)
+                break
+        try:
+            return solve_multi_impact(pd.orbit.params.replace(**{pd.param: target}), orbit.states, label=label,
+                                      canonical=False)
+        except NewtonFailure as exc:
+            last = str(exc)
+    raise NewtonFailure(f"no period-doubled orbit near {pd.parent} at {pd.param} = {target:g}: {last}")
