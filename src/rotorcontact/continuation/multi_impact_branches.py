@@ -344,6 +344,11 @@ def continue_multi_impact(
                 f"the branch approaches a grazing at {param} = {values[-1]:.10g} "
                 f"(interior maximum r = {last.r_max_interior:.6g}); {message}"
             )
+    grazings = [e.value for e in located if e.kind == "grazing"]
+    # P_I is not smooth at a grazing (a square-root singularity): a multiplier +1 located there is the
+    # grazing, where the branch may turn, not a smooth fold
+    located = [e for e in located if not (e.kind in ("fold", "branch-point")
+                                         and any(abs(e.value - g) <= 1e-8 for g in grazings))]
     if own is not None:
         i, value, accuracy = own
         located.append(_event("period-doubling", value, param, orbit.label, None, p,
@@ -470,8 +475,10 @@ def _typed_events(result, system: _System, label: str) -> list[BranchEvent]:
     for i in range(last):
         if i in explained or not _turns(result, i):
             continue
-        if i + 1 == last and result.status != "terminal":
-            continue  # the last step before a failure (a grazing): the tangent there is not trusted
+        if i + 3 >= last and result.status != "terminal":
+            # the last steps before a failure (a grazing, where P_I has a square-root singularity): the
+            # tangent there is not trusted
+            continue
         # the parameter increases along the tangent at i before a maximum, decreases before a minimum
         pair = (result.points[i], result.points[i + 1])
         sign = 1.0 if result.tangents[i][-1] > 0 else -1.0

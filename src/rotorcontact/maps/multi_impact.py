@@ -33,6 +33,8 @@ Starting points
   states; after a transient the impact sequence is tested for period p
   (`rotorcontact.simulation.motion.detect_period`) and the last p impacts start Newton.
   This finds the stable p-orbits.
+* Grid (`orbits_from_grid`): Newton's method from the iterates of every state
+  of a grid on Sigma; this finds unstable orbits too.
 * Period doubling (`find_period_doubling`, `period_doubled_orbit`): a
   one-impact orbit B_n,m loses stability through a multiplier -1 at a
   parameter value found by bisection on its multipliers (from
@@ -89,6 +91,7 @@ __all__ = [
     "periodic_residual",
     "solve_multi_impact",
     "orbits_from_simulation",
+    "orbits_from_grid",
     "find_period_doubling",
     "period_doubling_at",
     "doubled_orbit_at_amplitude",
@@ -533,6 +536,98 @@ def orbits_from_simulation(
             found.append(orbit)
     found.sort(key=lambda o: (o.period, o.points[0].theta))
     return tuple(_relabel(o, f"M{p}-{j + 1}") for j, o in enumerate(found))
+
+
+#: Default grid of impact states (theta, rdot-, thetadot-) on the section for `orbits_from_grid`.
+GRID_SHAPE = (12, 4, 4)
+GRID_RDOT = (0.1, 1.5)
+GRID_THETADOT = (-3.0, 1.0)
+MAX_GRID_POINTS = 20000
+#: Shortest flight between two impacts of an orbit found from the grid.
+MIN_FLIGHT = 1e-3
+
+
+def orbits_from_grid(
+    params: Parameters,
+    impacts: int,
+    *,
+    shape: Sequence[int] = GRID_SHAPE,
+    rdot_range: Sequence[float] = GRID_RDOT,
+    thetadot_range: Sequence[float] = GRID_THETADOT,
+    max_iter: int = 25,
+) -> tuple[MultiImpactOrbit, ...]:
+    """Every orbit with ``impacts`` impacts per period that Newton's method finds from a grid on the section.
+
+    The grid is ``shape = (n_theta, n_rdot, n_thetadot)`` states of Sigma:
+    theta equally spaced on the circle, rdot- in ``rdot_range`` and
+    thetadot- in ``thetadot_range`` (end points included). From each state
+    x the guess (x, P_I(x), ..., P_I^{p-1}(x)) starts `solve_multi_impact`;
+    states whose iterates leave the impacting motion are skipped. Unstable
+    orbits are found as well as stable ones. Distinct orbits are returned,
+    sorted by period and labelled ``"M<p>-<j>"``.
+
+    Parameters
+    ----------
+    params : Parameters
+    impacts : int
+        p >= 1.
+    shape : sequence of 3 int
+        Grid points in theta, rdot- and thetadot- (each >= 1, at most
+        `MAX_GRID_POINTS` in all).
+    rdot_range, thetadot_range : pair of float
+        Ranges of rdot- (> 0) and thetadot-.
+    max_iter : int
+        Newton iterations from each start.
+
+    Returns
+    -------
+    tuple of MultiImpactOrbit
+    """
+    check_params(params)
+    p = check_int("impacts", impacts, 1)
+    try:
+        n_th, n_r, n_td = (int(n) for n in shape)
+    except (TypeError, ValueError):
+        raise ParameterError(f"shape = {shape!r} is invalid; allowed: three integers >= 1") from None
+    if min(n_th, n_r, n_td) < 1 or n_th * n_r * n_td > MAX_GRID_POINTS:
+        raise ParameterError(f"shape = {tuple(shape)!r} is invalid; allowed: three integers >= 1 with a product "
+                             f"of at most {MAX_GRID_POINTS}")
+    r_lo, r_hi = (float(v) for v in rdot_range)
+    if not (math.isfinite(r_lo) and math.isfinite(r_hi) and 0.0 < r_lo <= r_hi):
+        raise ParameterError(f"rdot_range = {tuple(rdot_range)!r} is invalid; allowed: 0 < low <= high")
+    td_lo, td_hi = (float(v) for v in thetadot_range)
+    if not (math.isfinite(td_lo) and math.isfinite(td_hi) and td_lo <= td_hi):
+        raise ParameterError(f"thetadot_range = {tuple(thetadot_range)!r} is invalid; allowed: finite low <= high")
+    max_iter = check_int("max_iter", max_iter, 1)
+    found: list[MultiImpactOrbit] = []
+    thetas = -math.pi + TWO_PI * (np.arange(n_th) + 0.5) / n_th
+    for th in thetas:
+        for r in np.linspace(r_lo, r_hi, n_r):
+            for td in np.linspace(td_lo, td_hi, n_td):
+                guess = _iterates(params, np.array([th, r, td]), p)
+                if guess is None:
+                    continue
+                try:
+                    orbit = solve_multi_impact(params, guess, max_iter=max_iter)
+                except NewtonFailure:
+                    continue
+                if not np.min(orbit.times) > MIN_FLIGHT:
+                    continue  # an impact at once after an impact (a grazing state), not an orbit
+                if not any(_same_orbit(orbit, o) for o in found):
+                    found.append(orbit)
+    found.sort(key=lambda o: (o.period, o.points[0].theta))
+    return tuple(_relabel(o, f"M{p}-{j + 1}") for j, o in enumerate(found))
+
+
+def _iterates(params: Parameters, x: np.ndarray, p: int) -> np.ndarray | None:
+    """(x, P_I(x), ..., P_I^{p-1}(x)), or None where an iterate has no next impact."""
+    out = [x]
+    for _ in range(p - 1):
+        res = impact_map(params, out[-1], horizon=HORIZON, law=SLIP_BOUNDED)
+        if res.status != "impact" or not res.state[1] > 0.0:
+            return None
+        out.append(np.asarray(res.state, dtype=float))
+    return np.array(out)
 
 
 # ---------------------------------------------------------------------------
