@@ -20,41 +20,9 @@ import pytest
 
 from rotorcontact import Parameters
 from rotorcontact.continuation.multi_impact_branches import continue_multi_impact
-from rotorcontact.maps.impact_map import impact_map
 from rotorcontact.maps.multi_impact import orbits_from_simulation
 
 REF = Parameters.reference()
-
-
-def _power(params, x, p):
-    for _ in range(p):
-        res = impact_map(params, x)
-        assert res.status == "impact"
-        x = np.array(res.state, dtype=float)
-    return x
-
-
-def _fd_jacobian(params, x, p, h=1e-7):
-    jac = np.empty((3, 3))
-    for j in range(3):
-        e = np.zeros(3)
-        e[j] = h
-        a, b = _power(params, x + e, p), _power(params, x - e, p)
-        d = a - b
-        d[0] = math.remainder(d[0], 2 * math.pi)
-        jac[:, j] = d / (2 * h)
-    return jac
-
-
-def _own_newton(params, x, p, tol=1e-11):
-    x = np.array(x, dtype=float)
-    for _ in range(30):
-        g = _power(params, x, p) - x
-        g[0] = math.remainder(g[0], 2 * math.pi)
-        if np.max(np.abs(g)) < tol:
-            return x, np.linalg.eigvals(_fd_jacobian(params, x, p))
-        x = x - np.linalg.solve(_fd_jacobian(params, x, p) - np.eye(3), g)
-    raise AssertionError("the reference Newton did not converge")
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +37,7 @@ def up(m6):
     return continue_multi_impact(m6, "gamma", 0.0835, max_points=300)
 
 
-def test_the_fold_hidden_behind_an_unstable_pair_is_reported(up):
+def test_the_fold_hidden_behind_an_unstable_pair_is_reported(up, power_newton):
     folds = [e for e in up.events if e.kind == "fold"]
     assert len(folds) == 1
     fold = folds[0]
@@ -77,16 +45,16 @@ def test_the_fold_hidden_behind_an_unstable_pair_is_reported(up):
     assert fold.value >= float(np.max(up.values)) - 1e-9
     assert fold.impacts == 6 and fold.orbits == (up.orbits[0].label,)
     assert fold.to_dict()["impacts"] == 6
-    x, z = _own_newton(fold.orbit.params, fold.orbit.states[0], 6)
+    x, z = power_newton(fold.orbit.params, fold.orbit.states[0], 6)
     assert np.min(np.abs(z - 1.0)) < 1e-5
     # the other multipliers are off the unit circle: max |lambda| - 1 had no sign change there
     assert np.sum(np.abs(np.abs(z) - 1.0) > 1e-3) == 2 and np.max(np.abs(z)) > 1.1
 
 
-def test_neimark_sacker_has_a_complex_pair_on_the_unit_circle(up):
+def test_neimark_sacker_has_a_complex_pair_on_the_unit_circle(up, power_newton):
     ns = [e for e in up.events if e.kind == "neimark-sacker"]
     assert len(ns) == 1
-    x, z = _own_newton(ns[0].orbit.params, ns[0].orbit.states[0], 6)
+    x, z = power_newton(ns[0].orbit.params, ns[0].orbit.states[0], 6)
     pair = [m for m in z if abs(m.imag) > 1e-3]
     assert len(pair) == 2 and all(abs(abs(m) - 1.0) < 1e-5 for m in pair)
     angle = float(ns[0].detail.rsplit("angle ", 1)[1].split()[0])
@@ -94,11 +62,11 @@ def test_neimark_sacker_has_a_complex_pair_on_the_unit_circle(up):
     assert "loss of stability as gamma increases" in ns[0].detail
 
 
-def test_period_doubling_has_a_multiplier_minus_one(m6):
+def test_period_doubling_has_a_multiplier_minus_one(m6, power_newton):
     down = continue_multi_impact(m6, "gamma", 0.080, max_points=100)
     pds = [e for e in down.events if e.kind == "period-doubling"]
     assert len(pds) == 1 and 0.080 < pds[0].value < 0.0818
-    x, z = _own_newton(pds[0].orbit.params, pds[0].orbit.states[0], 6)
+    x, z = power_newton(pds[0].orbit.params, pds[0].orbit.states[0], 6)
     assert np.min(np.abs(z + 1.0)) < 1e-5
     assert not [e for e in down.events if e.kind in ("fold", "neimark-sacker", "branch-point")]
 

@@ -57,6 +57,10 @@ __all__ = ["MAX_DOUBLINGS", "MultiImpactBranches", "multi_impact_branches", "one
 MAX_DOUBLINGS = 8
 #: Amplitude v . (x_0 - x_q) / 2 at which a period-doubled branch is entered.
 SWITCH_AMPLITUDE = 1e-3
+#: The amplitude is divided by 4 (at most `SWITCH_HALVINGS` times) until the entry orbit has a multiplier
+#: within this of +1.
+SWITCH_MULTIPLIER = 0.05
+SWITCH_HALVINGS = 6
 
 
 @dataclass(frozen=True)
@@ -79,6 +83,11 @@ class MultiImpactBranches(BranchResult):
         The computed branches; a branch's label is that of its orbits.
     depth : tuple of int
         For each branch, the number of period doublings from its seed (0 for a seed).
+    parents : tuple of int
+        For each branch, the index of the branch it doubles from (-1 for a seed,
+        and for a branch born on a one-impact branch).
+    born_at : tuple of float or None
+        For each branch, the period doubling it was born at (None for a seed).
     """
 
     impacts: int
@@ -87,6 +96,8 @@ class MultiImpactBranches(BranchResult):
     base: Parameters = field(repr=False)
     branches: tuple[MultiImpactBranch, ...] = field(repr=False)
     depth: tuple[int, ...] = ()
+    parents: tuple[int, ...] = ()
+    born_at: tuple[float | None, ...] = ()
 
     @property
     def labels(self) -> tuple[str, ...]:
@@ -187,8 +198,23 @@ def switch_at_doubling(event: BranchEvent, label: str, param: str, start: float,
         return None
     try:
         pd = period_doubling_at(orbit, param)
-        first = doubled_orbit_at_amplitude(pd, SWITCH_AMPLITUDE)
-    except (ParameterError, NewtonFailure):
+    except ParameterError:
+        return None
+    first = None
+    amplitude = SWITCH_AMPLITUDE
+    for _ in range(SWITCH_HALVINGS):
+        try:
+            trial = doubled_orbit_at_amplitude(pd, amplitude)
+        except NewtonFailure:
+            amplitude *= 0.25
+            continue
+        first = trial
+        # close enough to the doubling that the multiplier born at +1 is still near it (deep in a cascade the
+        # next doubling follows within a short distance)
+        if np.min(np.abs(np.array(trial.multipliers) - 1.0)) <= SWITCH_MULTIPLIER:
+            break
+        amplitude *= 0.25
+    if first is None:
         return None
     first = replace(first, label=label)
     side = getattr(first.params, param) - pd.value
@@ -249,6 +275,8 @@ def multi_impact_branches(
                              "value inside the range (the orbits are found there)")
     branches: list[MultiImpactBranch] = []
     depth: list[int] = []
+    parents: list[int] = []
+    born_at: list[float | None] = []
     if p >= 2:
         if seeds is None:
             kw = {} if grid is None else {"shape": grid}
@@ -263,15 +291,17 @@ def multi_impact_branches(
                 continue
             branches.append(_joined(seed, param, start, stop, max_points))
             depth.append(0)
+            parents.append(-1)
+            born_at.append(None)
     # branch switching, level by level
-    pending: list[tuple[BranchEvent, str, int]] = []
+    pending: list[tuple[BranchEvent, str, int, int]] = []
     for e in one_impact_events:
         if e.kind == "period-doubling":
-            pending.append((e, e.orbits[0] if e.orbits else "M1", 1))
-    for b, d in zip(list(branches), list(depth)):
-        pending.extend(_doublings_of(b, d + 1))
+            pending.append((e, e.orbits[0] if e.orbits else "M1", 1, -1))
+    for i, (b, d) in enumerate(zip(list(branches), list(depth))):
+        pending.extend(_doublings_of(b, d + 1, i))
     while pending:
-        event, parent, level = pending.pop(0)
+        event, parent, level, parent_index = pending.pop(0)
         if level > doublings:
             continue
         if event.orbit is None and p == 1 and event.T is not None:
@@ -287,14 +317,17 @@ def multi_impact_branches(
             continue
         branches.append(child)
         depth.append(level)
-        pending.extend(_doublings_of(child, level + 1))
+        parents.append(parent_index)
+        born_at.append(float(event.value))
+        pending.extend(_doublings_of(child, level + 1, len(branches) - 1))
     events = sorted((e for b in branches for e in b.events), key=lambda e: (e.value, e.kind, e.orbits))
     return MultiImpactBranches(param=param, events=tuple(events), impacts=p, start=start, stop=stop, base=params,
-                               branches=tuple(branches), depth=tuple(depth))
+                               branches=tuple(branches), depth=tuple(depth), parents=tuple(parents),
+                               born_at=tuple(born_at))
 
 
-def _doublings_of(branch: MultiImpactBranch, level: int) -> list[tuple[BranchEvent, str, int]]:
+def _doublings_of(branch: MultiImpactBranch, level: int, index: int) -> list[tuple[BranchEvent, str, int, int]]:
     """The period doublings along a branch to switch at (not the branch's own, where it was born)."""
     label = _label(branch)
-    return [(e, label, level) for e in branch.events
+    return [(e, label, level, index) for e in branch.events
             if e.kind == "period-doubling" and e.orbits == (label,) and e.orbit is not None]

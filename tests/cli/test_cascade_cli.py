@@ -1,0 +1,41 @@
+"""``rotorcontact cascade``: JSON contract, agreement with the library, text and bad input."""
+
+from __future__ import annotations
+
+import pytest
+
+from rotorcontact import Parameters
+from rotorcontact.continuation.cascade import cascades
+
+ARGS = ["--gamma", "0.0845", "--from", "0.0836", "--to", "0.0865", "--impacts", "2", "--depth", "3"]
+
+
+def test_json_contract_and_agreement_with_the_library(cli):
+    data = cli.json("cascade", *ARGS)
+    assert set(data) == {"parameters", "param", "impacts", "cascades"}
+    assert data["param"] == "gamma" and data["impacts"] == 2
+    lib = cascades(Parameters.reference().replace(gamma=0.0845), "gamma", 0.0836, 0.0865, impacts=2, depth=3)
+    assert len(data["cascades"]) == len(lib)
+    for c, ref in zip(data["cascades"], lib):
+        assert set(c) == {"orbits", "points", "ratios", "end", "accumulation"}
+        assert set(c["end"]) == {"type", "value"}
+        assert [p["value"] for p in c["points"]] == [e.value for e in ref.points]
+        assert c["ratios"] == list(ref.ratios)
+        for p in c["points"]:
+            assert set(p) == {"type", "value", "orbits", "impacts"} and p["type"] == "period-doubling"
+    deep = max(data["cascades"], key=lambda c: len(c["points"]))
+    assert [p["impacts"] for p in deep["points"]] == [2, 4, 8, 16] and len(deep["ratios"]) == 2
+
+
+def test_text(cli):
+    code, out, err = cli.run("cascade", *ARGS)
+    assert code == 0, err
+    assert "cascade M2-1 -> M2-1/PD" in out and "delta = " in out and "ends: accumulation" in out
+
+
+@pytest.mark.parametrize("args", [["--depth", "0"], ["--depth", "99"], ["--impacts", "0"], ["--param", "phi"],
+                                  ["--from", "0.2", "--to", "0.1"], ["--impacts", "2", "--from", "0.0", "--to", "0.1"],
+                                  ["--grid", "a,b,c"]])
+def test_bad_input_exits_2(cli, args):
+    code, out, err = cli.run("cascade", *args)
+    assert code == 2 and "error" in err and "Traceback" not in err
