@@ -51,7 +51,8 @@ from ..model.validation import check_int, check_params
 from .multi_impact_branches import MultiImpactBranch, continue_multi_impact
 from .results import BranchEvent, BranchResult, check_param_range
 
-__all__ = ["MAX_DOUBLINGS", "MultiImpactBranches", "multi_impact_branches", "one_impact_seed", "switch_at_doubling"]
+__all__ = ["MAX_DOUBLINGS", "MultiImpactBranches", "multi_impact_branches", "one_impact_seed", "seed_orbits",
+           "switch_at_doubling"]
 
 #: Largest number of successive branch switchings at period doubling.
 MAX_DOUBLINGS = 8
@@ -172,6 +173,22 @@ def _passes_through(branch: MultiImpactBranch, orbit: MultiImpactOrbit, param: s
     return False
 
 
+def seed_orbits(params: Parameters, impacts: int, grid: tuple[int, int, int] | None = None
+                ) -> tuple[MultiImpactOrbit, ...]:
+    """The orbits with ``impacts`` impacts per period at ``params`` that seed the branches (module docstring).
+
+    Those of long simulations and of Newton's method from a grid of impact
+    states, deduplicated, sorted by period and labelled ``"M<p>-<j>"``.
+    """
+    kw = {} if grid is None else {"shape": grid}
+    found = list(orbits_from_simulation(params, impacts))
+    for o in orbits_from_grid(params, impacts, **kw):
+        if not any(_same_orbit(o, f) for f in found):
+            found.append(o)
+    found.sort(key=lambda o: (o.period, o.points[0].theta))
+    return tuple(replace(o, label=f"M{impacts}-{j + 1}") for j, o in enumerate(found))
+
+
 def one_impact_seed(params: Parameters, event: BranchEvent) -> MultiImpactOrbit:
     """The one-impact orbit of an event of `rotorcontact.continuation.branches.orbit_branches`, as a 1-impact orbit.
 
@@ -279,13 +296,7 @@ def multi_impact_branches(
     born_at: list[float | None] = []
     if p >= 2:
         if seeds is None:
-            kw = {} if grid is None else {"shape": grid}
-            found = list(orbits_from_simulation(params, p))
-            for o in orbits_from_grid(params, p, **kw):
-                if not any(_same_orbit(o, f) for f in found):
-                    found.append(o)
-            found.sort(key=lambda o: o.period)
-            seeds = tuple(replace(o, label=f"M{p}-{j + 1}") for j, o in enumerate(found))
+            seeds = seed_orbits(params, p, grid)
         for seed in seeds:
             if any(_passes_through(b, seed, param) for b in branches):
                 continue

@@ -1,0 +1,210 @@
+"""Two-parameter curves of orbits with p >= 1 impacts per period: period doubling, Neimark-Sacker, fold.
+
+Each curve is a solution curve, in the unknowns (x_0, ..., x_{p-1}, p1, p2),
+of the periodic-orbit equations G(x) = 0 of `rotorcontact.maps.multi_impact`
+(x_i the impact states, G_i = P_I(x_i) - x_{i+1}) and one more equation:
+
+* ``period-doubling``: det(M + I) = 0, M the Jacobian of P_I^p;
+* ``neimark-sacker``: the bialternate product prod_{i<j}(z_i z_j - 1) = 0 of
+  the multipliers z of M (a complex pair on the unit circle; the curve may go on
+  where a real pair has product 1, which is not a bifurcation);
+* ``fold``: det(M - I) = 0.
+
+These are the test functions of the one-parameter branches
+(`rotorcontact.continuation.events`). The seed is found on the branch of the
+orbit in p1 (`rotorcontact.continuation.multi_impact_branches.continue_multi_impact`,
+towards each end of the p1 range in turn): the first event of the kind. The curve is then continued both ways by
+pseudo-arclength (`rotorcontact.continuation.engine.continue_both_ways`) inside
+the box, with a Jacobian by central differences.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Sequence
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..maps.impact_map import one_impact_orbits
+from ..maps.multi_impact import (
+    MultiImpactOrbit,
+    NewtonFailure,
+    solve_multi_impact,
+    _chain,
+    _MapFailure,
+    periodic_residual,
+)
+from ..model.params import Parameters
+from ..simulation.motion import MAX_PERIOD_IMPACTS
+from .codim2 import Codim2Curve, _Plane, coalescence_curves
+from .engine import ContinuationSettings, CorrectionError, EventFunction, continue_both_ways, correct_fixed
+from .events import bialternate_product, det_minus_identity, det_plus_identity
+from .multi_impact_branches import continue_multi_impact
+from .multi_impact_families import seed_orbits
+
+__all__ = ["CURVE_KINDS", "CURVE_SPECS", "orbit_by_label", "orbit_curve", "extra_curves"]
+
+#: The ``--curves`` specifications: a kind of `CURVE_KINDS` by its short name, or the coalescences.
+CURVE_SPECS = ("coalescence", "pd:<orbit>", "ns:<orbit>", "fold:<orbit>")
+
+#: The kinds of two-parameter curves of an orbit, and the short names of the curves.
+CURVE_KINDS = {"period-doubling": "pd", "neimark-sacker": "ns", "fold": "fold"}
+
+_TESTS = {"period-doubling": det_plus_identity, "neimark-sacker": bialternate_product, "fold": det_minus_identity}
+
+
+def _settings() -> ContinuationSettings:
+    return ContinuationSettings(step=0.01, min_step=1e-9, max_step=0.04, max_points=600, location_tol=1e-10,
+                                residual_tol=1e-9)
+
+
+def _multipliers(params, x: np.ndarray) -> np.ndarray:
+    _im, _t, jacs, _s = _chain(params, x)
+    m = np.eye(3)
+    for j in jacs:
+        m = j @ m
+    return np.linalg.eigvals(m)
+
+
+def _seed(orbit: MultiImpactOrbit, kind: str, plane: _Plane) -> np.ndarray | None:
+    """A point of the curve on the branch of ``orbit`` in p1 at the base p2: the first event of ``kind``."""
+    p1 = plane.params[0]
+    for end in plane.ranges[0][::-1]:
+        branch = continue_multi_impact(orbit, p1, end, max_points=4000)
+        ev = next((e for e in branch.events if e.kind == kind and e.orbit is not None), None)
+        if ev is not None:
+            return np.concatenate([ev.orbit.states.ravel(), [ev.value, getattr(orbit.params, plane.params[1])]])
+    return None
+
+
+def orbit_curve(
+    orbit: MultiImpactOrbit,
+    kind: str,
+    param: Sequence[str] = ("gamma", "omega"),
+    ranges=None,
+    *,
+    name: str | None = None,
+    settings: ContinuationSettings | None = None,
+) -> Codim2Curve:
+    """The two-parameter curve of ``kind`` of an orbit with p impacts per period (module docstring).
+
+    Parameters
+    ----------
+    orbit : MultiImpactOrbit
+        The orbit at the base parameters (p = 1 for a one-impact orbit).
+    kind : str
+        One of `CURVE_KINDS`.
+    param : (str, str)
+        The plane; the seed is looked for along p1.
+    ranges : ((float, float), (float, float)), optional
+        The box; `rotorcontact.continuation.codim2.DEFAULT_RANGES` when omitted.
+    name : str, optional
+        Name of the curve; default ``"<short kind>_<label>"`` with the comma of the label dropped
+        (``"pd_B1d"``, ``"ns_M6-1"``).
+    settings : ContinuationSettings, optional
+
+    Returns
+    -------
+    Codim2Curve
+        Of kind ``kind`` (``"orbit-fold"`` for a fold, apart from the folds
+        of F1 of `rotorcontact.continuation.codim2`). With no piece when no
+        seed is found along p1. The unknowns of a piece
+        are (x_0 .. x_{p-1}, p1, p2).
+    """
+    if not isinstance(orbit, MultiImpactOrbit):
+        raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
+    if kind not in CURVE_KINDS:
+        raise ParameterError(f"kind = {kind!r} is invalid; allowed: {', '.join(CURVE_KINDS)}")
+    plane = _Plane(orbit.params, param, ranges)
+    name = name or f"{CURVE_KINDS[kind]}_{orbit.label.replace(',', '')}"
+    curve_kind = "orbit-fold" if kind == "fold" else kind
+    settings = settings or _settings()
+    p = orbit.impacts
+    seed = _seed(orbit, kind, plane)
+    if seed is None:
+        return Codim2Curve(name=name, kind=curve_kind, params=plane.params, pieces=(), ends=("no seed along " +
+                                                                                       plane.params[0],))
+    y0 = seed
+
+    def residual(y):
+        params = plane.at(y[-2], y[-1])
+        x = y[: 3 * p].reshape(p, 3)
+        try:
+            g = periodic_residual(params, x)[0]
+            extra = [_TESTS[kind](_multipliers(params, x))]
+        except _MapFailure as exc:
+            raise ParameterError(f"the impact map failed: {exc}") from None
+        return np.concatenate([g, extra])
+
+    weights = np.ones_like(y0)
+    weights[-2] = 1.0 / plane.span(0)
+    weights[-1] = 1.0 / plane.span(1)
+    try:
+        y0 = correct_fixed(residual, y0, len(y0) - 1, settings=settings)
+    except CorrectionError:
+        return Codim2Curve(name=name, kind=curve_kind, params=plane.params, pieces=(),
+                           ends=("the seed could not be corrected onto the curve",))
+    # the curve ends where an impact velocity reaches 0 (the orbit turns virtual)
+    events = plane.box_events() + [EventFunction("impact", lambda y: float(np.min(y[1: 3 * p: 3])), terminal=True)]
+    both = continue_both_ways(residual, y0, events=events, settings=settings, weights=weights, param_index=-1,
+                              correct_start=False)
+    if both is None:
+        return Codim2Curve(name=name, kind=curve_kind, params=plane.params, pieces=(), ends=("no continuation",))
+    return Codim2Curve(name=name, kind=curve_kind, params=plane.params, pieces=(both.points,), ends=both.messages)
+
+
+def orbit_by_label(params: Parameters, label: str, t_max: float = 12.0) -> MultiImpactOrbit:
+    """The orbit ``label`` at ``params``: a one-impact orbit ``"B<n>,<m>"`` (as an orbit of one impact) or
+    ``"M<p>-<j>"`` of `rotorcontact.continuation.multi_impact_families.seed_orbits`.
+
+    Raises
+    ------
+    ParameterError
+        When there is no such orbit there (naming those found).
+    """
+    m = re.fullmatch(r"M(\d+)-(\d+)", label)
+    if m:
+        p = int(m.group(1))
+        if not 1 <= p <= MAX_PERIOD_IMPACTS:
+            raise ParameterError(f"orbit {label!r} has {p} impacts; allowed: 1 to {MAX_PERIOD_IMPACTS}")
+        found = seed_orbits(params, p)
+        hit = [o for o in found if o.label == label]
+        if not hit:
+            raise ParameterError(f"orbit {label!r} is not found here; found: {', '.join(o.label for o in found) or 'none'}")
+        return hit[0]
+    if not re.fullmatch(r"B\d+,[abcd]", label):
+        raise ParameterError(f"orbit = {label!r} is invalid; allowed: B<n>,<m> (B1,d) or M<p>-<j> (M2-1)")
+    orbits = [o for o in one_impact_orbits(params, t_max) if o.admissible]
+    hit = [o for o in orbits if o.label == label]
+    if not hit:
+        raise ParameterError(f"orbit {label!r} is not an admissible orbit here; found: "
+                             f"{', '.join(o.label for o in orbits) or 'none'}")
+    try:
+        return solve_multi_impact(params, [hit[0].state], label=label)
+    except NewtonFailure as exc:
+        raise ParameterError(f"orbit {label!r} is not an orbit of the simulator's impact map here: {exc}") from None
+
+
+def extra_curves(params: Parameters, param: Sequence[str], ranges, specs: Sequence[str], *, t_max: float = 12.0,
+                 n_seeds: int = 7, n_scan: int = 41) -> dict[str, Codim2Curve]:
+    """The curves of the ``codim2 --curves`` specifications (`CURVE_SPECS`), by name.
+
+    ``"coalescence"``: the a-c and b-d coalescence curves of the pair 1
+    (`rotorcontact.continuation.codim2.coalescence_curve`); ``"pd:<orbit>"``,
+    ``"ns:<orbit>"``, ``"fold:<orbit>"``: `orbit_curve` of the orbit
+    (`orbit_by_label`) at the base parameters.
+    """
+    short = {v: k for k, v in CURVE_KINDS.items()}
+    out: dict[str, Codim2Curve] = {}
+    for spec in specs:
+        if spec == "coalescence":
+            for c in coalescence_curves(params, param, ranges, t_max=t_max, n_seeds=n_seeds, n_scan=n_scan):
+                out[c.name] = c
+            continue
+        kind, _, label = spec.partition(":")
+        if kind not in short or not label:
+            raise ParameterError(f"curve {spec!r} is invalid; allowed: {', '.join(CURVE_SPECS)}")
+        c = orbit_curve(orbit_by_label(params, label, t_max), short[kind], param, ranges)
+        out[c.name] = c
+    return out
