@@ -85,3 +85,15 @@ def test_a_branch_that_reaches_its_own_period_doubling_stops_and_says_so():
     # it did not walk back along the other half (the same orbits, points swapped) nor report a fold
     assert np.all(branch.values <= pd.value + 1e-12)
     assert not [e for e in branch.events if e.kind == "fold"]
+
+
+def test_a_turning_point_with_a_complex_pair_near_one_is_no_neimark_sacker():
+    from rotorcontact.continuation.events import multiplier_kind
+
+    # multipliers off the unit circle (a turning point where a complex pair lies near +1)
+    z = np.array([0.9967 + 0.0033j, 0.9967 - 0.0033j, 0.1])
+    assert multiplier_kind("torus", z) is None and multiplier_kind("plus-one", z) is None
+    on = np.array([np.exp(0.5j), np.exp(-0.5j), 0.1])
+    assert multiplier_kind("torus", on) == "neimark-sacker"
+    assert multiplier_kind("plus-one", np.array([1.0 + 0j, 1.62, 0.05])) == "plus-one"
+    assert multiplier_kind("minus-one", np.array([-1.0 + 0j, 0.4, 0.2])) == "period-doubling"

@@ -33,7 +33,8 @@ from typing import Any
 from ..model.params import Parameters
 from ..model.validation import check_int, check_params
 from .branches import orbit_branches
-from .multi_impact_families import MAX_DOUBLINGS, MultiImpactBranches, multi_impact_branches
+from ..maps.multi_impact import NewtonFailure
+from .multi_impact_families import MAX_DOUBLINGS, MultiImpactBranches, multi_impact_branches, one_impact_seed
 from .results import BranchEvent, check_param_range
 
 __all__ = ["FEIGENBAUM_DELTA", "Cascade", "cascades", "cascades_of", "feigenbaum_ratios"]
@@ -161,6 +162,14 @@ def cascades_of(family: MultiImpactBranches, one_impact: tuple[BranchEvent, ...]
     return tuple(out)
 
 
+def _with_orbit(params: Parameters, event: BranchEvent) -> BranchEvent:
+    """A one-impact period doubling with its orbit (as an orbit of one impact), where the impact map has it."""
+    try:
+        return replace(event, orbit=one_impact_seed(params, event))
+    except NewtonFailure:
+        return event
+
+
 def cascades(
     params: Parameters,
     param: str,
@@ -201,7 +210,7 @@ def cascades(
     start, stop = check_param_range(param, params, start, stop)
     if p == 1:
         one = orbit_branches(params, param, start, stop, t_max=t_max, n_seeds=n_seeds)
-        events = tuple(replace(e, impacts=1) for e in one.events if e.kind == "period-doubling")
+        events = tuple(_with_orbit(params, replace(e, impacts=1)) for e in one.events if e.kind == "period-doubling")
         base = params.replace(**{param: start})
         family = multi_impact_branches(base, 1, param, start, stop, doublings=depth, one_impact_events=events)
         return cascades_of(family, events)

@@ -185,8 +185,11 @@ def _draw_cascades(ax, cascades, variable: str) -> None:
                 continue
             y = [getattr(q, variable) for q in e.orbit.points]
             ax.plot([e.value] * len(y), y, ls="none", marker="D", ms=4, mfc="none", mec="k", zorder=5,
-                    gid=f"cascade:{e.orbits[0]}", label="period doubling (cascade)" if first else None)
-            first = False
+                    gid=f"cascade:{e.orbits[0]}")
+            if first:
+                # the legend scales markers up for the sweep's dots: a smaller proxy for this one
+                ax.plot([], [], ls="none", marker="D", ms=1, mfc="none", mec="k", label="period doubling (cascade)")
+                first = False
 
 
 def plot_regimes(ds, ax=None):
