@@ -31,8 +31,8 @@ from ..maps.multi_impact import (
     MultiImpactOrbit,
     NewtonFailure,
     solve_multi_impact,
-    _chain,
     _MapFailure,
+    multipliers_at,
     periodic_residual,
 )
 from ..model.params import Parameters
@@ -57,14 +57,6 @@ _TESTS = {"period-doubling": det_plus_identity, "neimark-sacker": bialternate_pr
 def _settings() -> ContinuationSettings:
     return ContinuationSettings(step=0.01, min_step=1e-9, max_step=0.04, max_points=600, location_tol=1e-10,
                                 residual_tol=1e-9)
-
-
-def _multipliers(params, x: np.ndarray) -> np.ndarray:
-    _im, _t, jacs, _s = _chain(params, x)
-    m = np.eye(3)
-    for j in jacs:
-        m = j @ m
-    return np.linalg.eigvals(m)
 
 
 def _seed(orbit: MultiImpactOrbit, kind: str, plane: _Plane) -> np.ndarray | None:
@@ -132,7 +124,7 @@ def orbit_curve(
         x = y[: 3 * p].reshape(p, 3)
         try:
             g = periodic_residual(params, x)[0]
-            extra = [_TESTS[kind](_multipliers(params, x))]
+            extra = [_TESTS[kind](multipliers_at(params, x))]
         except _MapFailure as exc:
             raise ParameterError(f"the impact map failed: {exc}") from None
         return np.concatenate([g, extra])

@@ -34,7 +34,7 @@ from ..maps.impact_map import IDEAL, flight_extrema, impact_map_jacobian
 from ..maps.orbit_system import OneImpactSystem, label_of, orbit_angles, regularised_residual
 from .results import BranchEvent
 
-__all__ = ["BranchAnalyser", "at_turning_point", "bialternate_product", "branch_event_functions", "classify_event",
+__all__ = ["BranchAnalyser", "MultiplierTests", "at_turning_point", "bialternate_product", "branch_event_functions", "classify_event",
            "det_minus_identity", "det_plus_identity", "multiplier_kind", "report_events", "rotation_angle",
            "turning_points"]
 
@@ -57,7 +57,29 @@ class _Core:
     multipliers: np.ndarray | None
 
 
-class BranchAnalyser:
+class MultiplierTests:
+    """The multiplier test functions at a point y, from ``self.multipliers(y)`` (None where undefined)."""
+
+    def multipliers(self, y: np.ndarray) -> np.ndarray | None:  # pragma: no cover - provided by subclasses
+        raise NotImplementedError
+
+    def plus_one(self, y: np.ndarray) -> float | None:
+        """det(J - I) = prod (z_i - 1)."""
+        z = self.multipliers(y)
+        return None if z is None else det_minus_identity(z)
+
+    def minus_one(self, y: np.ndarray) -> float | None:
+        """det(J + I) = prod (z_i + 1)."""
+        z = self.multipliers(y)
+        return None if z is None else det_plus_identity(z)
+
+    def torus(self, y: np.ndarray) -> float | None:
+        """prod_{i<j} (z_i z_j - 1): zero where a complex pair is on the unit circle (or z_i z_j = 1)."""
+        z = self.multipliers(y)
+        return None if z is None else bialternate_product(z)
+
+
+class BranchAnalyser(MultiplierTests):
     """The test functions along the branches of one system, with a cache per point.
 
     Parameters
@@ -128,20 +150,6 @@ class BranchAnalyser:
         c = self.core(y)
         return c.count if c.admissible else None
 
-    def plus_one(self, y: np.ndarray) -> float | None:
-        """det(J - I) = prod (z_i - 1)."""
-        z = self.multipliers(y)
-        return None if z is None else det_minus_identity(z)
-
-    def minus_one(self, y: np.ndarray) -> float | None:
-        """det(J + I) = prod (z_i + 1)."""
-        z = self.multipliers(y)
-        return None if z is None else det_plus_identity(z)
-
-    def torus(self, y: np.ndarray) -> float | None:
-        """prod_{i<j} (z_i z_j - 1): zero where a complex pair is on the unit circle (or z_i z_j = 1)."""
-        z = self.multipliers(y)
-        return None if z is None else bialternate_product(z)
 
 
 def det_minus_identity(z: np.ndarray) -> float:

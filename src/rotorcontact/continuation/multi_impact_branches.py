@@ -49,6 +49,7 @@ from ..maps.multi_impact import (
     _relabel,
     _same_orbit,
     find_period_doubling,
+    multipliers_at,
     orbits_from_simulation,
     period_doubled_orbit,
     periodic_residual,
@@ -57,13 +58,7 @@ from ..maps.multi_impact import (
 from ..model.params import Parameters, check_range
 from ..model.validation import check_int, check_params
 from .engine import ContinuationSettings, CorrectionError, EventFunction, continue_curve
-from .events import (
-    bialternate_product,
-    det_minus_identity,
-    det_plus_identity,
-    multiplier_kind,
-    rotation_angle,
-)
+from .events import MultiplierTests, multiplier_kind, rotation_angle
 from .results import BranchEvent, BranchResult
 
 __all__ = [
@@ -130,7 +125,7 @@ class MultiImpactBranch(BranchResult):
                         "plausible": [o.plausible for o in self.orbits]}}
 
 
-class _System:
+class _System(MultiplierTests):
     """(x_0 .. x_{p-1}, lambda) -> G as a continuation problem."""
 
     def __init__(self, base: Parameters, param: str, p: int, fd_step: float = 1e-7,
@@ -177,30 +172,13 @@ class _System:
         if key in self._mult:
             return self._mult[key]
         try:
-            _im, _t, jacs, _s = _chain(self.params_at(y[-1]), y[:-1].reshape(self.p, 3))
+            z = multipliers_at(self.params_at(y[-1]), y[:-1].reshape(self.p, 3))
         except (_MapFailure, ParameterError):
             z = None
-        else:
-            m = np.eye(3)
-            for j in jacs:
-                m = j @ m
-            z = np.linalg.eigvals(m)
         if len(self._mult) > 20000:
             self._mult.clear()
         self._mult[key] = z
         return z
-
-    def plus_one(self, y: np.ndarray) -> float | None:
-        z = self.multipliers(y)
-        return None if z is None else det_minus_identity(z)
-
-    def minus_one(self, y: np.ndarray) -> float | None:
-        z = self.multipliers(y)
-        return None if z is None else det_plus_identity(z)
-
-    def torus(self, y: np.ndarray) -> float | None:
-        z = self.multipliers(y)
-        return None if z is None else bialternate_product(z)
 
     def asymmetry(self, y: np.ndarray) -> float | None:
         """e . (x_0 - x_{p/2}) near the orbit of p/2 impacts that this one doubles (None elsewhere, or p odd).

@@ -88,6 +88,8 @@ __all__ = [
     "MultiImpactOrbit",
     "PeriodDoubling",
     "NewtonFailure",
+    "cycle_jacobian",
+    "multipliers_at",
     "periodic_residual",
     "solve_multi_impact",
     "orbits_from_simulation",
@@ -141,6 +143,25 @@ def _chain(params: Parameters, states: np.ndarray, law: str = SLIP_BOUNDED):
         jacs[i] = res.jacobian
         sticking[i] = res.sticking
     return images, times, jacs, sticking
+
+
+def cycle_jacobian(jacs) -> np.ndarray:
+    """J_{p-1} ... J_0: the Jacobian of P_I^p at x_0 from the Jacobians of P_I at the p points."""
+    m = np.eye(3)
+    for j in jacs:
+        m = j @ m
+    return m
+
+
+def multipliers_at(params: Parameters, states) -> np.ndarray:
+    """Eigenvalues of the Jacobian of P_I^p at the p points ``states`` (not sorted).
+
+    Raises
+    ------
+    ValueError
+        When the impact map has no next impact from one of the states.
+    """
+    return np.linalg.eigvals(cycle_jacobian(_chain(params, np.asarray(states, dtype=float))[2]))
 
 
 def periodic_residual(params: Parameters, states, *, law: str = SLIP_BOUNDED) -> tuple[np.ndarray, np.ndarray]:
@@ -274,11 +295,7 @@ class MultiImpactOrbit:
 
     def jacobian(self) -> np.ndarray:
         """Jacobian of P_I^p at the first point (the product of the p Jacobians of P_I)."""
-        _im, _t, jacs, _s = _chain(self.params, self.states)
-        m = np.eye(3)
-        for j in jacs:
-            m = j @ m
-        return m
+        return cycle_jacobian(_chain(self.params, self.states)[2])
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data (the ``orbits --impacts p --json`` contract)."""
@@ -312,10 +329,7 @@ def _build_orbit(params: Parameters, states: np.ndarray, label: str) -> MultiImp
     x[:, 0] = [wrap_angle(t) for t in x[:, 0]]
     res, _jac = periodic_residual(params, x)
     images, times, jacs, sticking = _chain(params, x)
-    m = np.eye(3)
-    for j in jacs:
-        m = j @ m
-    ev = np.linalg.eigvals(m)
+    ev = np.linalg.eigvals(cycle_jacobian(jacs))
     ev = ev[np.argsort(-np.abs(ev), kind="stable")]
     admissible = bool(np.all(x[:, 1] > 0.0))
     slipping = bool(
