@@ -7,7 +7,6 @@ from typing import Any
 
 from ..continuation.branches import BRANCH_PARAMETERS, MAX_SEEDS, OrbitBranches, orbit_branches
 from ..continuation.multi_impact_families import MAX_DOUBLINGS, MultiImpactBranches, multi_impact_branches
-from ..maps.multi_impact import GRID_SHAPE, MAX_GRID_POINTS
 from ..simulation.motion import MAX_PERIOD_IMPACTS
 from ..errors import ParameterError
 from ..maps.impact_map import MAX_GROWTH, flight_growth, period_limit
@@ -21,6 +20,7 @@ from .options import (
     parameters_from_args,
     parse_float,
     parse_int,
+    parse_section_grid,
     parse_t_max,
     print_json,
     renamed,
@@ -142,19 +142,6 @@ def _text(b: OrbitBranches, machine: Machine | None = None) -> list[str]:
     return lines
 
 
-def _grid(text: str | None) -> tuple[int, int, int]:
-    if text is None:
-        return GRID_SHAPE
-    parts = text.split(",")
-    if len(parts) != 3:
-        raise ParameterError(f"--grid = {text!r} is invalid; allowed: three counts NT,NR,ND (theta, rdot-, thetadot-)")
-    shape = tuple(parse_int("grid", q.strip(), 1, MAX_GRID_POINTS) for q in parts)
-    if shape[0] * shape[1] * shape[2] > MAX_GRID_POINTS:
-        raise ParameterError(f"--grid = {text!r} has {shape[0] * shape[1] * shape[2]} points; allowed: at most "
-                             f"{MAX_GRID_POINTS} (each is a Newton solve)")
-    return shape  # type: ignore[return-value]
-
-
 def _family_text(f: MultiImpactBranches) -> list[str]:
     lines = [f"orbits with {f.impacts} impact(s) per period along {f.param} in [{f.start:g}, {f.stop:g}]"
              + (" and their period doublings" if any(f.depth) else "") + f": {', '.join(f.labels) or 'none'}"]
@@ -173,7 +160,7 @@ def _family_text(f: MultiImpactBranches) -> list[str]:
 def _run_impacts(args: argparse.Namespace, params, machine, start: float, stop: float, p: int, doublings: int,
                  one: OrbitBranches | None) -> int:
     """--impacts P (P >= 2), or the period-doubled branches of the one-impact ones (``one``)."""
-    grid = _grid(args.grid)
+    grid = parse_section_grid(args.grid)
     names = {"start": "--from", "stop": "--to", "doublings": "--doublings", "impacts": "--impacts"}
     try:
         if one is None:

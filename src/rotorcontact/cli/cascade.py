@@ -9,7 +9,7 @@ from ..continuation.cascade import Cascade, cascades
 from ..continuation.multi_impact_families import MAX_DOUBLINGS
 from ..errors import ParameterError
 from ..simulation.motion import MAX_PERIOD_IMPACTS
-from .branches import DEFAULT_RANGES, _grid
+from .branches import DEFAULT_RANGES
 from .options import (
     MAX_CONTINUATION_PERIOD,
     add_parameter_options,
@@ -17,6 +17,7 @@ from .options import (
     parameters_from_args,
     parse_float,
     parse_int,
+    parse_section_grid,
     parse_t_max,
     print_json,
     renamed,
@@ -79,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     depth = parse_int("depth", args.depth, 1, MAX_DOUBLINGS, why="each level doubles the impacts per period")
     t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)
     seeds = parse_int("seeds", args.seeds, 2, MAX_SEEDS, why="each seed value is a search for orbits")
-    grid = _grid(args.grid)
+    grid = parse_section_grid(args.grid)
     try:
         found = cascades(params, args.param, start, stop, impacts=p, depth=depth, t_max=t_max, n_seeds=seeds,
                          grid=grid)

@@ -50,6 +50,7 @@ from ..maps.multi_impact import (
     _same_orbit,
     find_period_doubling,
     multipliers_at,
+    orbits_from_grid,
     orbits_from_simulation,
     period_doubled_orbit,
     periodic_residual,
@@ -483,6 +484,7 @@ def multi_impact_orbits(
     period_doubling: bool = True,
     scan_width: float = 0.05,
     t_max: float = 12.0,
+    grid: tuple[int, int, int] | None = None,
 ) -> tuple[MultiImpactOrbit, ...]:
     """Periodic orbits with ``impacts`` (>= 2) impacts per period at given parameters.
 
@@ -497,7 +499,10 @@ def multi_impact_orbits(
       period-2 orbit born there is continued to the given gamma
       (`continue_multi_impact`); it is labelled ``"B<n>,<m>/PD"``.
 
-    Orbits found by both are reported once, with the branch label.
+    With ``grid`` (a shape of `rotorcontact.maps.multi_impact.orbits_from_grid`)
+    the fixed points that Newton's method finds from that grid of impact states
+    are added, unstable ones included. Orbits found twice are reported once,
+    with the branch label.
 
     Returns
     -------
@@ -515,7 +520,12 @@ def multi_impact_orbits(
             orbit = _pd_branch_orbit(params, parent, scan_width, t_max)
             if orbit is not None and not any(_same_orbit(orbit, o) for o in out):
                 out.append(orbit)
-    brute = orbits_from_simulation(params, p, starts=starts)
+    brute = list(orbits_from_simulation(params, p, starts=starts))
+    if grid is not None:
+        for o in orbits_from_grid(params, p, shape=grid):
+            if not any(_same_orbit(o, b) for b in brute):
+                brute.append(o)
+        brute.sort(key=lambda o: (o.period, o.points[0].theta))
     n = 0
     for o in brute:
         if any(_same_orbit(o, b) for b in out):
