@@ -108,3 +108,49 @@ def test_orbit_labels_and_kinds():
         orbit_by_label(SET, "B1,a")
     with pytest.raises(ParameterError, match="kind"):
         orbit_curve(orbit_by_label(SET, "B1,d"), "grazing")
+
+
+def test_grazing_curve_of_b1d_is_the_one_impact_grazing_curve():
+    # the same curve from two formulations: the orbit equations with flight times (p = 1) and the
+    # regularised one-impact equations of codim2.grazing_curve
+    from rotorcontact.continuation.codim2 import grazing_curve
+    from rotorcontact.continuation.codim2_orbits import grazing_curve_of
+
+    ref = Parameters.reference()
+    box = ((0.05, 0.1), (0.7, 0.85))
+    mine = grazing_curve_of(orbit_by_label(ref.replace(gamma=0.07), "B1,d"), ("gamma", "omega"), box)
+    theirs, _ = grazing_curve(ref, ("gamma", "omega"), box, orbit="B1,d")
+    assert mine.name == "grazing_B1d" and mine.kind == "grazing" and len(mine.pieces) == 1
+    xy = theirs.xy()
+    xy = xy[np.isfinite(xy[:, 1])]
+    order = np.argsort(xy[:, 1])
+    piece = mine.pieces[0]
+    assert len(piece) >= 10
+    for y in piece[1:-1]:
+        assert y[-2] == pytest.approx(np.interp(y[-1], xy[order, 1], xy[order, 0]), abs=2e-5)
+
+
+def test_grazing_curve_of_a_two_impact_orbit_grazes():
+    from rotorcontact.continuation.codim2_orbits import grazing_curve_of
+    from rotorcontact.maps.impact_map import SLIP_BOUNDED, flight_extrema
+    from rotorcontact.maps.multi_impact import find_period_doubling, period_doubled_orbit
+
+    ref = Parameters.reference()
+    pd = find_period_doubling(ref.replace(gamma=0.1), "B1,d", "gamma", lo=0.08, hi=0.09)
+    orbit = period_doubled_orbit(pd, -1e-4)
+    c = grazing_curve_of(orbit, ("gamma", "omega"), ((0.07, 0.09), (0.75, 0.77)))
+    assert c.name == "grazing_B1d/PD" and c.pieces and len(c.pieces[0]) >= 10
+    for y in c.pieces[0][:: max(1, len(c.pieces[0]) // 4)]:
+        p = ref.replace(gamma=y[-2], omega=y[-1])
+        x, times = y[:6].reshape(2, 3), y[6:8]
+        r_max = max(flight_extrema(p, x[i], float(times[i]), law=SLIP_BOUNDED).r_max or 0.0 for i in range(2))
+        assert r_max == pytest.approx(1.0, abs=1e-8)
+    # where the one-parameter branch of the simulator's own map stops at the grazing (the base omega)
+    from rotorcontact.continuation.multi_impact_branches import continue_multi_impact
+
+    branch = continue_multi_impact(orbit, "gamma", 0.07)
+    assert branch.status == "grazing"
+    xy = c.pieces[0][:, -2:]
+    order = np.argsort(xy[:, 1])
+    at = np.interp(ref.omega, xy[order, 1], xy[order, 0])
+    assert at == pytest.approx(branch.values[-1], abs=1e-6)

@@ -50,8 +50,9 @@ def register(sub) -> None:
                    help="orbit whose grazing curve is drawn, e.g. B1,d (default); repeat for more; 'none' for none")
     p.add_argument("--curves", action="append", default=None, metavar="SPEC",
                    help="more curves (repeatable): 'coalescence' (the a-c and b-d coalescence curves of the pair 1), "
-                        "'pd:ORBIT', 'ns:ORBIT' or 'fold:ORBIT' (period-doubling, Neimark-Sacker or fold curve of "
-                        "ORBIT, B<n>,<m> or M<p>-<j> at the base parameters; seeded along the first parameter)")
+                        "'pd:ORBIT', 'ns:ORBIT', 'fold:ORBIT' or 'grazing:ORBIT' (period-doubling, Neimark-Sacker, "
+                        "fold or grazing curve of ORBIT, B<n>,<m> or M<p>-<j> at the base parameters; seeded along "
+                        "the first parameter)")
     p.add_argument("--t-max", dest="t_max", default="12", metavar="T", help="largest period considered (default 12)")
     p.add_argument("--json", action="store_true", help="print the curves and points as JSON on stdout")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="write the diagram with regions R1-R4")
@@ -124,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"--curves is given {len(specs)} times; allowed: at most {MAX_CURVES} curves")
     for spec in specs:
         kind, _, label = spec.partition(":")
-        if spec != "coalescence" and (kind not in ("pd", "ns", "fold") or not label):
+        if spec != "coalescence" and (kind not in ("pd", "ns", "fold", "grazing") or not label):
             raise ParameterError(f"--curves = {spec!r} is invalid; allowed: {', '.join(CURVE_SPECS)}")
     try:
         diagram = codim2_diagram(params, plane, ranges, folds=folds, grazing=grazing, t_max=t_max)

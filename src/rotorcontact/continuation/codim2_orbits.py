@@ -1,4 +1,4 @@
-"""Two-parameter curves of orbits with p >= 1 impacts per period: period doubling, Neimark-Sacker, fold.
+"""Two-parameter curves of orbits with p >= 1 impacts per period: period doubling, Neimark-Sacker, fold, grazing.
 
 Each curve is a solution curve, in the unknowns (x_0, ..., x_{p-1}, p1, p2),
 of the periodic-orbit equations G(x) = 0 of `rotorcontact.maps.multi_impact`
@@ -10,6 +10,9 @@ of the periodic-orbit equations G(x) = 0 of `rotorcontact.maps.multi_impact`
   where a real pair has product 1, which is not a bifurcation);
 * ``fold``: det(M - I) = 0.
 
+Grazing curves (`grazing_curve_of`) use the orbit equations with the flight
+times as unknowns, which stay smooth through the grazing.
+
 These are the test functions of the one-parameter branches
 (`rotorcontact.continuation.events`). The seed is found on the branch of the
 orbit in p1 (`rotorcontact.continuation.multi_impact_branches.continue_multi_impact`,
@@ -20,13 +23,15 @@ the box, with a Jacobian by central differences.
 
 from __future__ import annotations
 
+import math
 import re
+from dataclasses import replace
 from typing import Sequence
 
 import numpy as np
 
 from ..errors import ParameterError
-from ..maps.impact_map import one_impact_orbits
+from ..maps.impact_map import SLIP_BOUNDED, flight_extrema, impact_map_jacobian, one_impact_orbits, post_impact_state
 from ..maps.multi_impact import (
     MultiImpactOrbit,
     NewtonFailure,
@@ -35,6 +40,7 @@ from ..maps.multi_impact import (
     multipliers_at,
     periodic_residual,
 )
+from ..model.flow import propagate
 from ..model.params import Parameters
 from ..simulation.motion import MAX_PERIOD_IMPACTS
 from .codim2 import Codim2Curve, _Plane, coalescence_curves
@@ -43,10 +49,10 @@ from .events import bialternate_product, det_minus_identity, det_plus_identity
 from .multi_impact_branches import continue_multi_impact
 from .multi_impact_families import seed_orbits
 
-__all__ = ["CURVE_KINDS", "CURVE_SPECS", "orbit_by_label", "orbit_curve", "extra_curves"]
+__all__ = ["CURVE_KINDS", "CURVE_SPECS", "extra_curves", "grazing_curve_of", "orbit_by_label", "orbit_curve"]
 
 #: The ``--curves`` specifications: a kind of `CURVE_KINDS` by its short name, or the coalescences.
-CURVE_SPECS = ("coalescence", "pd:<orbit>", "ns:<orbit>", "fold:<orbit>")
+CURVE_SPECS = ("coalescence", "pd:<orbit>", "ns:<orbit>", "fold:<orbit>", "grazing:<orbit>")
 
 #: The kinds of two-parameter curves of an orbit, and the short names of the curves.
 CURVE_KINDS = {"period-doubling": "pd", "neimark-sacker": "ns", "fold": "fold"}
@@ -146,6 +152,110 @@ def orbit_curve(
     return Codim2Curve(name=name, kind=curve_kind, params=plane.params, pieces=(both.points,), ends=both.messages)
 
 
+def _flight(params: Parameters, x: np.ndarray, t: float) -> tuple[complex, complex]:
+    """(U, U') at time t after the impact at the pre-impact state x (exact free flight, MODEL.md §3)."""
+    u0, du0 = post_impact_state(params, x, law=SLIP_BOUNDED)
+    k = params.k
+    v, dv = propagate(u0 - k, du0, t, params.gamma, params.omega)
+    return k + v, dv
+
+
+def _formal_residual(params: Parameters, x: np.ndarray, times: np.ndarray) -> np.ndarray:
+    """The orbit equations with the flight times as unknowns: P(x_i; T_i) - x_{i+1} and |U(T_i)|^2 - 1.
+
+    P(x; T) is the state after a flight of length T with no search for an earlier
+    crossing (`rotorcontact.maps.impact_map.impact_map_jacobian`), so the equations
+    stay smooth where an interior maximum of r passes 1.
+    """
+    p = x.shape[0]
+    out = np.empty(4 * p)
+    for i in range(p):
+        x1 = impact_map_jacobian(params, x[i], float(times[i]))[0]
+        d = x1 - x[(i + 1) % p]
+        d[0] = math.remainder(d[0], 2.0 * math.pi)
+        out[3 * i: 3 * i + 3] = d
+        u, _du = _flight(params, x[i], float(times[i]))
+        out[3 * p + i] = abs(u) ** 2 - 1.0
+    return out
+
+
+def grazing_curve_of(orbit: MultiImpactOrbit, param: Sequence[str] = ("gamma", "omega"), ranges=None, *,
+                     name: str | None = None, settings: ContinuationSettings | None = None) -> Codim2Curve:
+    """Where an interior maximum of r of an orbit with p impacts per period touches the clearance.
+
+    Unknowns (x_0 .. x_{p-1}, T_0 .. T_{p-1}, t_g, p1, p2): the orbit equations with
+    the flight times as unknowns (`_formal_residual`: no impact search, so they
+    are smooth through the grazing, where the simulator's impact map jumps to the
+    earlier impact), and |U(t_g)|^2 = 1, Re(conj(U) U')(t_g) = 0 on the flight
+    after impact i (the one whose interior maximum grazes). The seed is the end of
+    the orbit's branch in p1 at a grazing
+    (`rotorcontact.continuation.multi_impact_branches.continue_multi_impact`),
+    corrected onto the grazing. The curve ends at the box, where t_g leaves
+    (0, T_i), or where an impact velocity reaches 0.
+
+    Returns
+    -------
+    Codim2Curve
+        ``"grazing_<label>"`` (comma dropped) of kind ``"grazing"``; no piece when
+        the branch in p1 ends at no grazing.
+    """
+    if not isinstance(orbit, MultiImpactOrbit):
+        raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
+    plane = _Plane(orbit.params, param, ranges)
+    name = name or f"grazing_{orbit.label.replace(',', '')}"
+    settings = settings or _settings()
+    p = orbit.impacts
+    seed = None
+    for end in plane.ranges[0][::-1]:
+        branch = continue_multi_impact(orbit, plane.params[0], end, max_points=4000)
+        if branch.status == "grazing" and branch.orbits:
+            last = branch.orbits[-1]
+            best = None
+            for i in range(p):
+                ext = flight_extrema(last.params, last.states[i], float(last.times[i]), law=SLIP_BOUNDED)
+                for t, r, is_max in zip(ext.times, ext.radii, ext.maxima):
+                    if is_max and (best is None or r > best[0]):
+                        best = (float(r), i, float(t))
+            if best is not None:
+                seed = (np.concatenate([last.states.ravel(), last.times, [best[2], branch.values[-1],
+                                        getattr(orbit.params, plane.params[1])]]), best[1])
+                break
+    if seed is None:
+        return Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=(),
+                           ends=(f"the branch in {plane.params[0]} ends at no grazing",))
+    y0, flight = seed
+
+    def residual(y):
+        params = plane.at(y[-2], y[-1])
+        x = y[: 3 * p].reshape(p, 3)
+        times = y[3 * p: 4 * p]
+        try:
+            u, du = _flight(params, x[flight], float(y[4 * p]))
+            return np.concatenate([_formal_residual(params, x, times),
+                                   [abs(u) ** 2 - 1.0, (u.conjugate() * du).real]])
+        except (ValueError, ZeroDivisionError) as exc:
+            raise ParameterError(f"the flight failed: {exc}") from None
+
+    weights = np.ones_like(y0)
+    weights[-2] = 1.0 / plane.span(0)
+    weights[-1] = 1.0 / plane.span(1)
+    try:
+        y0 = correct_fixed(residual, y0, len(y0) - 1, settings=settings)
+    except CorrectionError:
+        return Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=(),
+                           ends=("the seed could not be corrected onto the grazing",))
+    events = plane.box_events() + [
+        EventFunction("impact", lambda y: float(np.min(y[1: 3 * p: 3])), terminal=True),
+        EventFunction("t-g-low", lambda y: y[4 * p], terminal=True),
+        EventFunction("t-g-high", lambda y: y[3 * p + flight] - y[4 * p], terminal=True),
+    ]
+    both = continue_both_ways(residual, y0, events=events, settings=settings, weights=weights, param_index=-1,
+                              correct_start=False)
+    if both is None:
+        return Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=(), ends=("no continuation",))
+    return Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=(both.points,), ends=both.messages)
+
+
 def orbit_by_label(params: Parameters, label: str, t_max: float = 12.0) -> MultiImpactOrbit:
     """The orbit ``label`` at ``params``: a one-impact orbit ``"B<n>,<m>"`` (as an orbit of one impact) or
     ``"M<p>-<j>"`` of `rotorcontact.continuation.multi_impact_families.seed_orbits`.
@@ -185,7 +295,9 @@ def extra_curves(params: Parameters, param: Sequence[str], ranges, specs: Sequen
     ``"coalescence"``: the a-c and b-d coalescence curves of the pair 1
     (`rotorcontact.continuation.codim2.coalescence_curve`); ``"pd:<orbit>"``,
     ``"ns:<orbit>"``, ``"fold:<orbit>"``: `orbit_curve` of the orbit
-    (`orbit_by_label`) at the base parameters.
+    (`orbit_by_label`) at the base parameters; ``"grazing:<orbit>"``:
+    `grazing_curve_of` it, named ``"grazing_<label>_p<impacts>"`` (apart from
+    the one-impact grazing curves of ``--grazing``).
     """
     short = {v: k for k, v in CURVE_KINDS.items()}
     out: dict[str, Codim2Curve] = {}
@@ -195,8 +307,12 @@ def extra_curves(params: Parameters, param: Sequence[str], ranges, specs: Sequen
                 out[c.name] = c
             continue
         kind, _, label = spec.partition(":")
-        if kind not in short or not label:
+        if kind not in (*short, "grazing") or not label:
             raise ParameterError(f"curve {spec!r} is invalid; allowed: {', '.join(CURVE_SPECS)}")
-        c = orbit_curve(orbit_by_label(params, label, t_max), short[kind], param, ranges)
+        orbit = orbit_by_label(params, label, t_max)
+        c = grazing_curve_of(orbit, param, ranges) if kind == "grazing" else orbit_curve(orbit, short[kind], param,
+                                                                                         ranges)
+        if kind == "grazing":
+            c = replace(c, name=f"grazing_{label.replace(',', '')}_p{orbit.impacts}")
         out[c.name] = c
     return out
