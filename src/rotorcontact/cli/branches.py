@@ -195,8 +195,8 @@ def _run_impacts(args: argparse.Namespace, params, machine, start: float, stop: 
     return 0
 
 
-def run(args: argparse.Namespace) -> int:
-    params, machine = parameters_from_args(args)
+def param_range(args: argparse.Namespace) -> tuple[float, float]:
+    """``--from``, ``--to`` of ``--param`` (its default range where not given), after checking ``--param``."""
     if args.param not in BRANCH_PARAMETERS:
         raise ParameterError(
             f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
@@ -204,6 +204,12 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = DEFAULT_RANGES[args.param]
     start = lo if args.start is None else parse_float("from", args.start)
     stop = hi if args.stop is None else parse_float("to", args.stop)
+    return start, stop
+
+
+def run(args: argparse.Namespace) -> int:
+    params, machine = parameters_from_args(args)
+    start, stop = param_range(args)
     t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)
     rdot_max = parse_float("rdot-max", args.rdot_max, low=0.0, high=MAX_RDOT, low_open=True,
                            why="impact velocities of the model are of order one")

@@ -9,13 +9,12 @@ from ..continuation.cascade import Cascade, cascades
 from ..continuation.multi_impact_families import MAX_DOUBLINGS
 from ..errors import ParameterError
 from ..simulation.motion import MAX_PERIOD_IMPACTS
-from .branches import DEFAULT_RANGES
+from .branches import param_range
 from .options import (
     MAX_CONTINUATION_PERIOD,
     add_parameter_options,
     json_result,
     parameters_from_args,
-    parse_float,
     parse_int,
     parse_section_grid,
     parse_t_max,
@@ -69,13 +68,7 @@ def _text(found: tuple[Cascade, ...], param: str) -> list[str]:
 
 def run(args: argparse.Namespace) -> int:
     params, machine = parameters_from_args(args)
-    if args.param not in BRANCH_PARAMETERS:
-        raise ParameterError(
-            f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
-        )
-    lo, hi = DEFAULT_RANGES[args.param]
-    start = lo if args.start is None else parse_float("from", args.start)
-    stop = hi if args.stop is None else parse_float("to", args.stop)
+    start, stop = param_range(args)
     p = parse_int("impacts", args.impacts, 1, MAX_PERIOD_IMPACTS, why="the longest period, in impacts, followed")
     depth = parse_int("depth", args.depth, 1, MAX_DOUBLINGS, why="each level doubles the impacts per period")
     t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)

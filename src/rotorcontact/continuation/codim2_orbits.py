@@ -135,21 +135,30 @@ def orbit_curve(
             raise ParameterError(f"the impact map failed: {exc}") from None
         return np.concatenate([g, extra])
 
+    return _continued(residual, y0, plane, name, curve_kind, p, [], settings)
+
+
+def _continued(residual, y0: np.ndarray, plane: _Plane, name: str, kind: str, p: int,
+               events: list[EventFunction], settings: ContinuationSettings) -> Codim2Curve:
+    """The seed corrected onto the curve (p2 held) and continued both ways inside the box.
+
+    Besides the box and ``events``, the curve ends where an impact velocity reaches 0 (the orbit turns virtual).
+    """
     weights = np.ones_like(y0)
     weights[-2] = 1.0 / plane.span(0)
     weights[-1] = 1.0 / plane.span(1)
     try:
         y0 = correct_fixed(residual, y0, len(y0) - 1, settings=settings)
     except CorrectionError:
-        return Codim2Curve(name=name, kind=curve_kind, params=plane.params, pieces=(),
+        return Codim2Curve(name=name, kind=kind, params=plane.params, pieces=(),
                            ends=("the seed could not be corrected onto the curve",))
-    # the curve ends where an impact velocity reaches 0 (the orbit turns virtual)
-    events = plane.box_events() + [EventFunction("impact", lambda y: float(np.min(y[1: 3 * p: 3])), terminal=True)]
+    events = plane.box_events() + [
+        EventFunction("impact", lambda y: float(np.min(y[1: 3 * p: 3])), terminal=True)] + events
     both = continue_both_ways(residual, y0, events=events, settings=settings, weights=weights, param_index=-1,
                               correct_start=False)
     if both is None:
-        return Codim2Curve(name=name, kind=curve_kind, params=plane.params, pieces=(), ends=("no continuation",))
-    return Codim2Curve(name=name, kind=curve_kind, params=plane.params, pieces=(both.points,), ends=both.messages)
+        return Codim2Curve(name=name, kind=kind, params=plane.params, pieces=(), ends=("no continuation",))
+    return Codim2Curve(name=name, kind=kind, params=plane.params, pieces=(both.points,), ends=both.messages)
 
 
 def _flight(params: Parameters, x: np.ndarray, t: float) -> tuple[complex, complex]:
@@ -236,24 +245,11 @@ def grazing_curve_of(orbit: MultiImpactOrbit, param: Sequence[str] = ("gamma", "
         except (ValueError, ZeroDivisionError) as exc:
             raise ParameterError(f"the flight failed: {exc}") from None
 
-    weights = np.ones_like(y0)
-    weights[-2] = 1.0 / plane.span(0)
-    weights[-1] = 1.0 / plane.span(1)
-    try:
-        y0 = correct_fixed(residual, y0, len(y0) - 1, settings=settings)
-    except CorrectionError:
-        return Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=(),
-                           ends=("the seed could not be corrected onto the grazing",))
-    events = plane.box_events() + [
-        EventFunction("impact", lambda y: float(np.min(y[1: 3 * p: 3])), terminal=True),
+    events = [
         EventFunction("t-g-low", lambda y: y[4 * p], terminal=True),
         EventFunction("t-g-high", lambda y: y[3 * p + flight] - y[4 * p], terminal=True),
     ]
-    both = continue_both_ways(residual, y0, events=events, settings=settings, weights=weights, param_index=-1,
-                              correct_start=False)
-    if both is None:
-        return Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=(), ends=("no continuation",))
-    return Codim2Curve(name=name, kind="grazing", params=plane.params, pieces=(both.points,), ends=both.messages)
+    return _continued(residual, y0, plane, name, "grazing", p, events, settings)
 
 
 def orbit_by_label(params: Parameters, label: str, t_max: float = 12.0) -> MultiImpactOrbit:
