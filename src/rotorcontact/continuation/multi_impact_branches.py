@@ -439,8 +439,10 @@ def _typed_events(result, system: _System, label: str) -> list[BranchEvent]:
         if kind is None:
             continue
         if kind == "plus-one":
-            if _turns(result, e.index):
-                explained.add(e.index)
+            # the turn may show in a neighbouring step when the zero lies at a step's end
+            turned = [j for j in (e.index - 1, e.index, e.index + 1) if j >= 0 and _turns(result, j)]
+            if turned:
+                explained.update(turned)
                 out.append(_event("fold", value, param, label, o, p, "", e.bracket))
             else:
                 out.append(_event("branch-point", value, param, label, o, p, _stability_change(system, e, param),
