@@ -54,5 +54,5 @@ def test_text_output(cli):
     ["--impacts", "2", "--plot", "x.png", *BASE],
 ])
 def test_bad_input_exits_2(cli, args):
-    code, out, err = cli.run("branches", *args)
+    code, _out, err = cli.run("branches", *args)
     assert code == 2 and "error" in err and "Traceback" not in err

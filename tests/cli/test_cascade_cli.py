@@ -37,13 +37,13 @@ def test_text(cli):
                                   ["--from", "0.2", "--to", "0.1"], ["--impacts", "2", "--from", "0.0", "--to", "0.1"],
                                   ["--grid", "a,b,c"]])
 def test_bad_input_exits_2(cli, args):
-    code, out, err = cli.run("cascade", *args)
+    code, _out, err = cli.run("cascade", *args)
     assert code == 2 and "error" in err and "Traceback" not in err
 
 
 def test_sweep_figure_with_multi_impact_overlay(cli, tmp_path):
     png = tmp_path / "s.png"
-    code, out, err = cli.run("sweep", "--param", "gamma", "--from", "0.0836", "--to", "0.0865", "--n", "4",
+    code, _out, err = cli.run("sweep", "--param", "gamma", "--from", "0.0836", "--to", "0.0865", "--n", "4",
                              "--transient", "300", "--record", "20", "--mode", "up", "--out", str(tmp_path / "s.nc"),
                              "--plot", str(png), "--overlay-impacts", "2", "--overlay-doublings", "1",
                              "--section", "rdot")
@@ -55,6 +55,6 @@ def test_sweep_figure_with_multi_impact_overlay(cli, tmp_path):
                                   ["--overlay-impacts", "2", "--plot", "x.png", "--overlay-doublings", "99"],
                                   ["--overlay-impacts", "2", "--plot", "x.png", "--param", "phi"]])
 def test_sweep_overlay_bad_input(cli, tmp_path, args):
-    code, out, err = cli.run("sweep", "--from", "0.08", "--to", "0.09", "--n", "3", "--out",
+    code, _out, err = cli.run("sweep", "--from", "0.08", "--to", "0.09", "--n", "3", "--out",
                              str(tmp_path / "s.nc"), *[str(tmp_path / a) if a.endswith(".png") else a for a in args])
     assert code == 2 and "error" in err and "Traceback" not in err

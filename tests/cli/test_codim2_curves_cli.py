@@ -25,5 +25,5 @@ def test_curves_are_added_to_the_contract(cli, tmp_path):
 
 @pytest.mark.parametrize("spec", ["pd", "xx:B1,d", "pd:", "pd:Q9", "ns:M2-99", "grazing:"])
 def test_bad_curves_exit_2(cli, spec):
-    code, out, err = cli.run("codim2", *SET, "--curves", spec, "--from", "0.1,0.75", "--to", "0.2,0.85")
+    code, _out, err = cli.run("codim2", *SET, "--curves", spec, "--from", "0.1,0.75", "--to", "0.2,0.85")
     assert code == 2 and "error" in err and "Traceback" not in err

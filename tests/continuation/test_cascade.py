@@ -11,13 +11,18 @@ doubling (the stable period-2 orbit grazes at gamma ~ 0.08267).
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
 import pytest
 
 from rotorcontact import ParameterError, Parameters
-from rotorcontact.continuation.cascade import FEIGENBAUM_DELTA, cascades, feigenbaum_ratios
+from rotorcontact.continuation.cascade import (
+    FEIGENBAUM_DELTA,
+    cascades,
+    feigenbaum_ratios,
+)
 
 REF = Parameters.reference()
 
@@ -32,7 +37,7 @@ def cascade():
 
 def test_ratios_approach_feigenbaum(cascade):
     v = [e.value for e in cascade.points]
-    assert all(a > b for a, b in zip(v, v[1:]))  # the doublings come at decreasing gamma
+    assert all(a > b for a, b in itertools.pairwise(v))  # the doublings come at decreasing gamma
     assert [e.impacts for e in cascade.points] == [2, 4, 8, 16, 32]
     assert cascade.labels == ("M2-1/PD", "M2-1/PD/PD", "M2-1/PD/PD/PD", "M2-1/PD/PD/PD/PD")
     r = cascade.ratios
@@ -46,7 +51,7 @@ def test_ratios_approach_feigenbaum(cascade):
 
 def test_the_first_doublings_have_a_multiplier_minus_one(cascade, power_newton):
     for e in cascade.points[:3]:
-        x, z = power_newton(e.orbit.params, e.orbit.states[0], e.impacts)
+        _x, z = power_newton(e.orbit.params, e.orbit.states[0], e.impacts)
         assert np.min(np.abs(z + 1.0)) < 1e-5
 
 

@@ -13,7 +13,11 @@ import numpy as np
 import pytest
 
 from rotorcontact import ParameterError, Parameters
-from rotorcontact.continuation.codim2 import coalescence_curve, coalescence_curves, region
+from rotorcontact.continuation.codim2 import (
+    coalescence_curve,
+    coalescence_curves,
+    region,
+)
 from rotorcontact.continuation.codim2_orbits import orbit_by_label, orbit_curve
 from rotorcontact.continuation.multi_impact_families import seed_orbits
 from rotorcontact.maps.impact_map import f1_zeros, one_impact_orbits, rdot_roots
@@ -73,7 +77,7 @@ def test_period_doubling_curve_of_a_one_impact_orbit(b1d, power_newton):
     piece = curve.pieces[0]
     for y in piece[:: max(1, len(piece) // 4)]:
         p = SET.replace(gamma=y[-2], omega=y[-1])
-        x, z = power_newton(p, y[:3], 1)
+        _x, z = power_newton(p, y[:3], 1)
         assert np.min(np.abs(z + 1.0)) < 1e-5
 
 
@@ -96,7 +100,7 @@ def test_neimark_sacker_curve_of_a_six_impact_orbit(power_newton):
     piece = curve.pieces[0]
     for y in piece[:: max(1, len(piece) // 3)]:
         p = base.replace(gamma=y[-2], omega=y[-1])
-        x, z = power_newton(p, y[:3], 6)
+        _x, z = power_newton(p, y[:3], 6)
         pair = [m for m in z if abs(m.imag) > 1e-3]
         assert len(pair) == 2 and all(abs(abs(m) - 1.0) < 1e-5 for m in pair)
 
@@ -133,7 +137,10 @@ def test_grazing_curve_of_b1d_is_the_one_impact_grazing_curve():
 def test_grazing_curve_of_a_two_impact_orbit_grazes():
     from rotorcontact.continuation.codim2_orbits import grazing_curve_of
     from rotorcontact.maps.impact_map import SLIP_BOUNDED, flight_extrema
-    from rotorcontact.maps.multi_impact import find_period_doubling, period_doubled_orbit
+    from rotorcontact.maps.multi_impact import (
+        find_period_doubling,
+        period_doubled_orbit,
+    )
 
     ref = Parameters.reference()
     pd = find_period_doubling(ref.replace(gamma=0.1), "B1,d", "gamma", lo=0.08, hi=0.09)

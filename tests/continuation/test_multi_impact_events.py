@@ -45,7 +45,7 @@ def test_the_fold_hidden_behind_an_unstable_pair_is_reported(up, power_newton):
     assert fold.value >= float(np.max(up.values)) - 1e-9
     assert fold.impacts == 6 and fold.orbits == (up.orbits[0].label,)
     assert fold.to_dict()["impacts"] == 6
-    x, z = power_newton(fold.orbit.params, fold.orbit.states[0], 6)
+    _x, z = power_newton(fold.orbit.params, fold.orbit.states[0], 6)
     assert np.min(np.abs(z - 1.0)) < 1e-5
     # the other multipliers are off the unit circle: max |lambda| - 1 had no sign change there
     assert np.sum(np.abs(np.abs(z) - 1.0) > 1e-3) == 2 and np.max(np.abs(z)) > 1.1
@@ -54,7 +54,7 @@ def test_the_fold_hidden_behind_an_unstable_pair_is_reported(up, power_newton):
 def test_neimark_sacker_has_a_complex_pair_on_the_unit_circle(up, power_newton):
     ns = [e for e in up.events if e.kind == "neimark-sacker"]
     assert len(ns) == 1
-    x, z = power_newton(ns[0].orbit.params, ns[0].orbit.states[0], 6)
+    _x, z = power_newton(ns[0].orbit.params, ns[0].orbit.states[0], 6)
     pair = [m for m in z if abs(m.imag) > 1e-3]
     assert len(pair) == 2 and all(abs(abs(m) - 1.0) < 1e-5 for m in pair)
     angle = float(ns[0].detail.rsplit("angle ", 1)[1].split()[0])
@@ -66,13 +66,16 @@ def test_period_doubling_has_a_multiplier_minus_one(m6, power_newton):
     down = continue_multi_impact(m6, "gamma", 0.080, max_points=100)
     pds = [e for e in down.events if e.kind == "period-doubling"]
     assert len(pds) == 1 and 0.080 < pds[0].value < 0.0818
-    x, z = power_newton(pds[0].orbit.params, pds[0].orbit.states[0], 6)
+    _x, z = power_newton(pds[0].orbit.params, pds[0].orbit.states[0], 6)
     assert np.min(np.abs(z + 1.0)) < 1e-5
     assert not [e for e in down.events if e.kind in ("fold", "neimark-sacker", "branch-point")]
 
 
 def test_a_branch_that_reaches_its_own_period_doubling_stops_and_says_so():
-    from rotorcontact.maps.multi_impact import find_period_doubling, period_doubled_orbit
+    from rotorcontact.maps.multi_impact import (
+        find_period_doubling,
+        period_doubled_orbit,
+    )
 
     pd = find_period_doubling(REF.replace(gamma=0.1), "B1,d", "gamma", lo=0.08, hi=0.09)
     start = period_doubled_orbit(pd, -3e-4)

@@ -16,7 +16,11 @@ import pytest
 
 from rotorcontact import ParameterError, Parameters
 from rotorcontact.maps.impact_map import impact_map, one_impact_orbits
-from rotorcontact.maps.multi_impact import _same_orbit, orbits_from_grid, orbits_from_simulation
+from rotorcontact.maps.multi_impact import (
+    _same_orbit,
+    orbits_from_grid,
+    orbits_from_simulation,
+)
 
 REF = Parameters.reference()
 

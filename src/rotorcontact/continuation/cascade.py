@@ -30,11 +30,16 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from ..maps.multi_impact import NewtonFailure
 from ..model.params import Parameters
 from ..model.validation import check_int, check_params
 from .branches import orbit_branches
-from ..maps.multi_impact import NewtonFailure
-from .multi_impact_families import MAX_DOUBLINGS, MultiImpactBranches, multi_impact_branches, one_impact_seed
+from .multi_impact_families import (
+    MAX_DOUBLINGS,
+    MultiImpactBranches,
+    multi_impact_branches,
+    one_impact_seed,
+)
 from .results import BranchEvent, check_param_range
 
 __all__ = ["FEIGENBAUM_DELTA", "Cascade", "cascades", "cascades_of", "feigenbaum_ratios"]

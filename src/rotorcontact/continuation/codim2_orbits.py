@@ -25,26 +25,38 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import replace
-from typing import Sequence
 
 import numpy as np
 
 from ..errors import ParameterError
-from ..maps.impact_map import SLIP_BOUNDED, flight_extrema, impact_map_jacobian, one_impact_orbits, post_impact_state
+from ..maps.impact_map import (
+    SLIP_BOUNDED,
+    flight_extrema,
+    impact_map_jacobian,
+    one_impact_orbits,
+    post_impact_state,
+)
 from ..maps.multi_impact import (
     MultiImpactOrbit,
     NewtonFailure,
-    solve_multi_impact,
     _MapFailure,
     multipliers_at,
     periodic_residual,
+    solve_multi_impact,
 )
 from ..model.flow import propagate
 from ..model.params import Parameters
 from ..simulation.motion import MAX_PERIOD_IMPACTS
 from .codim2 import Codim2Curve, _Plane, coalescence_curves
-from .engine import ContinuationSettings, CorrectionError, EventFunction, continue_both_ways, correct_fixed
+from .engine import (
+    ContinuationSettings,
+    CorrectionError,
+    EventFunction,
+    continue_both_ways,
+    correct_fixed,
+)
 from .events import bialternate_product, det_minus_identity, det_plus_identity
 from .multi_impact_branches import continue_multi_impact
 from .multi_impact_families import seed_orbits
