@@ -24,6 +24,10 @@ EXAMPLES = [
     ("design-map --machine reference --speed 1000:6000rpm --json", "### `rotorcontact design-map`"),
     ("lyapunov --gamma 0.1 --json", "`rotorcontact lyapunov --gamma 0.1 --json` prints"),
     ("orbits --impacts 2 --gamma 0.083 --json", "`rotorcontact orbits --impacts 2 --gamma 0.083 --json` prints"),
+    ("branches --impacts 2 --gamma 0.0818 --from 0.075 --to 0.09 --doublings 1 --json",
+     "0.075 --to 0.09 --doublings 1 --json` prints"),
+    ("cascade --gamma 0.0845 --from 0.0836 --to 0.0865 --impacts 2 --depth 4 --json",
+     "M2-1 starts a cascade;"),
 ]
 
 _NUMBER = r"-?\d+(?:\.\d+)?(?:e-?\d+)?"

@@ -69,3 +69,20 @@ def test_bad_impacts_from_the_shell(cli):
     assert code == 2
     assert out == ""
     assert "--impacts" in err and "Traceback" not in err
+
+
+def test_grid_adds_the_unstable_orbits(cli):
+
+    plain = cli.json("orbits", "--impacts", "2", "--gamma", "0.083")
+    data = cli.json("orbits", "--impacts", "2", "--gamma", "0.083", "--grid", "12,4,4")
+    labels = [o["label"] for o in data["orbits"]]
+    assert [o["label"] for o in plain["orbits"]] == labels[: len(plain["orbits"])]
+    extra = data["orbits"][len(plain["orbits"]):]
+    assert extra and all(not o["stable"] for o in extra)
+    p = REF.replace(gamma=0.083)
+    for o in extra:
+        a, b = ([q["theta"], q["rdot"], q["thetadot"]] for q in o["points"])
+        once = impact_map(p, a)
+        assert abs(once.state[1] - b[1]) < 1e-9 and abs(once.time - o["points"][0]["dt"]) < 1e-9
+    code, out, err = cli.run("orbits", "--grid", "2,2,2")
+    assert code == 2 and "--grid" in err

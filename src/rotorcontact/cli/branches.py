@@ -6,6 +6,8 @@ import argparse
 from typing import Any
 
 from ..continuation.branches import BRANCH_PARAMETERS, MAX_SEEDS, OrbitBranches, orbit_branches
+from ..continuation.multi_impact_families import MAX_DOUBLINGS, MultiImpactBranches, multi_impact_branches
+from ..simulation.motion import MAX_PERIOD_IMPACTS
 from ..errors import ParameterError
 from ..maps.impact_map import MAX_GROWTH, flight_growth, period_limit
 from ..model.params import Machine
@@ -18,6 +20,7 @@ from .options import (
     parameters_from_args,
     parse_float,
     parse_int,
+    parse_section_grid,
     parse_t_max,
     print_json,
     renamed,
@@ -58,6 +61,15 @@ def register(sub) -> None:
                    help="branches are followed while |rdot-| <= V (default 5)")
     p.add_argument("--seeds", default="41", metavar="N",
                    help="parameter values at which orbits are searched to start branches (default 41)")
+    p.add_argument("--impacts", default=None, metavar="P",
+                   help="follow the orbits with P impacts per period found at the base parameters (default: the "
+                        "one-impact orbits B_n,m); P >= 2 seeds come from long simulations and a grid of impact "
+                        "states, and the base value of --param must lie in the range")
+    p.add_argument("--doublings", default="0", metavar="K",
+                   help="follow the period-doubled branch born at each period doubling, K levels deep (default 0)")
+    p.add_argument("--grid", default=None, metavar="NT,NR,ND",
+                   help="grid of impact states (theta, rdot-, thetadot-) from which Newton's method seeds the "
+                        "branches of --impacts P >= 2 (default 12,4,4)")
     p.add_argument("--json", action="store_true", help="print events and branches as JSON on stdout")
     p.add_argument("--plot", default=None, metavar="FILE.png",
                    help="write rdot- and thetadot- of B1,a..d against the parameter")
@@ -130,8 +142,61 @@ def _text(b: OrbitBranches, machine: Machine | None = None) -> list[str]:
     return lines
 
 
-def run(args: argparse.Namespace) -> int:
-    params, machine = parameters_from_args(args)
+def _family_text(f: MultiImpactBranches) -> list[str]:
+    lines = [f"orbits with {f.impacts} impact(s) per period along {f.param} in [{f.start:g}, {f.stop:g}]"
+             + (" and their period doublings" if any(f.depth) else "") + f": {', '.join(f.labels) or 'none'}"]
+    for b in f.branches:
+        if b.orbits:
+            lines.append(f"  {b.orbits[0].label:<16} {b.orbits[0].impacts} impacts, {f.param} in "
+                         f"[{min(b.values):.10g}, {max(b.values):.10g}], ends: {b.status}")
+    lines.append(f"{len(f.events)} events:")
+    for e in f.events:
+        extra = f"  ({e.detail})" if e.detail else ""
+        period = "" if e.T is None else f"period = {e.T:.8g}"
+        lines.append(f"  {e.kind:<16} {f.param} = {e.value:<20.12g} {', '.join(e.orbits):<22} {period}{extra}")
+    return lines
+
+
+def _run_impacts(args: argparse.Namespace, params, machine, start: float, stop: float, p: int, doublings: int,
+                 one: OrbitBranches | None) -> int:
+    """--impacts P (P >= 2), or the period-doubled branches of the one-impact ones (``one``)."""
+    grid = parse_section_grid(args.grid)
+    names = {"start": "--from", "stop": "--to", "doublings": "--doublings", "impacts": "--impacts"}
+    try:
+        if one is None:
+            fam = multi_impact_branches(params, p, args.param, start, stop, doublings=doublings, grid=grid)
+        else:
+            fam = multi_impact_branches(params.replace(**{args.param: start}), 1, args.param, start, stop,
+                                        doublings=doublings, one_impact_events=one.events)
+    except ParameterError as exc:
+        raise renamed(exc, names) from None
+    if one is None:
+        data = fam.to_dict()
+        lines = _family_text(fam)
+    else:
+        data = _branches_dict(one, machine)
+        for row in data["events"]:
+            row["impacts"] = 1
+        for arrays in data["branches"].values():
+            arrays["impacts"] = 1
+        more = fam.to_dict()
+        data["events"] = sorted(data["events"] + more["events"], key=lambda row: row["value"])
+        data["branches"].update(more["branches"])
+        data["impacts"] = 1
+        lines = _text(one, machine) + (_family_text(fam)[:-1 - len(fam.events)] if fam.branches else [])
+        if fam.events:
+            lines.append(f"{len(fam.events)} events of the period-doubled branches:")
+            lines.extend(_family_text(fam)[-len(fam.events):])
+    if args.json:
+        print_json(json_result(params, data, machine))
+    else:
+        for line in lines:
+            print(line)
+    return 0
+
+
+def param_range(args: argparse.Namespace) -> tuple[float, float]:
+    """``--from``, ``--to`` of ``--param`` (its default range where not given), after checking ``--param``."""
     if args.param not in BRANCH_PARAMETERS:
         raise ParameterError(
             f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
@@ -139,10 +204,24 @@ def run(args: argparse.Namespace) -> int:
     lo, hi = DEFAULT_RANGES[args.param]
     start = lo if args.start is None else parse_float("from", args.start)
     stop = hi if args.stop is None else parse_float("to", args.stop)
+    return start, stop
+
+
+def run(args: argparse.Namespace) -> int:
+    params, machine = parameters_from_args(args)
+    start, stop = param_range(args)
     t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)
     rdot_max = parse_float("rdot-max", args.rdot_max, low=0.0, high=MAX_RDOT, low_open=True,
                            why="impact velocities of the model are of order one")
     seeds = parse_int("seeds", args.seeds, 2, MAX_SEEDS, why="each seed value is a search for orbits")
+    p = None if args.impacts is None else parse_int(
+        "impacts", args.impacts, 1, MAX_PERIOD_IMPACTS, why="the longest period, in impacts, that is followed")
+    doublings = parse_int("doublings", args.doublings, 0, MAX_DOUBLINGS,
+                          why="each level doubles the impacts per period")
+    if p is not None and p >= 2:
+        if args.plot is not None:
+            raise ParameterError("--plot draws one-impact branches; allowed: --plot without --impacts P >= 2")
+        return _run_impacts(args, params, machine, start, stop, p, doublings, None)
     _check_reach(args, params, start, stop, t_max)
     if args.plot is not None:
         check_plot_path(args.plot)
@@ -158,6 +237,8 @@ def run(args: argparse.Namespace) -> int:
 
         fig, _ = plot_velocities(branches, rdot_max=rdot_max)
         save_figure(fig, args.plot)
+    if p is not None or doublings:
+        return _run_impacts(args, params, machine, start, stop, 1, doublings, branches)
     if args.json:
         print_json(json_result(params, _branches_dict(branches, machine), machine))
     else:

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 
+from ..continuation.codim2_orbits import CURVE_SPECS, extra_curves
 from ..continuation.codim2 import DEFAULT_RANGES, Codim2Diagram, codim2_diagram
 from ..errors import ParameterError
 from ..maps.orbit_system import BRANCH_PARAMETERS
@@ -46,6 +48,11 @@ def register(sub) -> None:
     p.add_argument("--folds", default="1", metavar="N[,N...]", help="pairs whose fold curves are drawn (default 1)")
     p.add_argument("--grazing", action="append", default=None, metavar="ORBIT",
                    help="orbit whose grazing curve is drawn, e.g. B1,d (default); repeat for more; 'none' for none")
+    p.add_argument("--curves", action="append", default=None, metavar="SPEC",
+                   help="more curves (repeatable): 'coalescence' (the a-c and b-d coalescence curves of the pair 1), "
+                        "'pd:ORBIT', 'ns:ORBIT', 'fold:ORBIT' or 'grazing:ORBIT' (period-doubling, Neimark-Sacker, "
+                        "fold or grazing curve of ORBIT, B<n>,<m> or M<p>-<j> at the base parameters; seeded along "
+                        "the first parameter)")
     p.add_argument("--t-max", dest="t_max", default="12", metavar="T", help="largest period considered (default 12)")
     p.add_argument("--json", action="store_true", help="print the curves and points as JSON on stdout")
     p.add_argument("--plot", default=None, metavar="FILE.png", help="write the diagram with regions R1-R4")
@@ -113,8 +120,18 @@ def run(args: argparse.Namespace) -> int:
     t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)
     if args.plot is not None:
         check_plot_path(args.plot)
+    specs = args.curves or []
+    if len(specs) > MAX_CURVES:
+        raise ParameterError(f"--curves is given {len(specs)} times; allowed: at most {MAX_CURVES} curves")
+    for spec in specs:
+        kind, _, label = spec.partition(":")
+        if spec != "coalescence" and (kind not in ("pd", "ns", "fold", "grazing") or not label):
+            raise ParameterError(f"--curves = {spec!r} is invalid; allowed: {', '.join(CURVE_SPECS)}")
     try:
         diagram = codim2_diagram(params, plane, ranges, folds=folds, grazing=grazing, t_max=t_max)
+        if specs:
+            more = extra_curves(params, plane, ranges, specs, t_max=t_max)
+            diagram = replace(diagram, curves={**diagram.curves, **more})
     except ParameterError as exc:
         raise renamed(exc, {"t_max": "--t-max"}) from None
     if args.plot:

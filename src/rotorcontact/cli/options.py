@@ -10,6 +10,7 @@ from typing import Any
 
 
 from ..errors import ParameterError
+from ..maps.multi_impact import GRID_SHAPE, MAX_GRID_POINTS
 from ..io.json import dump_json
 from ..model.params import Machine, Parameters, check_range, check_velocity, load_machine, reference_machine
 
@@ -239,3 +240,17 @@ def json_result(params: Parameters, data: dict[str, Any], machine: Machine | Non
 def print_json(data: Any) -> None:
     """Write ``data`` as JSON on stdout (`rotorcontact.io.json.dump_json`)."""
     dump_json(data, sys.stdout)
+
+
+def parse_section_grid(text: str | None) -> tuple[int, int, int]:
+    """``--grid NT,NR,ND``: the grid of impact states seeding orbits with several impacts (default `GRID_SHAPE`)."""
+    if text is None:
+        return GRID_SHAPE
+    parts = text.split(",")
+    if len(parts) != 3:
+        raise ParameterError(f"--grid = {text!r} is invalid; allowed: three counts NT,NR,ND (theta, rdot-, thetadot-)")
+    shape = tuple(parse_int("grid", q.strip(), 1, MAX_GRID_POINTS) for q in parts)
+    if shape[0] * shape[1] * shape[2] > MAX_GRID_POINTS:
+        raise ParameterError(f"--grid = {text!r} has {shape[0] * shape[1] * shape[2]} points; allowed: at most "
+                             f"{MAX_GRID_POINTS} (each is a Newton solve)")
+    return shape  # type: ignore[return-value]

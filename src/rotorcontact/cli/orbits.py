@@ -25,6 +25,7 @@ from .options import (
     json_result,
     parameters_from_args,
     parse_int,
+    parse_section_grid,
     parse_t_max,
     print_json,
     renamed,
@@ -51,6 +52,9 @@ def register(sub) -> None:
         metavar="P",
         help="impacts per period (default 1: the one-impact orbits B_n,m)",
     )
+    p.add_argument("--grid", default=None, metavar="NT,NR,ND",
+                   help="with --impacts P >= 2, also the orbits that Newton's method finds from this grid of impact "
+                        "states (theta, rdot-, thetadot-), unstable ones included (for example 12,4,4)")
     p.add_argument("--json", action="store_true", help="print the orbits as JSON on stdout")
     p.set_defaults(func=run)
 
@@ -136,7 +140,8 @@ def _orbit_dict(o: ImpactOrbit, machine: Machine | None) -> dict:
 
 
 def _run_multi(args: argparse.Namespace, params, machine, t_max: float, p: int) -> int:
-    orbits = multi_impact_orbits(params, p, t_max=t_max)
+    grid = None if args.grid is None else parse_section_grid(args.grid)
+    orbits = multi_impact_orbits(params, p, t_max=t_max, grid=grid)
     if args.json:
         print_json(json_result(params, {"orbits": [_multi_dict(o, machine) for o in orbits]}, machine))
     else:
@@ -151,6 +156,8 @@ def run(args: argparse.Namespace) -> int:
     params, machine = parameters_from_args(args)
     t_max = parse_t_max(args.t_max, MAX_PERIOD)
     p = _impacts(args.impacts)
+    if args.grid is not None and p < 2:
+        raise ParameterError("--grid seeds orbits with several impacts; allowed: with --impacts P >= 2")
     if p >= 2:
         try:
             return _run_multi(args, params, machine, t_max, p)

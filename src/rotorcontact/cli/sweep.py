@@ -17,6 +17,9 @@ from .options import (
     parse_velocity,
     print_json,
 )
+from ..continuation.multi_impact_families import MAX_DOUBLINGS
+from ..maps.multi_impact import CONTINUATION_PARAMETERS
+from ..simulation.motion import MAX_PERIOD_IMPACTS
 from .outputs import check_output_file, check_plot_path, note_reuse
 from .scale import add_scale_options, batch_settings, check_study_size, scale_kwargs
 
@@ -81,8 +84,29 @@ def register(sub) -> None:
     o.add_argument("--no-overlay", dest="overlay", action="store_false",
                    help="do not overlay the one-impact orbits (continued branches, or the fixed points at each "
                         "value where the parameter cannot be continued) on the figure")
+    o.add_argument("--overlay-impacts", dest="overlay_impacts", default=None, metavar="P",
+                   help="also overlay the continued branches of the orbits with P >= 2 impacts per period found at "
+                        "the middle of the range (every impact drawn), with --overlay-doublings K their period-"
+                        "doubled branches and the doublings of the cascades marked")
+    o.add_argument("--overlay-doublings", dest="overlay_doublings", default="0", metavar="K",
+                   help="levels of period doubling followed for --overlay-impacts (default 0)")
     o.add_argument("--json", action="store_true", help="print a summary as JSON")
     p.set_defaults(func=run)
+
+
+def _multi_overlay(args: argparse.Namespace, params, values):
+    """The multi-impact branches over the swept range and their cascades (--overlay-impacts), or (None, ())."""
+    if args.overlay_impacts is None:
+        return None, ()
+    from ..continuation.cascade import cascades_of
+    from ..continuation.multi_impact_families import multi_impact_branches
+
+    lo, hi = float(min(values)), float(max(values))
+    if not lo < hi:
+        raise ParameterError("--overlay-impacts needs a range of values; allowed: --n >= 2 with --from < --to")
+    base = params.replace(**{args.param: 0.5 * (lo + hi)})
+    family = multi_impact_branches(base, args.overlay_impacts, args.param, lo, hi, doublings=args.overlay_doublings)
+    return family, cascades_of(family)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -102,6 +126,16 @@ def run(args: argparse.Namespace) -> int:
     du0 = None if args.du0 is None else parse_velocity("du0", args.du0)
     if args.plot is not None:
         check_plot_path(args.plot)
+    if args.overlay_impacts is not None:
+        if args.plot is None:
+            raise ParameterError("--overlay-impacts draws on the figure; allowed: with --plot FILE.png")
+        if args.param not in CONTINUATION_PARAMETERS:
+            raise ParameterError(f"--overlay-impacts follows orbits in {', '.join(CONTINUATION_PARAMETERS)}; "
+                                 f"allowed: one of them as --param")
+        args.overlay_impacts = parse_int("overlay-impacts", args.overlay_impacts, 2, MAX_PERIOD_IMPACTS,
+                                         why="the longest period, in impacts, that is followed")
+    args.overlay_doublings = parse_int("overlay-doublings", args.overlay_doublings, 0, MAX_DOUBLINGS,
+                                       why="each level doubles the impacts per period")
     check_output_file("--out", args.out, (".nc",))
     execution = scale_kwargs(args)
     t0 = time.perf_counter()
@@ -117,7 +151,9 @@ def run(args: argparse.Namespace) -> int:
         from ..studies.sweep import overlay_for
 
         overlay, overlay_kind = overlay_for(params, args.param, values) if args.overlay else (None, None)
-        save_sweep_figure(ds, args.plot, args.section, overlay=overlay)
+        family, found = _multi_overlay(args, params, values)
+        layers = [x for x in (overlay, family) if x is not None]
+        save_sweep_figure(ds, args.plot, args.section, overlay=layers or None, cascades=found)
     summary = {
         "out": str(res.path),
         "param": args.param,

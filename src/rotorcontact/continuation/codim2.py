@@ -13,6 +13,10 @@ omega, rho, mu, d, each continued by pseudo-arclength
   the NSFH happens): |k|^2 = 1, written rho^2 - gamma^2 - (1 - omega^2)^2 = 0
   (no pole at the undamped resonance), unknowns (p1, p2). In the (gamma,
   omega) plane this is gamma_DIB(omega) = sqrt(rho^2 - (1 - omega^2)^2).
+* **coalescence_ac_n**, **coalescence_bd_n**, where B_n,a meets B_n,c (or
+  B_n,b meets B_n,d): the quadratic in rdot has a double root at their shared
+  zero of F1, and beyond the curve neither orbit exists. Unknowns
+  (T, rdot, p1, p2), equations R1 = R2 = 0 and dR2/drdot = 0.
 * **grazing_<orbit>**, where the largest interior maximum of r of a chosen
   orbit (for example B1,d) reaches 1. Unknowns (T, rdot, t_g, p1, p2):
   R1 = R2 = 0 (the orbit), |U(t_g)|^2 = 1 and Re(conj(U) U')(t_g) = 0 (a
@@ -39,8 +43,9 @@ n = 1 and the regular equilibrium at a point:
 * R3: no one-impact orbit of the pair 1, x_R admissible;
 * R4: x_R and every B1,m admissible.
 
-Points fitting none of these (for example |k| < 1 with virtual B1 orbits) get
-None.
+Points fitting none of these (for example |k| < 1 with virtual B1 orbits, or
+only two of the four B1 orbits, past an a-c or b-d coalescence curve) get
+None, so the region boundaries follow the coalescence curves too.
 """
 
 from __future__ import annotations
@@ -59,6 +64,7 @@ from .engine import (
     EventFunction,
     continue_both_ways,
     continue_curve,
+    correct_fixed,
     corrected_crossings,
 )
 from ..errors import ParameterError
@@ -77,6 +83,8 @@ __all__ = [
     "Codim2Point",
     "Codim2Diagram",
     "fold_curve",
+    "coalescence_curve",
+    "coalescence_curves",
     "dib_curve",
     "grazing_curve",
     "codim2_diagram",
@@ -472,6 +480,113 @@ def fold_curve(
 
 
 # ---------------------------------------------------------------------------
+# Coalescence curves (a with c, b with d)
+# ---------------------------------------------------------------------------
+
+#: The coalescences: the zero of F1 the two orbits share (kind of `rotorcontact.maps.impact_map.F1Zero`).
+COALESCENCES = {"ac": "a", "bd": "b"}
+
+
+def _zero_of(p: Parameters, n: int, kind: str, t_max: float):
+    try:
+        zeros = f1_zeros(p, t_max)
+    except (ParameterError, RuntimeError):
+        return None
+    return next((z for z in zeros if z.n == n and z.kind == kind), None)
+
+
+def coalescence_curves(
+    params: Parameters,
+    param: Sequence[str] = ("gamma", "omega"),
+    ranges=None,
+    *,
+    n: int = 1,
+    t_max: float = 12.0,
+    n_seeds: int = 7,
+    n_scan: int = 41,
+    settings: ContinuationSettings | None = None,
+) -> tuple[Codim2Curve, Codim2Curve]:
+    """Where B_n,a meets B_n,c and where B_n,b meets B_n,d: the roots of the quadratic in rdot merge.
+
+    The two orbits of a coalescence share a zero T of F1 and are the two roots in
+    rdot of the quadratic Q (MODEL.md §5); they coalesce where its discriminant
+    vanishes, and beyond the curve neither exists. Unknowns (T, rdot, p1, p2),
+    equations R1 = R2 = 0 and dR2/drdot = 0 of the regularised system of
+    `rotorcontact.maps.orbit_system` (the ``ac-coalescence`` test function of
+    the one-impact branches). Seeds: sign changes of the discriminant at the
+    zero T0,n,a (or T0,n,b) along the scan lines. The solution curve passes
+    smoothly through the fold of F1 where T0,n,a and T0,n,b merge, so one curve
+    can be a-c on one side and b-d on the other; its points are split by the
+    kind of their zero (the sign of dR1/dT), the fold of F1 lying between the
+    last point of one part and the first of the other.
+
+    Parameters as in `fold_curve`.
+
+    Returns
+    -------
+    (Codim2Curve, Codim2Curve)
+        ``"coalescence_ac_<n>"`` and ``"coalescence_bd_<n>"``, of kind ``"coalescence"``.
+    """
+    plane = _Plane(params, param, ranges)
+    n = check_int("n", n, 1)
+    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+    settings = settings or _settings()
+
+    def residual(y):
+        r, j = regularised_residual(plane.at(y[2], y[3]), float(y[0]), float(y[1]))
+        return np.array([r[0], r[1], j[1, 1]])
+
+    seeds = []
+    for kind in COALESCENCES.values():
+        for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1),
+                                             check_int("n_scan", n_scan, 2)):
+            def at(v, fixed=fixed, axis=axis):
+                return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
+
+            def disc(v, at=at, kind=kind):
+                z = _zero_of(at(v), n, kind, t_max)
+                return None if z is None else rdot_roots(at(v), z.T)[0]
+
+            for lo, hi in _brackets(disc, grid):
+                v_in = lo if disc(lo) > 0.0 else hi  # the side where the two roots exist
+                z = _zero_of(at(v_in), n, kind, t_max)
+                roots = rdot_roots(at(v_in), z.T)[1]
+                y = np.concatenate([[z.T, 0.5 * (roots[0] + roots[-1])], [v_in, fixed] if axis == 0 else [fixed, v_in]])
+                index = _held(y, axis)
+                try:
+                    y = correct_fixed(residual, y, index, settings=settings)
+                except CorrectionError:
+                    continue
+                seeds.append((y, index))
+    events = plane.box_events() + [
+        EventFunction("t-max", lambda y: t_max - y[0], terminal=True),
+        EventFunction("t-min", lambda y: y[0] - 1e-3, terminal=True),
+    ]
+    weights = np.array([1.0, 1.0, 1.0 / plane.span(0), 1.0 / plane.span(1)])
+    pieces, ends, _ = _trace(residual, seeds, events, weights, settings)
+    split: dict[str, list[np.ndarray]] = {"ac": [], "bd": []}
+    for piece in pieces:
+        kinds = ["ac" if regularised_residual(plane.at(y[2], y[3]), float(y[0]), float(y[1]))[1][0, 0] < 0.0
+                 else "bd" for y in piece]
+        start = 0
+        for i in range(1, len(piece) + 1):
+            if i == len(piece) or kinds[i] != kinds[start]:
+                split[kinds[start]].append(piece[start:i])
+                start = i
+    return tuple(Codim2Curve(name=f"coalescence_{pair}_{n}", kind="coalescence", params=plane.params,
+                             pieces=tuple(split[pair]), ends=tuple(ends)) for pair in ("ac", "bd"))
+
+
+def coalescence_curve(params: Parameters, param: Sequence[str] = ("gamma", "omega"), ranges=None, *,
+                      pair: str = "ac", **kw) -> Codim2Curve:
+    """One of `coalescence_curves`: ``pair`` ``"ac"`` or ``"bd"``."""
+    if pair not in COALESCENCES:
+        raise ParameterError(f"pair = {pair!r} is invalid; allowed: 'ac', 'bd'")
+    ac, bd = coalescence_curves(params, param, ranges, **kw)
+    return ac if pair == "ac" else bd
+
+
+# ---------------------------------------------------------------------------
 # The DIB curve
 # ---------------------------------------------------------------------------
 
@@ -755,8 +870,10 @@ def region(params: Parameters, t_max: float = 12.0) -> str | None:
     for z in zeros:
         if z.n == 1:
             roots = rdot_roots(params, z.T)[1]
-            if roots:
-                orbits.extend([(True, roots[0]), (False, roots[1])])
+            if not roots:
+                # past an a-c or b-d coalescence curve the two orbits of this zero no longer exist: none of R1-R4
+                return None
+            orbits.extend([(True, roots[0]), (False, roots[-1])])
     if not orbits:
         return "R3" if xr_admissible else "R2"
     if not xr_admissible and all((r < 0.0) == small for small, r in orbits):

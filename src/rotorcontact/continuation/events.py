@@ -34,7 +34,8 @@ from ..maps.impact_map import IDEAL, flight_extrema, impact_map_jacobian
 from ..maps.orbit_system import OneImpactSystem, label_of, orbit_angles, regularised_residual
 from .results import BranchEvent
 
-__all__ = ["BranchAnalyser", "at_turning_point", "branch_event_functions", "classify_event", "report_events",
+__all__ = ["BranchAnalyser", "MultiplierTests", "at_turning_point", "bialternate_product", "branch_event_functions", "classify_event",
+           "det_minus_identity", "det_plus_identity", "multiplier_kind", "report_events", "rotation_angle",
            "turning_points"]
 
 # How close a multiplier must be to +-1 or to the unit circle at a located test-function zero.
@@ -56,7 +57,29 @@ class _Core:
     multipliers: np.ndarray | None
 
 
-class BranchAnalyser:
+class MultiplierTests:
+    """The multiplier test functions at a point y, from ``self.multipliers(y)`` (None where undefined)."""
+
+    def multipliers(self, y: np.ndarray) -> np.ndarray | None:  # pragma: no cover - provided by subclasses
+        raise NotImplementedError
+
+    def plus_one(self, y: np.ndarray) -> float | None:
+        """det(J - I) = prod (z_i - 1)."""
+        z = self.multipliers(y)
+        return None if z is None else det_minus_identity(z)
+
+    def minus_one(self, y: np.ndarray) -> float | None:
+        """det(J + I) = prod (z_i + 1)."""
+        z = self.multipliers(y)
+        return None if z is None else det_plus_identity(z)
+
+    def torus(self, y: np.ndarray) -> float | None:
+        """prod_{i<j} (z_i z_j - 1): zero where a complex pair is on the unit circle (or z_i z_j = 1)."""
+        z = self.multipliers(y)
+        return None if z is None else bialternate_product(z)
+
+
+class BranchAnalyser(MultiplierTests):
     """The test functions along the branches of one system, with a cache per point.
 
     Parameters
@@ -127,26 +150,56 @@ class BranchAnalyser:
         c = self.core(y)
         return c.count if c.admissible else None
 
-    def plus_one(self, y: np.ndarray) -> float | None:
-        """det(J - I) = prod (z_i - 1)."""
-        z = self.multipliers(y)
-        return None if z is None else float(np.prod(z - 1.0).real)
 
-    def minus_one(self, y: np.ndarray) -> float | None:
-        """det(J + I) = prod (z_i + 1)."""
-        z = self.multipliers(y)
-        return None if z is None else float(np.prod(z + 1.0).real)
 
-    def torus(self, y: np.ndarray) -> float | None:
-        """prod_{i<j} (z_i z_j - 1): zero where a complex pair is on the unit circle (or z_i z_j = 1)."""
-        z = self.multipliers(y)
-        if z is None:
-            return None
-        prod = 1.0 + 0j
-        for i in range(len(z)):
-            for j in range(i + 1, len(z)):
-                prod *= z[i] * z[j] - 1.0
-        return float(prod.real)
+def det_minus_identity(z: np.ndarray) -> float:
+    """det(J - I) = prod (z_i - 1) from the multipliers z of J: zero where a multiplier is +1."""
+    return float(np.prod(np.asarray(z) - 1.0).real)
+
+
+def det_plus_identity(z: np.ndarray) -> float:
+    """det(J + I) = prod (z_i + 1) from the multipliers z of J: zero where a multiplier is -1."""
+    return float(np.prod(np.asarray(z) + 1.0).real)
+
+
+def bialternate_product(z: np.ndarray) -> float:
+    """prod_{i<j} (z_i z_j - 1), the determinant of the bialternate product J (.) J - I.
+
+    Zero where a complex pair of multipliers lies on the unit circle (a
+    Neimark-Sacker point) or where two real multipliers have product 1.
+    """
+    prod = 1.0 + 0j
+    for i in range(len(z)):
+        for j in range(i + 1, len(z)):
+            prod *= z[i] * z[j] - 1.0
+    return float(prod.real)
+
+
+def multiplier_kind(name: str, z: np.ndarray, tol: float = 1e-6) -> str | None:
+    """What a located zero of a multiplier test function is, from the multipliers z there.
+
+    ``name`` is ``"plus-one"`` (det(J - I)), ``"minus-one"`` (det(J + I)) or
+    ``"torus"`` (the bialternate product). Returns ``"plus-one"`` when a
+    multiplier is within ``tol`` of +1, ``"period-doubling"`` when one is
+    within ``tol`` of -1, ``"neimark-sacker"`` when a complex pair is within
+    ``tol`` of the unit circle, and None otherwise (a sign change through a
+    pole, or a real pair with product 1: not a bifurcation).
+    """
+    z = np.asarray(z)
+    if name == "plus-one":
+        return "plus-one" if np.min(np.abs(z - 1.0)) <= tol else None
+    if name == "minus-one":
+        return "period-doubling" if np.min(np.abs(z + 1.0)) <= tol else None
+    if name == "torus":
+        pair = [x for x in z if abs(x.imag) > 1e-9 and abs(abs(x) - 1.0) <= tol]
+        return "neimark-sacker" if pair else None
+    return None
+
+
+def rotation_angle(z: np.ndarray) -> float:
+    """The angle in (0, pi) of the complex multiplier nearest the unit circle (a Neimark-Sacker point)."""
+    pair = min((x for x in np.asarray(z) if abs(x.imag) > 1e-9), key=lambda x: abs(abs(x) - 1.0))
+    return abs(math.atan2(pair.imag, pair.real))
 
 
 def branch_event_functions(an: BranchAnalyser, start: float, stop: float, t_min: float, t_max: float,
@@ -196,21 +249,14 @@ def classify_event(e: LocatedEvent, an: BranchAnalyser, system: OneImpactSystem)
         stab.append(None if zz is None else bool(np.all(np.abs(zz) < 1.0)))
     change = "" if stab[0] == stab[1] or None in stab else (
         f"{'gain' if stab[1] else 'loss'} of stability as {system.param} increases")
-    if e.name == "plus-one":
-        if np.min(np.abs(z - 1.0)) > _MULTIPLIER_TOL:
-            return None
+    kind = multiplier_kind(e.name, z, _MULTIPLIER_TOL)
+    if kind is None:
+        return None
+    if kind == "plus-one":
         return "branch-point", change
-    if e.name == "minus-one":
-        if np.min(np.abs(z + 1.0)) > _MULTIPLIER_TOL:
-            return None
-        return "period-doubling", change
-    if e.name == "torus":
-        pair = [x for x in z if abs(x.imag) > 1e-9 and abs(abs(x) - 1.0) <= _MULTIPLIER_TOL]
-        if not pair:
-            return None
-        arg = abs(math.atan2(pair[0].imag, pair[0].real))
-        return "neimark-sacker", (change + ("; " if change else "") + f"angle {arg:.6g} rad")
-    return None
+    if kind == "neimark-sacker":
+        return "neimark-sacker", (change + ("; " if change else "") + f"angle {rotation_angle(z):.6g} rad")
+    return kind, change
 
 
 def turning_points(raw: list[LocatedEvent]) -> list[np.ndarray]:

@@ -6,10 +6,17 @@ Continuation
 (a fixed point of P_I^p) in one parameter with the pseudo-arclength
 continuation of `rotorcontact.continuation.engine` (folds are passed), on the
 unknowns (x_0, ..., x_{p-1}, lambda), and locates the events of MODEL.md §5
-along the branch: a multiplier leaving the unit circle (classified as fold at
-+1, period doubling at -1 or Neimark-Sacker for a complex pair), grazing of an
-interior maximum of r, and a change of the slipping condition. The
-continuation stops at a grazing (P_I is discontinuous there).
+along the branch with the test functions of one-impact branches
+(`rotorcontact.continuation.events`), of the Jacobian M of P_I^p: det(M - I)
+(a ``fold`` where the parameter turns over the step, a ``branch-point``
+otherwise), det(M + I) (``period-doubling``) and the bialternate product
+(``neimark-sacker`` where a complex pair is on the unit circle); a turning of
+the parameter that no zero of det(M - I) explains is still a fold. Also
+grazing of an interior maximum of r (terminal: P_I is discontinuous there) and
+a change of the slipping condition. A period-doubled branch followed back to
+the doubling it was born at passes through a pitchfork of P_I^p and would come
+back along the same orbits with their points shifted by p/2; the
+continuation stops there (status ``"period-doubling"``) and reports it.
 
 All orbits
 ----------
@@ -21,7 +28,8 @@ passed -1, continued from the period doubling to the given parameters.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass, field, replace
 from typing import Sequence
 
 import numpy as np
@@ -41,6 +49,8 @@ from ..maps.multi_impact import (
     _relabel,
     _same_orbit,
     find_period_doubling,
+    multipliers_at,
+    orbits_from_grid,
     orbits_from_simulation,
     period_doubled_orbit,
     periodic_residual,
@@ -49,6 +59,7 @@ from ..maps.multi_impact import (
 from ..model.params import Parameters, check_range
 from ..model.validation import check_int, check_params
 from .engine import ContinuationSettings, CorrectionError, EventFunction, continue_curve
+from .events import MultiplierTests, multiplier_kind, rotation_angle
 from .results import BranchEvent, BranchResult
 
 __all__ = [
@@ -64,6 +75,10 @@ __all__ = [
 PARAMETER_WEIGHT = 100.0
 #: A failed step with an interior maximum of r within this of 1 is reported as a grazing.
 GRAZING_MARGIN = 1e-2
+#: How close a multiplier must be to +-1 or to the unit circle at a located test-function zero.
+MULTIPLIER_TOL = 1e-6
+#: The branch's own period doubling is looked for while max |x_0 - x_{p/2}| is below this.
+HALF_PERIOD_MARGIN = 0.05
 
 
 @dataclass(frozen=True)
@@ -75,20 +90,21 @@ class MultiImpactBranch(BranchResult):
     param : str
         The continuation parameter.
     events : tuple of BranchEvent
-        Located events, in order: ``kind`` ``"fold"``, ``"period-doubling"``,
-        ``"neimark-sacker"`` (a multiplier leaves or enters the unit circle at
-        +1, -1, or as a complex pair), ``"grazing"`` (an interior maximum of r
-        reaches 1) or ``"slip"`` (the slipping condition changes); ``orbit``
-        the orbit there (None where it could not be built).
+        Located events: ``kind`` ``"fold"``, ``"branch-point"``,
+        ``"period-doubling"``, ``"neimark-sacker"`` (module docstring),
+        ``"grazing"`` (an interior maximum of r reaches 1) or ``"slip"`` (the
+        slipping condition changes); ``orbit`` the orbit there (None where it
+        could not be built), ``impacts`` p.
     values : numpy.ndarray
         The parameter along the branch.
     orbits : tuple of MultiImpactOrbit
         The orbits at those values.
     status, message : str
         How the continuation ended: the statuses of
-        `rotorcontact.continuation.engine.ContinuationResult`, or ``"grazing"`` when
+        `rotorcontact.continuation.engine.ContinuationResult`, ``"grazing"`` when
         the steps failed with an interior maximum of r within
-        `GRAZING_MARGIN` of 1.
+        `GRAZING_MARGIN` of 1, or ``"period-doubling"`` when the branch
+        returned onto the orbit it doubles from.
     """
 
     values: np.ndarray = field(repr=False)
@@ -110,14 +126,22 @@ class MultiImpactBranch(BranchResult):
                         "plausible": [o.plausible for o in self.orbits]}}
 
 
-class _System:
+class _System(MultiplierTests):
     """(x_0 .. x_{p-1}, lambda) -> G as a continuation problem."""
 
-    def __init__(self, base: Parameters, param: str, p: int, fd_step: float = 1e-7):
+    def __init__(self, base: Parameters, param: str, p: int, fd_step: float = 1e-7,
+                 start: np.ndarray | None = None):
         self.base = base
         self.param = param
         self.p = p
         self.fd_step = fd_step
+        self._mult: dict[bytes, np.ndarray | None] = {}
+        self.direction_half = None
+        if start is not None and p % 2 == 0:
+            diff = start[0] - start[p // 2]
+            diff[0] = math.remainder(diff[0], 2.0 * math.pi)
+            if np.linalg.norm(diff) > 0:
+                self.direction_half = diff / np.linalg.norm(diff)
 
     def params_at(self, value: float) -> Parameters:
         return self.base.replace(**{self.param: float(value)})
@@ -143,15 +167,35 @@ class _System:
             pass
         return _build_orbit(params, x, label)
 
-    def max_multiplier(self, y: np.ndarray) -> float | None:
+    def multipliers(self, y: np.ndarray) -> np.ndarray | None:
+        """Eigenvalues of the Jacobian of P_I^p at the point y (cached; None where the map fails)."""
+        key = np.asarray(y, dtype=float).tobytes()
+        if key in self._mult:
+            return self._mult[key]
         try:
-            _im, _t, jacs, _s = _chain(self.params_at(y[-1]), y[:-1].reshape(self.p, 3))
+            z = multipliers_at(self.params_at(y[-1]), y[:-1].reshape(self.p, 3))
         except (_MapFailure, ParameterError):
+            z = None
+        if len(self._mult) > 20000:
+            self._mult.clear()
+        self._mult[key] = z
+        return z
+
+    def asymmetry(self, y: np.ndarray) -> float | None:
+        """e . (x_0 - x_{p/2}) near the orbit of p/2 impacts that this one doubles (None elsewhere, or p odd).
+
+        It changes sign where the branch passes through its own period
+        doubling: there x_0 = x_{p/2}, and beyond it the same orbits come again
+        with their points shifted by p/2.
+        """
+        if self.p % 2 or self.direction_half is None:
             return None
-        m = np.eye(3)
-        for j in jacs:
-            m = j @ m
-        return float(np.max(np.abs(np.linalg.eigvals(m)))) - 1.0
+        x = y[:-1].reshape(self.p, 3)
+        diff = x[0] - x[self.p // 2]
+        diff[0] = math.remainder(diff[0], 2.0 * math.pi)
+        if np.max(np.abs(diff)) > HALF_PERIOD_MARGIN:
+            return None
+        return float(self.direction_half @ diff)
 
     def grazing(self, y: np.ndarray) -> float | None:
         params = self.params_at(y[-1])
@@ -171,14 +215,6 @@ class _System:
         params = self.params_at(y[-1])
         x = y[:-1].reshape(self.p, 3)
         return int(np.all(params.r_ratio + 1.0 + x[:, 2] > params.mu * (1.0 + params.d) * x[:, 1]))
-
-
-def _classify_stability_event(orbit: MultiImpactOrbit) -> str:
-    """The kind of a multiplier crossing the unit circle: at +1, at -1 or as a complex pair."""
-    m = min(orbit.multipliers, key=lambda z: abs(abs(z) - 1.0))
-    if abs(m.imag) > 1e-6 * (1.0 + abs(m)):
-        return "neimark-sacker"
-    return "fold" if m.real > 0.0 else "period-doubling"
 
 
 def continue_multi_impact(
@@ -228,12 +264,14 @@ def continue_multi_impact(
     if stop == start:
         return MultiImpactBranch(param=param, events=(), values=np.array([start]), orbits=(orbit,),
                                  status="terminal", message="already at stop")
-    system = _System(base, param, p)
+    system = _System(base, param, p, start=orbit.states)
     y0 = np.append(orbit.states.ravel(), start)
     direction = 1.0 if stop > start else -1.0
     events = [
         EventFunction("stop", lambda y: direction * (stop - y[-1]), terminal=True),
-        EventFunction("stability", system.max_multiplier),
+        EventFunction("plus-one", system.plus_one),
+        EventFunction("minus-one", system.minus_one),
+        EventFunction("torus", system.torus),
         EventFunction("grazing", system.grazing, terminal=True),
         EventFunction("slip", system.slipping, kind="discrete"),
     ]
@@ -259,6 +297,11 @@ def continue_multi_impact(
         param_index=-1,
         correct_start=False,
     )
+    own = _own_doubling(result, system)
+    if own is not None:
+        # the points beyond it repeat the branch with the points shifted by p/2
+        result = replace(result, points=result.points[: own[0] + 1], tangents=result.tangents[: own[0] + 1],
+                         events=tuple(e for e in result.events if e.index < own[0]))
     orbits = []
     values = []
     for y in result.points:
@@ -267,30 +310,32 @@ def continue_multi_impact(
             values.append(float(y[-1]))
         except (_MapFailure, ParameterError):
             break
-    located = []
-    for ev in result.events:
-        if ev.name == "stop":
-            continue
-        try:
-            o = system.orbit(ev.y, orbit.label)
-        except (_MapFailure, ParameterError):
-            o = None
-        kind = ev.name
-        if ev.name == "stability":
-            kind = _classify_stability_event(o) if o is not None else "stability"
-        located.append(_event(kind, float(ev.parameter), param, orbit.label, o))
+    located = _typed_events(result, system, orbit.label)
     status, message = result.status, result.message
     if status == "step-failure" and orbits:
         # the map is continuous but not smooth at a grazing (square-root singularity): steps
         # fail as an interior maximum of r approaches 1
         last = orbits[-1]
         if last.r_max_interior is not None and 1.0 - last.r_max_interior < GRAZING_MARGIN:
-            located.append(_event("grazing", values[-1], param, orbit.label, last))
+            located.append(_event("grazing", values[-1], param, orbit.label, last, p))
             status = "grazing"
             message = (
                 f"the branch approaches a grazing at {param} = {values[-1]:.10g} "
                 f"(interior maximum r = {last.r_max_interior:.6g}); {message}"
             )
+    grazings = [e.value for e in located if e.kind == "grazing"]
+    # P_I is not smooth at a grazing (a square-root singularity): a multiplier +1 located there is the
+    # grazing, where the branch may turn, not a smooth fold
+    located = [e for e in located if not (e.kind in ("fold", "branch-point")
+                                         and any(abs(e.value - g) <= 1e-8 for g in grazings))]
+    if own is not None:
+        i, value, accuracy = own
+        located.append(_event("period-doubling", value, param, orbit.label, None, p,
+                              "the branch returns onto the orbit it doubles from; continuation stops", accuracy,
+                              (_parent_label(orbit.label), orbit.label)))
+        status = "period-doubling"
+        message = (f"the branch returned onto the orbit it doubles from, at its period doubling "
+                   f"{param} = {value:.12g}; beyond it come the same orbits with their points shifted by {p // 2}")
     return MultiImpactBranch(
         param=param,
         events=tuple(located),
@@ -301,10 +346,131 @@ def continue_multi_impact(
     )
 
 
-def _event(kind: str, value: float, param: str, label: str, orbit: MultiImpactOrbit | None) -> BranchEvent:
+def _event(kind: str, value: float, param: str, label: str, orbit: MultiImpactOrbit | None, p: int,
+           detail: str = "", accuracy: float = 0.0, orbits: tuple[str, ...] | None = None) -> BranchEvent:
     """An event of a multi-impact branch, with the orbit there (None where it could not be built)."""
-    return BranchEvent(kind=kind, value=value, param=param, orbits=(label,),
-                       T=None if orbit is None else orbit.period, orbit=orbit)
+    return BranchEvent(kind=kind, value=value, param=param, orbits=orbits or (label,), detail=detail,
+                       T=None if orbit is None else orbit.period, orbit=orbit, impacts=p, accuracy=accuracy)
+
+
+def _turns(result, index: int) -> bool:
+    """Whether the parameter turns over the step from point ``index`` to ``index + 1`` (tangents' signs)."""
+    t = result.tangents
+    if index + 1 >= len(t):
+        return False
+    return bool(t[index][-1] * t[index + 1][-1] < 0.0)
+
+
+def _parent_label(label: str) -> str:
+    """The label of the orbit a period-doubled branch is born from (``"B1,d"`` for ``"B1,d/PD"``)."""
+    return label[:-3] if label.endswith("/PD") else f"{label}:half"
+
+
+def _own_doubling(result, system: _System) -> tuple[int, float, float] | None:
+    """Where the branch passes through its own period doubling: (index before it, parameter, accuracy).
+
+    Between two consecutive points near the orbit of p/2 impacts (max |x_0 - x_{p/2}| below
+    `HALF_PERIOD_MARGIN`) e . (x_0 - x_{p/2}) changes sign: the branch has passed through the pitchfork
+    of P_I^p where it meets the orbit it doubles from. The curve is singular there (two branches cross), so
+    the point is not corrected onto it; the parameter is that of the pitchfork from a least-squares fit
+    lambda = lambda_0 + c_1 a + c_2 a^2 to the nearest points (a the signed asymmetry), and its accuracy
+    the largest residual of the fit.
+    """
+    if system.p % 2:
+        return None
+    asym = [system.asymmetry(y) for y in result.points]
+    for i in range(len(asym) - 1):
+        a0, a1 = asym[i], asym[i + 1]
+        if a0 is None or a1 is None or not a0 * a1 < 0.0:
+            continue
+        near = [j for j in range(max(0, i - 2), min(len(asym), i + 4)) if asym[j] is not None]
+        a = np.array([asym[j] for j in near])
+        lam = np.array([result.points[j][-1] for j in near])
+        basis = np.column_stack([np.ones_like(a), a, a * a])
+        coef, *_ = np.linalg.lstsq(basis, lam, rcond=None)
+        accuracy = float(np.max(np.abs(basis @ coef - lam)))
+        return i, float(coef[0]), accuracy
+    return None
+
+
+def _stability_change(system: _System, e, param: str) -> str:
+    """``"loss of stability as <param> increases"`` (or gain), or "" where it does not change."""
+    ends = sorted((e.y_before, e.y_after), key=lambda yy: yy[-1])
+    stab = []
+    for yy in ends:
+        z = system.multipliers(yy)
+        stab.append(None if z is None else bool(np.all(np.abs(z) < 1.0)))
+    if None in stab or stab[0] == stab[1]:
+        return ""
+    return f"{'gain' if stab[1] else 'loss'} of stability as {param} increases"
+
+
+def _typed_events(result, system: _System, label: str) -> list[BranchEvent]:
+    """The events of a multi-impact branch from the located zeros of its test functions.
+
+    The multiplier test functions are those of one-impact branches
+    (`rotorcontact.continuation.events`): det(M - I), det(M + I) and the
+    bialternate product, of the Jacobian M of P_I^p. A zero of det(M - I) is
+    a ``fold`` where the parameter turns over the step (the sign of the
+    tangent's parameter component changes), a ``branch-point`` otherwise;
+    at the branch's own period doubling (the terminal ``own-doubling``
+    event) it is that point instead. A turning of the parameter that no
+    zero of det(M - I) explains is still reported as a fold, located to the
+    step.
+    """
+    param, p = system.param, system.p
+    out: list[BranchEvent] = []
+    explained: set[int] = set()
+    for e in result.events:
+        if e.name == "stop" or not e.continuous:
+            continue
+        try:
+            o = system.orbit(e.y, label)
+        except (_MapFailure, ParameterError):
+            o = None
+        value = float(e.parameter)
+        if e.name in ("grazing", "slip"):
+            out.append(_event(e.name, value, param, label, o, p, "", e.bracket))
+            continue
+        z = system.multipliers(e.y)
+        if z is None:
+            continue
+        kind = multiplier_kind(e.name, z, MULTIPLIER_TOL)
+        if kind is None:
+            continue
+        if kind == "plus-one":
+            # the turn may show in a neighbouring step when the zero lies at a step's end
+            turned = [j for j in (e.index - 1, e.index, e.index + 1) if j >= 0 and _turns(result, j)]
+            if turned:
+                explained.update(turned)
+                out.append(_event("fold", value, param, label, o, p, "", e.bracket))
+            else:
+                out.append(_event("branch-point", value, param, label, o, p, _stability_change(system, e, param),
+                                  e.bracket))
+            continue
+        detail = _stability_change(system, e, param)
+        if kind == "neimark-sacker":
+            detail = detail + ("; " if detail else "") + f"angle {rotation_angle(z):.6g} rad"
+        out.append(_event(kind, value, param, label, o, p, detail, e.bracket))
+    last = len(result.points) - 1
+    for i in range(last):
+        if i in explained or not _turns(result, i):
+            continue
+        if i + 3 >= last and result.status != "terminal":
+            # the last steps before a failure (a grazing, where P_I has a square-root singularity): the
+            # tangent there is not trusted
+            continue
+        # the parameter increases along the tangent at i before a maximum, decreases before a minimum
+        pair = (result.points[i], result.points[i + 1])
+        sign = 1.0 if result.tangents[i][-1] > 0 else -1.0
+        y = max(pair, key=lambda yy: sign * yy[-1])
+        try:
+            o = system.orbit(y, label)
+        except (_MapFailure, ParameterError):
+            o = None
+        out.append(_event("fold", float(y[-1]), param, label, o, p, "located from the turning of the parameter",
+                          abs(float(result.points[i + 1][-1] - result.points[i][-1]))))
+    return out
 
 
 # ---------------------------------------------------------------------------
@@ -320,6 +486,7 @@ def multi_impact_orbits(
     period_doubling: bool = True,
     scan_width: float = 0.05,
     t_max: float = 12.0,
+    grid: tuple[int, int, int] | None = None,
 ) -> tuple[MultiImpactOrbit, ...]:
     """Periodic orbits with ``impacts`` (>= 2) impacts per period at given parameters.
 
@@ -334,7 +501,10 @@ def multi_impact_orbits(
       period-2 orbit born there is continued to the given gamma
       (`continue_multi_impact`); it is labelled ``"B<n>,<m>/PD"``.
 
-    Orbits found by both are reported once, with the branch label.
+    With ``grid`` (a shape of `rotorcontact.maps.multi_impact.orbits_from_grid`)
+    the fixed points that Newton's method finds from that grid of impact states
+    are added, unstable ones included. Orbits found twice are reported once,
+    with the branch label.
 
     Returns
     -------
@@ -352,7 +522,12 @@ def multi_impact_orbits(
             orbit = _pd_branch_orbit(params, parent, scan_width, t_max)
             if orbit is not None and not any(_same_orbit(orbit, o) for o in out):
                 out.append(orbit)
-    brute = orbits_from_simulation(params, p, starts=starts)
+    brute = list(orbits_from_simulation(params, p, starts=starts))
+    if grid is not None:
+        for o in orbits_from_grid(params, p, shape=grid):
+            if not any(_same_orbit(o, b) for b in brute):
+                brute.append(o)
+        brute.sort(key=lambda o: (o.period, o.points[0].theta))
     n = 0
     for o in brute:
         if any(_same_orbit(o, b) for b in out):

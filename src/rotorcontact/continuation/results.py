@@ -82,6 +82,9 @@ class BranchEvent:
     orbit : object or None
         The computed orbit at the event (multi-impact branches; None where it
         could not be built).
+    impacts : int or None
+        Impacts per period of the orbits of the branch (branches of multi-impact
+        orbits; written as ``"impacts"`` in JSON when set).
     """
 
     kind: str
@@ -94,6 +97,7 @@ class BranchEvent:
     accuracy: float = 0.0
     n: int | None = None
     orbit: Any = field(default=None, repr=False, compare=False)
+    impacts: int | None = None
 
     @property
     def type(self) -> str:
@@ -119,13 +123,16 @@ def event_to_dict(event: BranchEvent) -> dict[str, Any]:
     """The JSON object of a special point.
 
     Along one parameter (the ``branches --json`` contract) ``{"type", "value",
-    "orbits"}``; in a plane of two parameters (the ``codim2 --json``
-    contract) ``{"type", p1: value1, p2: value2}``.
+    "orbits"}`` (and ``"impacts"`` on branches of multi-impact orbits); in a
+    plane of two parameters (the ``codim2 --json`` contract) ``{"type", p1:
+    value1, p2: value2}``.
     """
     out: dict[str, Any] = {"type": event.kind}
     if isinstance(event.param, str):
         out["value"] = event.value
         out["orbits"] = list(event.orbits)
+        if event.impacts is not None:
+            out["impacts"] = event.impacts
     else:
         out.update(zip(event.param, event.value))
     return out

@@ -33,6 +33,8 @@ Starting points
   states; after a transient the impact sequence is tested for period p
   (`rotorcontact.simulation.motion.detect_period`) and the last p impacts start Newton.
   This finds the stable p-orbits.
+* Grid (`orbits_from_grid`): Newton's method from the iterates of every state
+  of a grid on Sigma; this finds unstable orbits too.
 * Period doubling (`find_period_doubling`, `period_doubled_orbit`): a
   one-impact orbit B_n,m loses stability through a multiplier -1 at a
   parameter value found by bisection on its multipliers (from
@@ -86,10 +88,15 @@ __all__ = [
     "MultiImpactOrbit",
     "PeriodDoubling",
     "NewtonFailure",
+    "cycle_jacobian",
+    "multipliers_at",
     "periodic_residual",
     "solve_multi_impact",
     "orbits_from_simulation",
+    "orbits_from_grid",
     "find_period_doubling",
+    "period_doubling_at",
+    "doubled_orbit_at_amplitude",
     "period_doubled_orbit",
 ]
 
@@ -136,6 +143,25 @@ def _chain(params: Parameters, states: np.ndarray, law: str = SLIP_BOUNDED):
         jacs[i] = res.jacobian
         sticking[i] = res.sticking
     return images, times, jacs, sticking
+
+
+def cycle_jacobian(jacs) -> np.ndarray:
+    """J_{p-1} ... J_0: the Jacobian of P_I^p at x_0 from the Jacobians of P_I at the p points."""
+    m = np.eye(3)
+    for j in jacs:
+        m = j @ m
+    return m
+
+
+def multipliers_at(params: Parameters, states) -> np.ndarray:
+    """Eigenvalues of the Jacobian of P_I^p at the p points ``states`` (not sorted).
+
+    Raises
+    ------
+    ValueError
+        When the impact map has no next impact from one of the states.
+    """
+    return np.linalg.eigvals(cycle_jacobian(_chain(params, np.asarray(states, dtype=float))[2]))
 
 
 def periodic_residual(params: Parameters, states, *, law: str = SLIP_BOUNDED) -> tuple[np.ndarray, np.ndarray]:
@@ -269,11 +295,7 @@ class MultiImpactOrbit:
 
     def jacobian(self) -> np.ndarray:
         """Jacobian of P_I^p at the first point (the product of the p Jacobians of P_I)."""
-        _im, _t, jacs, _s = _chain(self.params, self.states)
-        m = np.eye(3)
-        for j in jacs:
-            m = j @ m
-        return m
+        return cycle_jacobian(_chain(self.params, self.states)[2])
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data (the ``orbits --impacts p --json`` contract)."""
@@ -307,10 +329,7 @@ def _build_orbit(params: Parameters, states: np.ndarray, label: str) -> MultiImp
     x[:, 0] = [wrap_angle(t) for t in x[:, 0]]
     res, _jac = periodic_residual(params, x)
     images, times, jacs, sticking = _chain(params, x)
-    m = np.eye(3)
-    for j in jacs:
-        m = j @ m
-    ev = np.linalg.eigvals(m)
+    ev = np.linalg.eigvals(cycle_jacobian(jacs))
     ev = ev[np.argsort(-np.abs(ev), kind="stable")]
     admissible = bool(np.all(x[:, 1] > 0.0))
     slipping = bool(
@@ -533,6 +552,98 @@ def orbits_from_simulation(
     return tuple(_relabel(o, f"M{p}-{j + 1}") for j, o in enumerate(found))
 
 
+#: Default grid of impact states (theta, rdot-, thetadot-) on the section for `orbits_from_grid`.
+GRID_SHAPE = (12, 4, 4)
+GRID_RDOT = (0.1, 1.5)
+GRID_THETADOT = (-3.0, 1.0)
+MAX_GRID_POINTS = 20000
+#: Shortest flight between two impacts of an orbit found from the grid.
+MIN_FLIGHT = 1e-3
+
+
+def orbits_from_grid(
+    params: Parameters,
+    impacts: int,
+    *,
+    shape: Sequence[int] = GRID_SHAPE,
+    rdot_range: Sequence[float] = GRID_RDOT,
+    thetadot_range: Sequence[float] = GRID_THETADOT,
+    max_iter: int = 25,
+) -> tuple[MultiImpactOrbit, ...]:
+    """Every orbit with ``impacts`` impacts per period that Newton's method finds from a grid on the section.
+
+    The grid is ``shape = (n_theta, n_rdot, n_thetadot)`` states of Sigma:
+    theta equally spaced on the circle, rdot- in ``rdot_range`` and
+    thetadot- in ``thetadot_range`` (end points included). From each state
+    x the guess (x, P_I(x), ..., P_I^{p-1}(x)) starts `solve_multi_impact`;
+    states whose iterates leave the impacting motion are skipped. Unstable
+    orbits are found as well as stable ones. Distinct orbits are returned,
+    sorted by period and labelled ``"M<p>-<j>"``.
+
+    Parameters
+    ----------
+    params : Parameters
+    impacts : int
+        p >= 1.
+    shape : sequence of 3 int
+        Grid points in theta, rdot- and thetadot- (each >= 1, at most
+        `MAX_GRID_POINTS` in all).
+    rdot_range, thetadot_range : pair of float
+        Ranges of rdot- (> 0) and thetadot-.
+    max_iter : int
+        Newton iterations from each start.
+
+    Returns
+    -------
+    tuple of MultiImpactOrbit
+    """
+    check_params(params)
+    p = check_int("impacts", impacts, 1)
+    try:
+        n_th, n_r, n_td = (int(n) for n in shape)
+    except (TypeError, ValueError):
+        raise ParameterError(f"shape = {shape!r} is invalid; allowed: three integers >= 1") from None
+    if min(n_th, n_r, n_td) < 1 or n_th * n_r * n_td > MAX_GRID_POINTS:
+        raise ParameterError(f"shape = {tuple(shape)!r} is invalid; allowed: three integers >= 1 with a product "
+                             f"of at most {MAX_GRID_POINTS}")
+    r_lo, r_hi = (float(v) for v in rdot_range)
+    if not (math.isfinite(r_lo) and math.isfinite(r_hi) and 0.0 < r_lo <= r_hi):
+        raise ParameterError(f"rdot_range = {tuple(rdot_range)!r} is invalid; allowed: 0 < low <= high")
+    td_lo, td_hi = (float(v) for v in thetadot_range)
+    if not (math.isfinite(td_lo) and math.isfinite(td_hi) and td_lo <= td_hi):
+        raise ParameterError(f"thetadot_range = {tuple(thetadot_range)!r} is invalid; allowed: finite low <= high")
+    max_iter = check_int("max_iter", max_iter, 1)
+    found: list[MultiImpactOrbit] = []
+    thetas = -math.pi + TWO_PI * (np.arange(n_th) + 0.5) / n_th
+    for th in thetas:
+        for r in np.linspace(r_lo, r_hi, n_r):
+            for td in np.linspace(td_lo, td_hi, n_td):
+                guess = _iterates(params, np.array([th, r, td]), p)
+                if guess is None:
+                    continue
+                try:
+                    orbit = solve_multi_impact(params, guess, max_iter=max_iter)
+                except NewtonFailure:
+                    continue
+                if not np.min(orbit.times) > MIN_FLIGHT:
+                    continue  # an impact at once after an impact (a grazing state), not an orbit
+                if not any(_same_orbit(orbit, o) for o in found):
+                    found.append(orbit)
+    found.sort(key=lambda o: (o.period, o.points[0].theta))
+    return tuple(_relabel(o, f"M{p}-{j + 1}") for j, o in enumerate(found))
+
+
+def _iterates(params: Parameters, x: np.ndarray, p: int) -> np.ndarray | None:
+    """(x, P_I(x), ..., P_I^{p-1}(x)), or None where an iterate has no next impact."""
+    out = [x]
+    for _ in range(p - 1):
+        res = impact_map(params, out[-1], horizon=HORIZON, law=SLIP_BOUNDED)
+        if res.status != "impact" or not res.state[1] > 0.0:
+            return None
+        out.append(np.asarray(res.state, dtype=float))
+    return np.array(out)
+
+
 # ---------------------------------------------------------------------------
 # Period doubling of a one-impact orbit
 # ---------------------------------------------------------------------------
@@ -550,20 +661,22 @@ class PeriodDoubling:
         The parameter varied (also readable as ``parameter``).
     value : float
         Its value at the period doubling.
-    orbit : ImpactOrbit
-        The one-impact orbit there.
+    orbit : ImpactOrbit or MultiImpactOrbit
+        The orbit that doubles, there (one-impact from `find_period_doubling`,
+        any p from `period_doubling_at`).
     eigenvector : numpy.ndarray
         Real unit eigenvector of the multiplier -1 in (theta, rdot-, thetadot-).
     multiplier : float
         The multiplier nearest -1 at ``value``.
     unstable_side : float
-        +1 when the orbit is unstable (multiplier below -1) above ``value``, -1 below.
+        +1 when the orbit is unstable (multiplier below -1) above ``value``, -1
+        below, 0.0 where not determined.
     """
 
     parent: str
     param: str
     value: float
-    orbit: ImpactOrbit = field(repr=False)
+    orbit: Any = field(repr=False)
     eigenvector: np.ndarray = field(repr=False)
     multiplier: float
     unstable_side: float
@@ -698,18 +811,164 @@ def find_period_doubling(
     )
 
 
+def period_doubling_at(orbit: MultiImpactOrbit, param: str, *, unstable_side: float = 0.0) -> PeriodDoubling:
+    """The period doubling at an orbit with p impacts that has a multiplier -1 (located beforehand).
+
+    Parameters
+    ----------
+    orbit : MultiImpactOrbit
+        The orbit at the period doubling (for example the orbit of a located
+        ``"period-doubling"`` event of a branch); p = 1 is allowed.
+    param : str
+        The parameter in which it was located.
+    unstable_side : float
+        +1 or -1 when known (see `PeriodDoubling`), 0.0 otherwise.
+
+    Raises
+    ------
+    ParameterError
+        When no multiplier is within 1e-4 of -1.
+    """
+    if not isinstance(orbit, MultiImpactOrbit):
+        raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
+    param = _check_parameter(param)
+    ev, vec = np.linalg.eig(orbit.jacobian())
+    i = int(np.argmin(np.abs(ev + 1.0)))
+    if abs(ev[i] + 1.0) > 1e-4:
+        raise ParameterError(f"{orbit.label} has no multiplier -1 at {param} = {getattr(orbit.params, param):.12g} "
+                             f"(nearest {ev[i]:.6g}); allowed: an orbit at a period doubling")
+    v = np.real(vec[:, i])
+    v /= np.linalg.norm(v)
+    if v[np.argmax(np.abs(v))] < 0:
+        v = -v
+    return PeriodDoubling(parent=orbit.label, param=param, value=float(getattr(orbit.params, param)), orbit=orbit,
+                          eigenvector=v, multiplier=float(np.real(ev[i])), unstable_side=float(unstable_side))
+
+
+def _parent_states(pd: PeriodDoubling) -> np.ndarray:
+    """The q points of the orbit that doubles, in the order of the motion (q = 1 for a one-impact orbit)."""
+    if isinstance(pd.orbit, MultiImpactOrbit):
+        return pd.orbit.states
+    return np.asarray(pd.orbit.state, dtype=float)[None, :]
+
+
+def _doubled_guess(pd: PeriodDoubling, amplitude: float) -> np.ndarray:
+    """x_i + a w_i then x_i - a w_i (i < q): w_0 the eigenvector of -1, w_{i+1} = J_i w_i (so w_q = -w_0)."""
+    x = _parent_states(pd)
+    _im, _t, jacs, _s = _chain(pd.orbit.params, x)
+    w = [np.asarray(pd.eigenvector, dtype=float)]
+    for j in jacs[:-1]:
+        w.append(j @ w[-1])
+    w = np.array(w)
+    return np.vstack([x + amplitude * w, x - amplitude * w])
+
+
+def _amplitude_residual(pd: PeriodDoubling, y: np.ndarray, amplitude: float) -> tuple[np.ndarray, np.ndarray]:
+    """G(x, lambda) of P_I^{2q} and v . (x_0 - x_q) - 2a, with the Jacobian in (x, lambda)."""
+    q2 = (y.shape[0] - 1) // 3
+    x = y[:-1].reshape(q2, 3)
+    lam = float(y[-1])
+    base = pd.orbit.params
+    res, jx = periodic_residual(base.replace(**{pd.param: lam}), x)
+    h = 1e-7 * max(1.0, abs(lam))
+    rp = periodic_residual(base.replace(**{pd.param: lam + h}), x)[0]
+    rm = periodic_residual(base.replace(**{pd.param: lam - h}), x)[0]
+    diff = x[0] - x[q2 // 2]
+    diff[0] = math.remainder(diff[0], TWO_PI)
+    v = np.asarray(pd.eigenvector, dtype=float)
+    row = np.zeros(3 * q2 + 1)
+    row[:3] = v
+    row[3 * (q2 // 2) : 3 * (q2 // 2) + 3] = -v
+    jac = np.vstack([np.column_stack([jx, (rp - rm) / (2.0 * h)]), row[None, :]])
+    return np.append(res, v @ diff - 2.0 * amplitude), jac
+
+
+def doubled_orbit_at_amplitude(pd: PeriodDoubling, amplitude: float, *, tol: float = NEWTON_TOL,
+                               max_iter: int = MAX_NEWTON) -> MultiImpactOrbit:
+    """The orbit of the period-doubled branch whose first and (q+1)-th points differ by 2a along v.
+
+    The branch born at a period doubling is parametrised by its amplitude
+    a = v . (x_0 - x_q) / 2 (v the eigenvector of -1): Newton's method on
+    P_I^{2q}(x) = x together with that condition, with the parameter free,
+    is regular at small a whether the doubling is super- or subcritical
+    (with the parameter fixed, the Jacobian of P_I^{2q} - I is singular at
+    the doubling and Newton drifts onto the orbit that doubles). The
+    parameter of the result tells the side on which the branch is born.
+
+    Raises
+    ------
+    NewtonFailure
+        When Newton's method does not converge.
+    """
+    a = check_range("amplitude", amplitude, low=0.0, low_open=True)
+    guess = _doubled_guess(pd, a)
+    y = np.append(guess.ravel(), pd.value)
+    try:
+        res, jac = _amplitude_residual(pd, y, a)
+    except (_MapFailure, ParameterError) as exc:
+        raise NewtonFailure(f"the impact map failed at the starting point: {exc}") from None
+    norm = float(np.max(np.abs(res)))
+    for _ in range(max_iter):
+        if norm <= tol:
+            break
+        try:
+            dy = np.linalg.solve(jac, -res)
+        except np.linalg.LinAlgError:
+            raise NewtonFailure("singular Jacobian of the amplitude system") from None
+        lam = 1.0
+        while lam >= 1.0 / 64.0:
+            try:
+                r_t, j_t = _amplitude_residual(pd, y + lam * dy, a)
+            except (_MapFailure, ParameterError):
+                lam *= 0.5
+                continue
+            n_t = float(np.max(np.abs(r_t)))
+            if n_t < norm:
+                y, res, jac, norm = y + lam * dy, r_t, j_t, n_t
+                break
+            lam *= 0.5
+        else:
+            break
+    if not norm <= tol:
+        raise NewtonFailure(f"no period-doubled orbit of amplitude {a:g} near {pd.parent} (|G| = {norm:.3g})")
+    params = pd.orbit.params.replace(**{pd.param: float(y[-1])})
+    x = y[:-1].reshape(-1, 3)
+    if _least_period(x) < x.shape[0]:
+        raise NewtonFailure(f"amplitude {a:g} converged onto the orbit that doubles")
+    drift = np.abs(x - guess)
+    drift[:, 0] = np.abs(np.remainder(drift[:, 0] + math.pi, TWO_PI) - math.pi)
+    if np.max(drift) > 10.0 * a:
+        # the branch leaves the doubling like x* +- a w + O(a^2): far from the guess is another orbit
+        raise NewtonFailure(f"amplitude {a:g} converged to an orbit away from {pd.parent}'s doubling")
+    return _build_orbit(params, x, f"{pd.parent}/PD")
+
+
 def period_doubled_orbit(
     pd: PeriodDoubling,
     offset: float,
     *,
-    amplitudes: Sequence[float] = (1e-3, 3e-3, 1e-2, 3e-2, 1e-1),
+    amplitudes: Sequence[float] = (1e-3, 3e-3, 1e-2),
     t_max: float = 12.0,
 ) -> MultiImpactOrbit:
-    """The period-2 orbit born at a period doubling, at ``pd.param = pd.value + offset``.
+    """The period-2q orbit born at a period doubling, at ``pd.param = pd.value + offset``.
 
-    Newton on P_I^2 starts from x* + a v, x* - a v (x* the one-impact orbit at
-    the new parameter value, v the eigenvector of -1), for each amplitude a
-    in turn, until it converges to an orbit with two distinct impacts.
+    The branch is entered at a small amplitude a
+    (`doubled_orbit_at_amplitude`), which gives the side on which it is born;
+    near the doubling lambda - lambda_PD grows like a^2, so a is rescaled by
+    sqrt(offset / (lambda(a) - lambda_PD)) (at most 8 times) until lambda(a)
+    is close to the target, and Newton's method with the parameter fixed
+    finishes there. Super- and subcritical doublings are handled alike.
+
+    Parameters
+    ----------
+    pd : PeriodDoubling
+        From `find_period_doubling` (a one-impact orbit) or `period_doubling_at`.
+    offset : float
+        Nonzero distance from the doubling in ``pd.param``.
+    amplitudes : sequence of float
+        First amplitudes tried, in turn, until one converges.
+    t_max : float
+        Unused (kept for the former signature).
 
     Returns
     -------
@@ -719,23 +978,38 @@ def period_doubled_orbit(
     Raises
     ------
     NewtonFailure
-        When no amplitude gives a period-2 orbit (for example on the side of
-        the bifurcation where the branch does not exist).
+        When the branch is born on the other side of the doubling, or when no
+        amplitude converges.
     """
     offset = check_range("offset", offset)
     if offset == 0.0:
         raise ParameterError("offset = 0.0 is invalid; allowed: a nonzero offset from the bifurcation")
-    params = pd.orbit.params.replace(**{pd.param: pd.value + offset})
-    parent = _one_impact(params, pd.parent, t_max)
-    if parent is None:
-        raise NewtonFailure(f"{pd.parent} does not exist at {pd.param} = {pd.value + offset:g}")
-    x_star = parent.state
-    v = pd.eigenvector
+    target = pd.value + offset
+    label = f"{pd.parent}/PD"
     last = "no amplitude tried"
-    for a in amplitudes:
-        guess = np.array([x_star + a * v, x_star - a * v])
+    for a0 in amplitudes:
         try:
-            return solve_multi_impact(params, guess, label=f"{pd.parent}/PD", canonical=False)
+            orbit = doubled_orbit_at_amplitude(pd, a0)
         except NewtonFailure as exc:
             last = str(exc)
-    raise NewtonFailure(f"no period-2 orbit near {pd.parent} at {pd.param} = {pd.value + offset:g}: {last}")
+            continue
+        a = a0
+        for _ in range(8):
+            shift = getattr(orbit.params, pd.param) - pd.value
+            if shift == 0.0 or (shift > 0.0) != (offset > 0.0):
+                raise NewtonFailure(f"no period-doubled orbit of {pd.parent} at {pd.param} = {target:g}: the branch "
+                                    f"is born on the other side of {pd.param} = {pd.value:.12g}")
+            if abs(shift - offset) <= 1e-3 * abs(offset):
+                break
+            a *= math.sqrt(offset / shift)
+            try:
+                orbit = doubled_orbit_at_amplitude(pd, a)
+            except NewtonFailure as exc:
+                last = str(exc)
+                break
+        try:
+            return solve_multi_impact(pd.orbit.params.replace(**{pd.param: target}), orbit.states, label=label,
+                                      canonical=False)
+        except NewtonFailure as exc:
+            last = str(exc)
+    raise NewtonFailure(f"no period-doubled orbit near {pd.parent} at {pd.param} = {target:g}: {last}")

@@ -32,10 +32,21 @@ OTHER = "other"
 REGION_COLORS = {"R1": "#dbe9f6", "R2": "#fde2c8", "R3": "#e5f5e0", "R4": "#f2dcef", OTHER: "#ececec"}
 #: Style of each kind of curve.
 CURVE_STYLES = {"fold": dict(color="C0", lw=2.0), "dib": dict(color="k", lw=2.0),
-                "grazing": dict(color="C3", lw=1.5, ls="--")}
+                "grazing": dict(color="C3", lw=1.5, ls="--"), "coalescence": dict(color="C1", lw=1.5, ls="-."),
+                "period-doubling": dict(color="C2", lw=1.5), "neimark-sacker": dict(color="C4", lw=1.5),
+                "orbit-fold": dict(color="C5", lw=1.5, ls=":")}
+
+#: Legend text of the two-parameter curves of an orbit (`rotorcontact.continuation.codim2_orbits`).
+_ORBIT_CURVES = {"pd": "PD", "ns": "NS", "fold": "fold"}
 
 
 def _curve_label(name: str, kind: str, gamma_axis: bool) -> str:
+    if kind == "coalescence":
+        pair = name.split("_")[1]
+        return f"{pair[0]}-{pair[1]} coalescence"
+    if kind in ("period-doubling", "neimark-sacker", "orbit-fold"):
+        short, _, orbit = name.partition("_")
+        return f"{_ORBIT_CURVES.get(short, short)} {orbit}"
     if kind == "fold":
         n = name.split("_")[-1]
         return rf"$\gamma_{{F,{n}}}$" if gamma_axis else f"fold {n}"

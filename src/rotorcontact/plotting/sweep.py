@@ -51,7 +51,7 @@ def _param(ds) -> str:
     return str(ds.attrs["swept_parameter"])
 
 
-def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize: float = 2.0):
+def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize: float = 2.0, cascades=()):
     """Draw the impact section of a sweep.
 
     Parameters
@@ -61,10 +61,15 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
     variable : {"theta", "rdot", "thetadot"}
         Section variable.
     ax : matplotlib Axes, optional
-    overlay : OrbitBranches or xarray.Dataset, optional
-        Continued branches (`rotorcontact.studies.sweep.continued_branches`) or fixed
-        points (`rotorcontact.studies.sweep.one_impact_overlay`).
+    overlay : OrbitBranches, MultiImpactBranches or xarray.Dataset, or a list of them, optional
+        Continued branches of one-impact orbits (`rotorcontact.studies.sweep.continued_branches`),
+        fixed points (`rotorcontact.studies.sweep.one_impact_overlay`), or continued branches of
+        multi-impact orbits (`rotorcontact.continuation.multi_impact_families.multi_impact_branches`):
+        every impact of their orbits is drawn, solid where stable, dashed where not.
     markersize : float
+    cascades : sequence of Cascade
+        Period-doubling cascades (`rotorcontact.continuation.cascade.cascades`) whose doublings are
+        marked: the impacts of the orbit that doubles, at each doubling.
 
     Returns
     -------
@@ -82,11 +87,15 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
         ok = np.isfinite(y)
         ax.plot(x[ok], y[ok], ls="none", marker=".", ms=markersize, color=DIRECTION_COLORS.get(d, "k"),
                 alpha=0.7, label=f"sweep {d}", gid=f"section:{d}", rasterized=True, zorder=3)
-    if overlay is not None:
-        if hasattr(overlay, "branch"):
-            _draw_branches(ax, overlay, variable)
+    overlays = [] if overlay is None else (list(overlay) if isinstance(overlay, (list, tuple)) else [overlay])
+    for ov in overlays:
+        if hasattr(ov, "depth"):
+            _draw_multi_branches(ax, ov, variable)
+        elif hasattr(ov, "branch"):
+            _draw_branches(ax, ov, variable)
         else:
-            _draw_overlay(ax, overlay, param, variable)
+            _draw_overlay(ax, ov, param, variable)
+    _draw_cascades(ax, cascades, variable)
     ax.set_xlabel(PARAM_LABELS.get(param, param))
     ax.set_ylabel(SECTION_LABELS[variable])
     ax.set_xlim(values.min(), values.max()) if values.size > 1 else None
@@ -146,6 +155,43 @@ def _draw_branches(ax, branches, variable: str) -> None:
                         fontsize="x-small", color="0.35")
 
 
+def _draw_multi_branches(ax, family, variable: str) -> None:
+    """Every impact of the orbits along each continued multi-impact branch (solid stable, dashed unstable)."""
+    for j, b in enumerate(family.branches):
+        if not b.orbits:
+            continue
+        label = b.orbits[0].label
+        color = ORBIT_COLORS[(j + 3) % len(ORBIT_COLORS)]
+        y = np.array([[getattr(q, variable) for q in o.points] for o in b.orbits])
+        stable = np.array([o.stable for o in b.orbits])
+        first = True
+        for want, ls in ((True, "-"), (False, "--")):
+            if not np.any(stable == want):
+                continue
+            yy = np.where((stable == want)[:, None], y, np.nan)
+            ax.plot(b.values, yy, ls=ls, lw=0.8, color=color, zorder=2,
+                    gid=f"multi:{label}:{'stable' if want else 'unstable'}")
+            if first:
+                ax.plot([], [], ls=ls, lw=0.8, color=color, label=f"{label} (continued)")
+                first = False
+
+
+def _draw_cascades(ax, cascades, variable: str) -> None:
+    """The doublings of each cascade: a marker at every impact of the orbit that doubles there."""
+    first = True
+    for c in cascades:
+        for e in c.points:
+            if e.orbit is None:
+                continue
+            y = [getattr(q, variable) for q in e.orbit.points]
+            ax.plot([e.value] * len(y), y, ls="none", marker="D", ms=4, mfc="none", mec="k", zorder=5,
+                    gid=f"cascade:{e.orbits[0]}")
+            if first:
+                # the legend scales markers up for the sweep's dots: a smaller proxy for this one
+                ax.plot([], [], ls="none", marker="D", ms=1, mfc="none", mec="k", label="period doubling (cascade)")
+                first = False
+
+
 def plot_regimes(ds, ax=None):
     """The regime of each direction at each value, as coloured strips. Returns (fig, ax)."""
     param = _param(ds)
@@ -173,13 +219,13 @@ def plot_regimes(ds, ax=None):
     return fig, ax
 
 
-def save_sweep_figure(ds, path, variable: str = "theta", *, overlay=None) -> Any:
+def save_sweep_figure(ds, path, variable: str = "theta", *, overlay=None, cascades=()) -> Any:
     """Write the diagram (section and regime strip) to ``path`` (.png, .svg or .pdf)."""
     import matplotlib.pyplot as plt
 
     fig, (ax, ax2) = plt.subplots(2, 1, figsize=(7.5, 6.0), sharex=True,
                                   gridspec_kw=dict(height_ratios=(6, 1), hspace=0.08))
-    plot_sweep(ds, variable, ax, overlay=overlay)
+    plot_sweep(ds, variable, ax, overlay=overlay, cascades=cascades)
     ax.set_xlabel("")
     plot_regimes(ds, ax2)
     p = ds.attrs

@@ -1,0 +1,74 @@
+"""Period-doubling cascades: the structure of a known cascade and its ends.
+
+The claims: the two-impact orbit M2-1 at the reference parameters starts a
+cascade whose doublings, found by branch switching level after level, accumulate
+with ratios of successive intervals that approach Feigenbaum's constant
+4.669...; each doubling is one (the reference Newton on P_I^p has a multiplier
+-1 there); the accumulation estimate lies beyond the last doubling, before the
+next interval would; the one-impact cascade of B1,d ends at a grazing after one
+doubling (the stable period-2 orbit grazes at gamma ~ 0.08267).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from rotorcontact import ParameterError, Parameters
+from rotorcontact.continuation.cascade import (
+    FEIGENBAUM_DELTA,
+    cascades,
+    feigenbaum_ratios,
+)
+
+REF = Parameters.reference()
+
+
+@pytest.fixture(scope="module")
+def cascade():
+    found = cascades(REF.replace(gamma=0.0845), "gamma", 0.0836, 0.0865, impacts=2, depth=4)
+    long = [c for c in found if len(c.points) >= 5]
+    assert len(long) == 1
+    return long[0]
+
+
+def test_ratios_approach_feigenbaum(cascade):
+    v = [e.value for e in cascade.points]
+    assert all(a > b for a, b in itertools.pairwise(v))  # the doublings come at decreasing gamma
+    assert [e.impacts for e in cascade.points] == [2, 4, 8, 16, 32]
+    assert cascade.labels == ("M2-1/PD", "M2-1/PD/PD", "M2-1/PD/PD/PD", "M2-1/PD/PD/PD/PD")
+    r = cascade.ratios
+    assert len(r) == 3
+    assert abs(r[-1] - FEIGENBAUM_DELTA) < 0.1
+    assert abs(r[-1] - FEIGENBAUM_DELTA) < abs(r[0] - FEIGENBAUM_DELTA)
+    assert cascade.end == "accumulation"
+    gap = v[-2] - v[-1]
+    assert v[-1] - gap / 2 < cascade.accumulation < v[-1]
+
+
+def test_the_first_doublings_have_a_multiplier_minus_one(cascade, power_newton):
+    for e in cascade.points[:3]:
+        _x, z = power_newton(e.orbit.params, e.orbit.states[0], e.impacts)
+        assert np.min(np.abs(z + 1.0)) < 1e-5
+
+
+def test_one_impact_cascade_ends_at_a_grazing():
+    found = cascades(REF, "gamma", 0.08, 0.1, impacts=1, depth=3, t_max=4, n_seeds=4)
+    assert len(found) == 1
+    c = found[0]
+    assert c.labels == ("B1,d/PD",) and c.points[0].orbits == ("B1,d",) and c.points[0].impacts == 1
+    assert c.end == "grazing" and c.end_value == pytest.approx(0.08267, abs=1e-4) and c.ratios == ()
+    assert c.to_dict()["end"] == {"type": "grazing", "value": c.end_value}
+
+
+def test_ratios_helper_and_bad_input():
+    # a geometric sequence with ratio 4: every delta is 4
+    v = [1.0 - sum(4.0 ** -k for k in range(n)) for n in range(6)]
+    assert all(d == pytest.approx(4.0, rel=1e-12) for d in feigenbaum_ratios(v))
+    assert feigenbaum_ratios([1.0, 2.0]) == ()
+    assert math.isnan(feigenbaum_ratios([0.0, 1.0, 1.0])[0])
+    with pytest.raises(ParameterError, match="depth"):
+        cascades(REF, "gamma", 0.08, 0.1, depth=0)
