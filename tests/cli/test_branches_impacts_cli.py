@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from rotorcontact import Parameters
 from rotorcontact.continuation.multi_impact_families import multi_impact_branches
+from reference_parameters import REF
 
 BASE = ["--gamma", "0.0818", "--from", "0.075", "--to", "0.09"]
 
@@ -22,7 +22,7 @@ def test_json_contract_and_agreement_with_the_library(cli):
         assert arrays["impacts"] == 2 * 2 ** label.count("/PD")
         n = len(arrays["gamma"])
         assert all(len(arrays[k]) == n for k in ("T", "rdot", "thetadot", "stable"))
-    lib = multi_impact_branches(Parameters.reference().replace(gamma=0.0818), 2, "gamma", 0.075, 0.09, doublings=1)
+    lib = multi_impact_branches(REF.replace(gamma=0.0818), 2, "gamma", 0.075, 0.09, doublings=1)
     assert list(data["branches"]) == list(lib.labels)
     assert [e["value"] for e in data["events"]] == [e.value for e in lib.events]
     assert any(label.endswith("/PD") for label in data["branches"])

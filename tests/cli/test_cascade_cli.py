@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from rotorcontact import Parameters
 from rotorcontact.continuation.cascade import cascades
+from reference_parameters import REF
 
 ARGS = ["--gamma", "0.0845", "--from", "0.0836", "--to", "0.0865", "--impacts", "2", "--depth", "3"]
 
@@ -14,7 +14,7 @@ def test_json_contract_and_agreement_with_the_library(cli):
     data = cli.json("cascade", *ARGS)
     assert set(data) == {"parameters", "param", "impacts", "cascades"}
     assert data["param"] == "gamma" and data["impacts"] == 2
-    lib = cascades(Parameters.reference().replace(gamma=0.0845), "gamma", 0.0836, 0.0865, impacts=2, depth=3)
+    lib = cascades(REF.replace(gamma=0.0845), "gamma", 0.0836, 0.0865, impacts=2, depth=3)
     assert len(data["cascades"]) == len(lib)
     for c, ref in zip(data["cascades"], lib):
         assert set(c) == {"orbits", "points", "ratios", "end", "accumulation"}

@@ -17,14 +17,14 @@ import math
 import numpy as np
 import pytest
 
-from rotorcontact import ParameterError, Parameters
+from rotorcontact import ParameterError
 from rotorcontact.continuation.cascade import (
     FEIGENBAUM_DELTA,
     cascades,
     feigenbaum_ratios,
 )
+from reference_parameters import REF
 
-REF = Parameters.reference()
 
 
 @pytest.fixture(scope="module")

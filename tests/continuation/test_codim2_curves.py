@@ -21,6 +21,7 @@ from rotorcontact.continuation.codim2 import (
 from rotorcontact.continuation.codim2_orbits import orbit_by_label, orbit_curve
 from rotorcontact.continuation.multi_impact_families import seed_orbits
 from rotorcontact.maps.impact_map import f1_zeros, one_impact_orbits, rdot_roots
+from reference_parameters import REF
 
 SET = Parameters(gamma=0.33, omega=0.8, rho=0.4, mu=0.3, d=0.9, phi=0.5, r_ratio=57.1)
 BOX = ((0.0, 0.5), (0.6, 1.25))
@@ -93,7 +94,7 @@ def test_fold_curve_of_a_one_impact_orbit_is_where_two_orbits_meet(b1d):
 
 
 def test_neimark_sacker_curve_of_a_six_impact_orbit(power_newton):
-    base = Parameters.reference().replace(gamma=0.0818)
+    base = REF.replace(gamma=0.0818)
     m6 = next(o for o in seed_orbits(base, 6) if o.stable)
     curve = orbit_curve(m6, "neimark-sacker", ("gamma", "omega"), ((0.07, 0.09), (0.755, 0.765)))
     assert curve.pieces and len(curve.pieces[0]) >= 5
@@ -120,7 +121,7 @@ def test_grazing_curve_of_b1d_is_the_one_impact_grazing_curve():
     from rotorcontact.continuation.codim2 import grazing_curve
     from rotorcontact.continuation.codim2_orbits import grazing_curve_of
 
-    ref = Parameters.reference()
+    ref = REF
     box = ((0.05, 0.1), (0.7, 0.85))
     mine = grazing_curve_of(orbit_by_label(ref.replace(gamma=0.07), "B1,d"), ("gamma", "omega"), box)
     theirs, _ = grazing_curve(ref, ("gamma", "omega"), box, orbit="B1,d")
@@ -142,7 +143,7 @@ def test_grazing_curve_of_a_two_impact_orbit_grazes():
         period_doubled_orbit,
     )
 
-    ref = Parameters.reference()
+    ref = REF
     pd = find_period_doubling(ref.replace(gamma=0.1), "B1,d", "gamma", lo=0.08, hi=0.09)
     orbit = period_doubled_orbit(pd, -1e-4)
     c = grazing_curve_of(orbit, ("gamma", "omega"), ((0.07, 0.09), (0.75, 0.77)))

@@ -18,11 +18,10 @@ import math
 import numpy as np
 import pytest
 
-from rotorcontact import Parameters
 from rotorcontact.continuation.multi_impact_branches import continue_multi_impact
 from rotorcontact.maps.multi_impact import orbits_from_simulation
+from reference_parameters import REF
 
-REF = Parameters.reference()
 
 
 @pytest.fixture(scope="module")

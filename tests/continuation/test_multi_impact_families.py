@@ -15,11 +15,11 @@ import math
 import numpy as np
 import pytest
 
-from rotorcontact import ParameterError, Parameters
+from rotorcontact import ParameterError
 from rotorcontact.continuation.multi_impact_families import multi_impact_branches
 from rotorcontact.maps.multi_impact import orbits_from_grid
+from reference_parameters import REF
 
-REF = Parameters.reference()
 BASE = REF.replace(gamma=0.0818)
 
 

@@ -14,15 +14,15 @@ import math
 import numpy as np
 import pytest
 
-from rotorcontact import ParameterError, Parameters
+from rotorcontact import ParameterError
 from rotorcontact.maps.impact_map import impact_map, one_impact_orbits
 from rotorcontact.maps.multi_impact import (
     _same_orbit,
     orbits_from_grid,
     orbits_from_simulation,
 )
+from reference_parameters import REF
 
-REF = Parameters.reference()
 
 
 def _dist(x, y):

@@ -15,13 +15,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
-from rotorcontact import Parameters  # noqa: E402
 from rotorcontact.continuation.cascade import cascades_of  # noqa: E402
 from rotorcontact.continuation.multi_impact_families import multi_impact_branches  # noqa: E402
 from rotorcontact.plotting.sweep import plot_sweep, save_sweep_figure  # noqa: E402
 from rotorcontact.studies.sweep import sweep, sweep_values  # noqa: E402
+from reference_parameters import REF
 
-REF = Parameters.reference()
 
 
 @pytest.fixture(scope="module")
