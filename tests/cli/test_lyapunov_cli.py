@@ -13,12 +13,13 @@ from rotorcontact.analysis.lyapunov import lyapunov_spectrum
 
 
 def test_json_contract_on_the_stable_one_impact_orbit(cli):
-    data = cli.json("lyapunov", "--gamma", "0.1", "--u0", "0,0", "--du0", "0,0", "--t-end", "800")
-    assert set(data) == {"parameters", "exponents"}
+    data = cli.json("lyapunov", "--gamma", "0.1", "--u0", "0,0", "--du0", "0,0", "--t-end", "1200")
+    assert set(data) == {"parameters", "exponents", "errors", "regime_change"}
+    assert data["regime_change"] is False and len(data["errors"]) == 4
     ex = data["exponents"]
     assert len(ex) == 4 and all(isinstance(x, float) for x in ex)
     assert ex == sorted(ex, reverse=True)
-    lib = lyapunov_spectrum(Parameters.reference().replace(gamma=0.1), 0j, 0j, 800.0)
+    lib = lyapunov_spectrum(Parameters.reference().replace(gamma=0.1), 0j, 0j, 1200.0)
     assert ex == list(lib.exponents)
     assert ex[0] == pytest.approx(0.0, abs=1e-6) and ex[1] < 0.0
 
@@ -70,3 +71,18 @@ def test_bad_input_from_the_shell(cli):
     proc = subprocess.run([str(cli.exe_path), "lyapunov", "--du0", "x,1"], capture_output=True, text=True)
     assert proc.returncode == 2
     assert "--du0" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_a_change_of_regime_inside_the_window_is_warned_and_reported(cli):
+    """From rest with no transient discarded, the window holds the approach to B1,d."""
+    args = ("lyapunov", "--gamma", "0.1", "--t-end", "600", "--t-transient", "0")
+    code, out, err = cli.run(*args, "--json")
+    assert code == 0 and "warning: the motion changed regime" in err and "periodic" in err
+    data = cli.json(*args)
+    lib = lyapunov_spectrum(Parameters.reference().replace(gamma=0.1), 0j, 0j, 600.0, t_transient=0.0)
+    assert data["regime_change"] is True and data["final_regime"] == "periodic"
+    assert data["regime_start"] == lib.regime_start > 0.0
+    assert data["final_exponents"] == list(lib.final_exponents)
+    assert data["final_errors"] == list(lib.final_errors)
+    code, out, err = cli.run(*args)
+    assert code == 0 and "final regime (periodic" in out and "warning" in err

@@ -78,19 +78,44 @@ def run(args: argparse.Namespace) -> int:
     if machine is not None:
         data["exponents_per_s"] = scaled_list(data["exponents"], rate_scale(machine))
         data.update(times_si(machine, time=res.time, t_start=res.t_start, t_stop=res.t_stop))
+        if res.final_exponents is not None:
+            data["final_exponents_per_s"] = scaled_list(data["final_exponents"], rate_scale(machine))
+        if res.regime_start is not None:
+            data.update(times_si(machine, regime_start=res.regime_start))
+    if res.regime_change:
+        warn_regime_change(res)
     if args.json:
         if not args.details:
-            data = {k: v for k, v in data.items() if k in ("exponents", "exponents_per_s")}
+            keep = {"exponents", "exponents_per_s", "errors", "regime_change"}
+            if res.regime_change:
+                keep |= {"final_regime", "regime_start", "regime_start_s", "final_exponents", "final_exponents_per_s",
+                         "final_errors"}
+            data = {k: v for k, v in data.items() if k in keep}
         print_json(json_result(params, data, machine))
         return 0
     print(f"Lyapunov spectrum of ({', '.join(COORDINATES)}), largest first"
           f"{' (per unit time; per second)' if machine is not None else ''}:")
-    for x in res.exponents:
+    for x, err in zip(res.exponents, res.errors):
         si = f"  {x * rate_scale(machine):+.6g} /s" if machine is not None and x != float("-inf") else ""
-        print(f"  {x:+.10g}{si}" if x != float("-inf") else "  -inf (annihilated direction)")
+        print(f"  {x:+.10g} +- {err:.2g}{si}" if x != float("-inf") else "  -inf (annihilated direction)")
+    if res.regime_change:
+        finals = ", ".join(f"{x:+.10g} +- {err:.2g}" if x != float("-inf") else "annihilated"
+                           for x, err in zip(res.final_exponents or (), res.final_errors or ()))
+        print(f"final regime ({res.final_regime}, from t = {res.regime_start:.10g}): {finals}")
     window = "impact to impact" if res.aligned else "time window"
     print(
         f"averaged over t in [{res.t_start:.10g}, {res.t_stop:.10g}] ({window}), {res.n_impacts} impacts; "
         f"run status: {res.trajectory.status}"
     )
     return 0
+
+
+def warn_regime_change(res) -> None:
+    """One line on stderr: the window holds a change of regime, and the final regime's largest exponent."""
+    import sys
+
+    top = res.final_exponents[0] if res.final_exponents else None
+    final = f"; the final regime's largest exponent is {top:+.6g}" if top is not None else ""
+    print(f"rotorcontact lyapunov: warning: the motion changed regime inside the averaging window: it settled "
+          f"into {res.final_regime} motion at t = {res.regime_start:.6g} (window from t = {res.t_start:.6g}), so the "
+          f"exponents average over two regimes{final}", file=sys.stderr)
