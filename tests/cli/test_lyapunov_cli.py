@@ -86,3 +86,23 @@ def test_a_change_of_regime_inside_the_window_is_warned_and_reported(cli):
     assert data["final_errors"] == list(lib.final_errors)
     code, out, err = cli.run(*args)
     assert code == 0 and "final regime (periodic" in out and "warning" in err
+
+
+def test_scan_against_a_parameter(cli, tmp_path):
+    from rotorcontact.studies.lyapunov_scan import lyapunov_scan
+
+    args = ("lyapunov", "--param", "gamma", "--from", "0.09", "--to", "0.11", "--n", "2", "--t-end", "400",
+            "--no-progress", "--out", tmp_path / "l.nc")
+    code, out, err = cli.run(*args, "--json")
+    assert code == 0
+    data = cli.loads(out)
+    lib = lyapunov_scan(Parameters.reference(), "gamma", [0.09, 0.11], t_end=400.0, progress=False)
+    assert data["values"] == [0.09, 0.11] and data["param"] == "gamma"
+    assert data["exponents"] == [[x if math.isfinite(x) else None for x in row] for row in lib.exponents.tolist()]
+    assert data["regime_change"] == lib.regime_change.tolist()
+    assert ("warning: the motion changed regime" in err) == any(data["regime_change"])
+    assert {"errors", "final_regime", "regime_start", "final_exponents", "final_errors", "failed"} <= set(data)
+    code, _out, err = cli.run("lyapunov", "--from", "0.1", "--json")
+    assert code == 2 and "--param" in err
+    code, _out, err = cli.run("lyapunov", "--param", "gamma", "--from", "0.1", "--json")
+    assert code == 2 and "--to" in err

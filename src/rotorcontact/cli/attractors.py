@@ -5,16 +5,14 @@ from __future__ import annotations
 import argparse
 import math
 import time
-from dataclasses import fields
 
 from ..errors import ParameterError
-from ..model.params import Machine
 from ..model.si import rate_scale, scaled_list
 from ..studies.basins import GRID_SYNTAX
 from .options import (
-    PARAM_NAMES,
     add_parameter_options,
     json_result,
+    parameter_range,
     parameters_from_args,
     parse_float,
     parse_int,
@@ -90,24 +88,6 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _range(args: argparse.Namespace, params, machine) -> tuple[str, float, float]:
-    """The unit of --param and the two ends of the range in it."""
-    from ..model.units import quantity_in
-
-    param = args.param
-    machine_fields = tuple(f.name for f in fields(Machine))
-    if param in PARAM_NAMES:
-        return "1", parse_float("from", args.start_value), parse_float("to", args.stop_value)
-    if param in machine_fields:
-        if machine is None:
-            raise ParameterError(f"--param = {param!r} is a machine quantity; allowed with --machine only "
-                                 f"(model parameters: {', '.join(PARAM_NAMES)})")
-        unit = Machine.units()[param]
-        return unit, quantity_in("--from", args.start_value, unit), quantity_in("--to", args.stop_value, unit)
-    raise ParameterError(f"--param = {param!r} is invalid; allowed: {', '.join(PARAM_NAMES)}, or with --machine "
-                         f"{', '.join(machine_fields)}")
-
-
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
@@ -116,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
     from ..studies.design_map import rad_s_to_rpm
 
     params, machine = parameters_from_args(args)
-    unit, a, b = _range(args, params, machine)
+    unit, a, b = parameter_range(args, machine)
     n_values = parse_int("n", args.n_values, 1, MAX_VALUES, why="split a longer range")
     if n_values > 1 and not a < b:
         raise ParameterError(f"--from {a!r} must be smaller than --to {b!r}")

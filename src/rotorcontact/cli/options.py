@@ -239,3 +239,32 @@ def json_result(params: Parameters, data: dict[str, Any], machine: Machine | Non
 def print_json(data: Any) -> None:
     """Write ``data`` as JSON on stdout (`rotorcontact.io.json.dump_json`)."""
     dump_json(data, sys.stdout)
+
+
+def parameter_range(args: argparse.Namespace, machine: Machine | None) -> tuple[str, float, float]:
+    """The unit of ``--param`` and the two ends ``--from``, ``--to`` of its range, in that unit.
+
+    A model parameter is dimensionless; with ``--machine`` a machine quantity (speed, stiffness, ...)
+    takes its ends with units (``3000rpm``), bare numbers being SI.
+
+    Raises
+    ------
+    ParameterError
+        For an unknown parameter, or a machine quantity without ``--machine``.
+    """
+    from dataclasses import fields
+
+    from ..model.units import quantity_in
+
+    param = args.param
+    machine_fields = tuple(f.name for f in fields(Machine))
+    if param in PARAM_NAMES:
+        return "1", parse_float("from", args.start_value), parse_float("to", args.stop_value)
+    if param in machine_fields:
+        if machine is None:
+            raise ParameterError(f"--param = {param!r} is a machine quantity; allowed with --machine only "
+                                 f"(model parameters: {', '.join(PARAM_NAMES)})")
+        unit = Machine.units()[param]
+        return unit, quantity_in("--from", args.start_value, unit), quantity_in("--to", args.stop_value, unit)
+    raise ParameterError(f"--param = {param!r} is invalid; allowed: {', '.join(PARAM_NAMES)}, or with --machine "
+                         f"{', '.join(machine_fields)}")
