@@ -48,6 +48,8 @@ from .basins import DEFAULT_CHUNK, BasinGrid, class_names, name_points, parse_gr
 from .batch import NSUM, PARAMETER_ORDER, BatchResult, BatchSettings, parameter_array
 from .driver import run_study
 from .execution import ChunkTask, study_digest
+from .lyapunov_scan import SpectrumTask
+from .parameter_path import parameter_path
 
 __all__ = [
     "CHAOS_MIN",
@@ -196,30 +198,6 @@ def wilson_interval(count: np.ndarray, total: int, confidence: float = CONFIDENC
     return low, high
 
 
-def parameter_path(params: Parameters, param: str, values: Any, machine: Machine | None = None) -> list[Parameters]:
-    """The parameters at each value of ``param``: a model parameter, or with ``machine`` a machine quantity (SI).
-
-    Raises
-    ------
-    ParameterError
-        For an unknown parameter, a value that gives invalid parameters, or a machine quantity without
-        a machine.
-    """
-    machine_fields = tuple(f.name for f in fields(Machine))
-    vals = np.asarray(values, dtype=float).reshape(-1)
-    if vals.size == 0 or not np.all(np.isfinite(vals)):
-        raise ParameterError(f"values of {param!r} must be finite and at least one")
-    if param in PARAMETER_ORDER:
-        return [params.replace(**{param: float(v)}) for v in vals]
-    if param in machine_fields:
-        if machine is None:
-            raise ParameterError(f"param = {param!r} is a machine quantity; allowed with a machine only "
-                                 f"(model parameters: {', '.join(PARAMETER_ORDER)})")
-        return [replace(machine, **{param: float(v)}).parameters() for v in vals]
-    raise ParameterError(f"param = {param!r} is invalid; allowed: {', '.join(PARAMETER_ORDER)}, or with a machine "
-                         f"{', '.join(machine_fields)}")
-
-
 def identity_names(result: BatchResult, codes: np.ndarray, orbit_labels, params: Parameters,
                    match_tol: float) -> np.ndarray:
     """The identity (module docstring) of every point of one value, as an object array (None outside)."""
@@ -257,15 +235,21 @@ def attractor_label(name: str, exponent: float | None, error: float | None) -> s
     return "undetermined"
 
 
-def _largest_exponent(params: Parameters, u: complex, du: complex, t_end: float) -> tuple[float, float]:
-    """Largest Lyapunov exponent from an end state and its error estimate (NaN where the run fails)."""
-    from ..analysis.lyapunov import lyapunov_spectrum
+def _identities(result: BatchResult, path: list[Parameters], match_tol: float) -> np.ndarray:
+    """The identity of every point of a (values, points) batch result."""
+    n_v, n_in = result.shape
+    ident = np.empty((n_v, n_in), dtype=object)
+    for i, p in enumerate(path):
+        one = _value_result(result, i)
+        codes, orbits = name_points(one, p, np.ones(n_in, dtype=bool), match_tol)
+        ident[i] = identity_names(one, codes, [o.label for o in orbits], p, match_tol)
+    return ident
 
-    try:
-        res = lyapunov_spectrum(params, complex(u), complex(du), t_end, t_transient=0.25 * t_end)
-    except (RuntimeError, ParameterError):
-        return math.nan, math.nan
-    return float(res.exponents[0]), float(res.errors[0])
+
+def _representatives(names: np.ndarray) -> list[tuple[str, int]]:
+    """(identity, index of its first point) in order of first occurrence; failed runs have none."""
+    _uniq, first = np.unique(names.astype(str), return_index=True)
+    return [(str(names[j]), int(j)) for j in sorted(first) if names[j] != "failed"]
 
 
 def attractors(
@@ -363,12 +347,33 @@ def attractors(
                            "t_lyapunov": t_lyapunov, "version": __version__,
                            "machine": None if machine is None else machine.as_dict()})
 
-    def keys(size: int) -> list[str]:
+    def batch_keys(size: int) -> list[str]:
         return [f"attractors-{c:06d}" for c in range(math.ceil(n_items / size))]
+
+    def keys(size: int) -> list[str]:
+        spectra = [f"spectra-{i:06d}" for i in range(vals.size)] if lyapunov else []
+        return batch_keys(size) + spectra
+
+    named: dict[str, Any] = {}
+
+    def classified(size: int, load) -> tuple[BatchResult, np.ndarray]:
+        """The batch result and the identity of every point (computed once per call)."""
+        if "ident" not in named:
+            sections = np.full((n_items, settings.keep, 4), np.nan)
+            summary = np.zeros((n_items, NSUM))
+            for c, key in enumerate(batch_keys(size)):
+                res = load(key)
+                sl = slice(c * size, min((c + 1) * size, n_items))
+                sections[sl] = res["sections"][:, 0]
+                summary[sl] = res["summary"][:, 0]
+            result = BatchResult.from_arrays(sections.reshape(vals.size, n_in, settings.keep, 4),
+                                             summary.reshape(vals.size, n_in, NSUM), settings)
+            named["result"], named["ident"] = result, _identities(result, path, match_tol)
+        return named["result"], named["ident"]
 
     def waves(size: int, sink):
         tasks = []
-        for c, key in enumerate(keys(size)):
+        for c, key in enumerate(batch_keys(size)):
             idx = np.arange(c * size, min((c + 1) * size, n_items))
             m = idx.size
             tasks.append(ChunkTask(
@@ -380,19 +385,25 @@ def attractors(
                 settings=settings,
             ))
         yield tasks
+        if not lyapunov:
+            return
+        # the largest exponent of each attractor at each value, from the end state of the first point reaching it
+        result, ident = classified(size, sink.__getitem__)
+        spectra = []
+        for i in range(vals.size):
+            first = [j for _name, j in _representatives(ident[i])]
+            spectra.append(SpectrumTask(
+                key=f"spectra-{i:06d}", params=np.repeat(rows[i : i + 1], len(first), axis=0),
+                u0=result.final_u[i, first].copy(), du0=result.final_du[i, first].copy(), t_end=t_lyapunov,
+                t_transient=0.25 * t_lyapunov, qr_interval=1.0,
+            ))
+        yield spectra
 
     def assemble(size: int, load):
-        sections = np.full((n_items, settings.keep, 4), np.nan)
-        summary = np.zeros((n_items, NSUM))
-        for c, key in enumerate(keys(size)):
-            res = load(key)
-            sl = slice(c * size, min((c + 1) * size, n_items))
-            sections[sl] = res["sections"][:, 0]
-            summary[sl] = res["summary"][:, 0]
-        result = BatchResult.from_arrays(sections.reshape(vals.size, n_in, settings.keep, 4),
-                                         summary.reshape(vals.size, n_in, NSUM), settings)
-        ds = _dataset(result, path, param, vals, grid, inside, flat, u_all, du_all, match_tol, lyapunov, t_lyapunov,
-                      size, params, machine)
+        result, ident = classified(size, load)
+        spectra = [load(f"spectra-{i:06d}") for i in range(vals.size)] if lyapunov else None
+        ds = _dataset(result, ident, spectra, path, param, vals, grid, inside, flat, u_all, du_all, match_tol,
+                      t_lyapunov, size, params, machine)
         return ds, result.impacts_simulated
 
     run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n_items,
@@ -411,21 +422,16 @@ def _value_result(result: BatchResult, i: int) -> BatchResult:
     })
 
 
-def _dataset(result, path, param, vals, grid, inside, flat, u_all, du_all, match_tol, lyapunov, t_lyapunov,
+def _dataset(result, ident, spectra, path, param, vals, grid, inside, flat, u_all, du_all, match_tol, t_lyapunov,
              chunk_size, params, machine):
     import xarray as xr
 
     n_v, n_in = result.shape
-    ident = np.empty((n_v, n_in), dtype=object)
-    for i, p in enumerate(path):
-        one = _value_result(result, i)
-        codes, orbits = name_points(one, p, np.ones(n_in, dtype=bool), match_tol)
-        ident[i] = identity_names(one, codes, [o.label for o in orbits], p, match_tol)
     # names in order of first appearance along the parameter, then along the grid
     names: list[str] = []
-    for name in ident.ravel():
-        if name not in names:
-            names.append(name)
+    for row in ident:
+        _uniq, first = np.unique(row.astype(str), return_index=True)
+        names.extend(str(row[j]) for j in sorted(first) if str(row[j]) not in names)
     index = {name: j for j, name in enumerate(names)}
     code = np.vectorize(index.__getitem__, otypes=[np.int32])(ident) if names else np.zeros((n_v, n_in), np.int32)
     n_a = len(names)
@@ -441,15 +447,14 @@ def _dataset(result, path, param, vals, grid, inside, flat, u_all, du_all, match
     error = np.full((n_v, n_a), np.nan)
     label = np.full((n_v, n_a), -1, dtype=np.int32)
     for i in range(n_v):
+        if spectra is not None:
+            for (name, _first), lam, err in zip(_representatives(ident[i]), spectra[i]["exponents"][:, 0],
+                                                spectra[i]["errors"][:, 0]):
+                exponent[i, index[name]], error[i, index[name]] = lam, err
         for j in range(n_a):
-            if count[i, j] == 0:
-                continue
-            first = int(np.flatnonzero(code[i] == j)[0])
-            if lyapunov and names[j] not in ("failed",):
-                exponent[i, j], error[i, j] = _largest_exponent(path[i], result.final_u[i, first],
-                                                                result.final_du[i, first], t_lyapunov)
-            lam = exponent[i, j] if math.isfinite(exponent[i, j]) else None
-            label[i, j] = LABELS.index(attractor_label(names[j], lam, error[i, j]))
+            if count[i, j] > 0:
+                lam = exponent[i, j] if math.isfinite(exponent[i, j]) else None
+                label[i, j] = LABELS.index(attractor_label(names[j], lam, error[i, j]))
     image = np.full((n_v, inside.size), -1, dtype=np.int32)
     image[:, flat] = code
     rows_, cols_ = grid.shape
@@ -495,7 +500,7 @@ def _dataset(result, path, param, vals, grid, inside, flat, u_all, du_all, match
         "grid_kind": grid.kind,
         "grid": grid.describe(),
         "match_tol": float(match_tol),
-        "lyapunov": np.int8(bool(lyapunov)),
+        "lyapunov": np.int8(spectra is not None),
         "t_lyapunov": float(t_lyapunov),
         "confidence": float(CONFIDENCE),
         "chunk_size": np.int32(chunk_size),

@@ -22,12 +22,12 @@ from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_range
 from ..model.validation import check_int, check_params
 from ..simulation.motion import REGIME_NAMES
-from .attractors import parameter_path
 from .batch import PARAMETER_ORDER, parameter_array
 from .driver import run_study
 from .execution import study_digest
+from .parameter_path import parameter_path
 
-__all__ = ["SpectrumTask", "LyapunovScan", "lyapunov_scan", "FINAL_NAMES"]
+__all__ = ["FINAL_NAMES", "LyapunovScan", "SpectrumTask", "lyapunov_scan"]
 
 #: Codes of the final regime stored in the dataset (-1: none, the run ends unsettled).
 FINAL_NAMES = ("contact", "no-contact", "periodic")
@@ -45,16 +45,16 @@ class SpectrumTask:
         Name of the chunk.
     params : numpy.ndarray
         (n, 7) parameter rows (`rotorcontact.studies.batch.PARAMETER_ORDER`).
-    u0, du0 : complex
-        The initial state of every run.
+    u0, du0 : numpy.ndarray
+        (n,) complex initial states, one per row.
     t_end, t_transient, qr_interval : float
         As for `rotorcontact.analysis.lyapunov.lyapunov_spectrum`.
     """
 
     key: str
     params: np.ndarray = field(repr=False)
-    u0: complex
-    du0: complex
+    u0: np.ndarray = field(repr=False)
+    du0: np.ndarray = field(repr=False)
     t_end: float
     t_transient: float
     qr_interval: float
@@ -65,7 +65,7 @@ class SpectrumTask:
         return int(self.params.shape[0])
 
     def compute(self) -> dict[str, np.ndarray]:
-        """The spectra of the chunk as arrays (NaN rows and status 1 where a simulation failed)."""
+        """The spectra of the chunk as arrays (NaN rows and ``failed`` 1 where a run could not be made)."""
         from ..analysis.lyapunov import lyapunov_spectrum
 
         n = self.n_items
@@ -80,9 +80,10 @@ class SpectrumTask:
         for i, row in enumerate(self.params):
             p = Parameters(**{name: float(v) for name, v in zip(PARAMETER_ORDER, row)})
             try:
-                res = lyapunov_spectrum(p, self.u0, self.du0, self.t_end, t_transient=self.t_transient,
-                                        qr_interval=self.qr_interval)
-            except RuntimeError:
+                res = lyapunov_spectrum(p, complex(self.u0[i]), complex(self.du0[i]), self.t_end,
+                                        t_transient=self.t_transient, qr_interval=self.qr_interval)
+            except (RuntimeError, ParameterError):
+                # a failed simulation, or an end state of a batch run just outside the clearance by rounding
                 out["failed"][i] = 1
                 continue
             out["exponents"][i] = res.exponents
@@ -220,8 +221,13 @@ def lyapunov_scan(
         return [f"spectra-{c:06d}" for c in range(math.ceil(n / size))]
 
     def waves(size: int, sink):
-        yield [SpectrumTask(key=key, params=rows[c * size : (c + 1) * size].copy(), u0=u0, du0=du0, t_end=t_end,
-                            t_transient=t_transient, qr_interval=qr_interval) for c, key in enumerate(keys(size))]
+        tasks = []
+        for c, key in enumerate(keys(size)):
+            block = rows[c * size : (c + 1) * size].copy()
+            m = block.shape[0]
+            tasks.append(SpectrumTask(key=key, params=block, u0=np.full(m, u0), du0=np.full(m, du0), t_end=t_end,
+                                      t_transient=t_transient, qr_interval=qr_interval))
+        yield tasks
 
     def assemble(size: int, load):
         parts = [load(key) for key in keys(size)]
