@@ -6,16 +6,14 @@ import argparse
 import math
 import time
 
-from ..errors import ParameterError
 from ..model.si import rate_scale, scaled_list
 from ..studies.basins import GRID_SYNTAX
 from .options import (
     add_parameter_options,
     json_result,
-    parameter_range,
+    parameter_values,
     parameters_from_args,
     parse_float,
-    parse_int,
     print_json,
 )
 from .outputs import check_output_file, check_plot_path, note_reuse
@@ -91,20 +89,13 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from ..studies.attractors import attractors, parameter_path
+    from ..studies.attractors import attractors
     from ..studies.basins import parse_grid
     from ..studies.design_map import rad_s_to_rpm
 
     params, machine = parameters_from_args(args)
-    unit, a, b = parameter_range(args, machine)
-    n_values = parse_int("n", args.n_values, 1, MAX_VALUES, why="split a longer range")
-    if n_values > 1 and not a < b:
-        raise ParameterError(f"--from {a!r} must be smaller than --to {b!r}")
-    values = np.linspace(a, b, n_values)
-    try:
-        parameter_path(params, args.param, values[[0, -1]], machine)
-    except ParameterError as exc:
-        raise ParameterError(f"--from/--to: {exc}") from None
+    unit, values = parameter_values(args, params, machine, MAX_VALUES, why="split a longer range")
+    n_values = values.size
     grid = parse_grid(args.grid)
     settings = batch_settings(args, n_keep=1)
     rows, cols = grid.shape

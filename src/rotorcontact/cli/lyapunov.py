@@ -11,11 +11,10 @@ from ..model.si import rate_scale, scaled_list, times_si
 from .options import (
     add_parameter_options,
     json_result,
-    parameter_range,
+    parameter_values,
     parameters_from_args,
     parse_complex,
     parse_float,
-    parse_int,
     parse_velocity,
     print_json,
 )
@@ -150,24 +149,15 @@ def run_scan(args, params, machine, u0, du0, t_end, t_transient, qr_interval) ->
     import sys
     import time
 
-    import numpy as np
 
-    from ..studies.attractors import parameter_path
     from ..studies.lyapunov_scan import FINAL_NAMES, lyapunov_scan
 
     missing = [o for o, v in (("--from", args.start_value), ("--to", args.stop_value), ("--n", args.n_values))
                if v is None]
     if missing:
         raise ParameterError(f"--param needs {', '.join(missing)}")
-    unit, a, b = parameter_range(args, machine)
-    n_values = parse_int("n", args.n_values, 1, MAX_SCAN_VALUES, why="each value is a run of --t-end")
-    if n_values > 1 and not a < b:
-        raise ParameterError(f"--from {a!r} must be smaller than --to {b!r}")
-    values = np.linspace(a, b, n_values)
-    try:
-        parameter_path(params, args.param, values[[0, -1]], machine)
-    except ParameterError as exc:
-        raise ParameterError(f"--from/--to: {exc}") from None
+    unit, values = parameter_values(args, params, machine, MAX_SCAN_VALUES, why="each value is a run of --t-end")
+    n_values = values.size
     if args.out is not None:
         check_output_file("--out", args.out, (".nc",))
     execution = scale_kwargs(args)
