@@ -8,6 +8,7 @@ import time
 
 from ..model.si import rate_scale, scaled_list
 from ..studies.basins import GRID_SYNTAX
+from .basins import add_window_options
 from .options import (
     add_parameter_options,
     json_result,
@@ -64,16 +65,7 @@ def register(sub) -> None:
     g.add_argument("--to", dest="stop_value", required=True, metavar="B", help="last value (units allowed)")
     g.add_argument("--n", dest="n_values", required=True, metavar="N", help="number of values (A and B included)")
     g.add_argument("--grid", required=True, metavar="SPEC", help="grid of initial states, as for basins (see above)")
-    g.add_argument("--transient", default="300", metavar="N", help="largest transient, in events (default 300)")
-    g.add_argument("--record", default="50", metavar="N", help="events of the recorded window (default 50)")
-    g.add_argument("--t-transient", dest="t_transient", default=None, metavar="T",
-                   help="time limit of the transient (default 5 per event)")
-    g.add_argument("--t-record", dest="t_record", default=None, metavar="T",
-                   help="time limit of the recorded window (default 5 per event)")
-    g.add_argument("--settle", default="25", metavar="K",
-                   help="transient in segments of K events, ended once the motion repeats (default 25; 0: off)")
-    g.add_argument("--match-tol", dest="match_tol", default="1e-3", metavar="TOL",
-                   help="largest difference between a periodic impact and the fixed point it is named after")
+    add_window_options(g)
     g.add_argument("--t-lyapunov", dest="t_lyapunov", default="400", metavar="T",
                    help=f"length of the Lyapunov run from each attractor (default 400, at most {MAX_T_LYAPUNOV:g})")
     g.add_argument("--no-lyapunov", dest="lyapunov", action="store_false",
