@@ -81,6 +81,20 @@ def test_b1d_and_p2_keep_their_labels_and_b1d_dies_at_its_fold(scan):
     assert np.all(p2.exponent < 0)
 
 
+def test_irregular_motion_is_chaotic_or_a_transient(scan):
+    """Irregular windows: chaotic where the motion stays irregular with a clearly positive exponent, transient
+    where, continued, it settles (at gamma = 0.08 the chaotic set lies beyond the period doubling of B1,d)."""
+    irr = scan.attractor("irregular")
+    assert irr.present[np.isclose(SCAN, 0.08)].all() and np.isclose(SCAN, 0.08).sum() == 1
+    for lab, lam, err in zip(irr.labels, irr.exponent, irr.exponent_error):
+        if not lab:
+            continue
+        assert lab in ("chaotic", "transient", "quasi-periodic")
+        if lab == "chaotic":
+            assert lam > 3.0 * err and lam > 1e-3
+    assert "chaotic" in irr.labels or "transient" in irr.labels
+
+
 def test_x_r_is_reached_only_where_it_is_admissible():
     """x_R becomes virtual at gamma*: below it no initial state ends there."""
     values = np.linspace(0.06, 0.11, 11)
@@ -142,6 +156,8 @@ def test_machine_speed_in_si_and_bad_input():
 
 def test_labels_and_intervals():
     assert attractor_label("irregular", 0.1, 0.01) == "chaotic"
+    assert attractor_label("irregular", 0.1, 0.01, settles=True) == "transient"
+    assert attractor_label("B1,d", 0.0, 0.0, settles=True) == "periodic"
     assert attractor_label("irregular", 0.1, 0.05) == "quasi-periodic"
     assert attractor_label("mixed", 1e-4, 1e-5) == "quasi-periodic"
     assert attractor_label("irregular", None, None) == "undetermined"

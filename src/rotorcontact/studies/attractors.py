@@ -25,6 +25,8 @@ with its error estimate; and a label:
 * ``"contact"``: forward rub and backward whirl;
 * ``"chaotic"``: irregular or mixed motion whose largest exponent exceeds `CHAOS_MIN` and three times its
   error estimate; ``"quasi-periodic"``: irregular or mixed motion whose largest exponent does not;
+* ``"transient"``: irregular or mixed motion that, continued over the Lyapunov run, settles into a
+  final regime (`rotorcontact.analysis.regime_change.final_regime`): a chaotic transient, not an attractor;
 * ``"undetermined"``: too few impacts to tell, a failed run, or no exponent computed.
 
 An identity *appears* at the first value where it is reached (when that is not the first value) and
@@ -65,7 +67,7 @@ __all__ = [
 ]
 
 #: Labels of an attractor.
-LABELS = ("periodic", "quasi-periodic", "chaotic", "contact", "undetermined")
+LABELS = ("periodic", "quasi-periodic", "chaotic", "contact", "undetermined", "transient")
 #: Smallest largest exponent called chaotic (per unit of dimensionless time).
 CHAOS_MIN = 1e-3
 #: Confidence level of the intervals of the basin fractions.
@@ -221,13 +223,16 @@ def identity_names(result: BatchResult, codes: np.ndarray, orbit_labels, params:
     return out
 
 
-def attractor_label(name: str, exponent: float | None, error: float | None) -> str:
-    """Label of an attractor (module docstring) from its identity and largest exponent."""
+def attractor_label(name: str, exponent: float | None, error: float | None, settles: bool = False) -> str:
+    """Label of an attractor (module docstring) from its identity, largest exponent, and whether its motion
+    continued settles into a final regime."""
     if name == "x_R" or name.endswith("-impact") or name.startswith("B") or name == "one-impact":
         return "periodic"
     if name in ("P1", "P2") or name in _CONTACT_CLASSES:
         return "contact"
     if name in _LABELLED_BY_EXPONENT:
+        if settles:
+            return "transient"
         if exponent is None or not math.isfinite(exponent):
             return "undetermined"
         err = error if error is not None and math.isfinite(error) else math.inf
@@ -445,16 +450,18 @@ def _dataset(result, ident, spectra, path, param, vals, grid, inside, flat, u_al
         ci_low[i], ci_high[i] = wilson_interval(count[i], n_in)
     exponent = np.full((n_v, n_a), np.nan)
     error = np.full((n_v, n_a), np.nan)
+    settles = np.zeros((n_v, n_a), dtype=bool)
     label = np.full((n_v, n_a), -1, dtype=np.int32)
     for i in range(n_v):
         if spectra is not None:
-            for (name, _first), lam, err in zip(_representatives(ident[i]), spectra[i]["exponents"][:, 0],
-                                                spectra[i]["errors"][:, 0]):
-                exponent[i, index[name]], error[i, index[name]] = lam, err
+            for (name, _first), lam, err, fin in zip(_representatives(ident[i]), spectra[i]["exponents"][:, 0],
+                                                     spectra[i]["errors"][:, 0], spectra[i]["final_regime"]):
+                j = index[name]
+                exponent[i, j], error[i, j], settles[i, j] = lam, err, fin >= 0
         for j in range(n_a):
             if count[i, j] > 0:
                 lam = exponent[i, j] if math.isfinite(exponent[i, j]) else None
-                label[i, j] = LABELS.index(attractor_label(names[j], lam, error[i, j]))
+                label[i, j] = LABELS.index(attractor_label(names[j], lam, error[i, j], bool(settles[i, j])))
     image = np.full((n_v, inside.size), -1, dtype=np.int32)
     image[:, flat] = code
     rows_, cols_ = grid.shape
