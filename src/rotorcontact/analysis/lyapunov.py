@@ -88,6 +88,19 @@ makes the averages exact products over whole periods, so the exponent along
 the flow converges to 0 like 1/t without the bounded oscillation of the
 speed along the orbit.
 
+Error estimates and changes of regime
+-------------------------------------
+The running sums are recorded after every map, so that the exponents can
+be taken over any part of the window: the error estimate of each exponent
+is the standard error of the mean of its values over
+`rotorcontact.analysis.regime_change.SUBWINDOWS` sub-windows (cut at impacts when
+the window runs from impact to impact). The regime the run ends in, and the
+time it began, are found by `rotorcontact.analysis.regime_change.final_regime`;
+when it began inside the window, the result says so (``regime_change``) and
+gives the spectrum over the final regime alone (``final_exponents``): from
+just after the switch into a final contact phase or flight, or from impact
+to impact for a final periodic motion.
+
 For a trajectory on a periodic orbit with one impact per period T the
 spectrum is 0 (the direction of the flow) and log|lambda_i| / T for the three
 multipliers lambda_i of the impact map (`rotorcontact.maps.impact_map`). In pure
