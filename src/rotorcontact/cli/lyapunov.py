@@ -149,7 +149,6 @@ def run_scan(args, params, machine, u0, du0, t_end, t_transient, qr_interval) ->
     import sys
     import time
 
-
     from ..studies.lyapunov_scan import FINAL_NAMES, lyapunov_scan
 
     missing = [o for o, v in (("--from", args.start_value), ("--to", args.stop_value), ("--n", args.n_values))
