@@ -400,7 +400,7 @@ def attractors(
             spectra.append(SpectrumTask(
                 key=f"spectra-{i:06d}", params=np.repeat(rows[i : i + 1], len(first), axis=0),
                 u0=result.final_u[i, first].copy(), du0=result.final_du[i, first].copy(), t_end=t_lyapunov,
-                t_transient=0.25 * t_lyapunov, qr_interval=1.0,
+                t_transient=0.25 * t_lyapunov, qr_interval=1.0, progress_items=1,
             ))
         yield spectra
 
@@ -411,7 +411,9 @@ def attractors(
                       t_lyapunov, size, params, machine)
         return ds, result.impacts_simulated
 
-    run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n_items,
+    # the progress bar counts the simulations, then one unit per value for its exponents
+    run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble,
+                    n_items=n_items + (vals.size if lyapunov else 0),
                     desc="attractors", chunk_size=chunk_size, out=out, resume=resume, keep_chunks=keep_chunks,
                     n_jobs=n_jobs, scheduler=scheduler, processes=processes, progress=progress)
     ds = run.dataset

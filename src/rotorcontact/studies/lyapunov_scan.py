@@ -49,6 +49,8 @@ class SpectrumTask:
         (n,) complex initial states, one per row.
     t_end, t_transient, qr_interval : float
         As for `rotorcontact.analysis.lyapunov.lyapunov_spectrum`.
+    progress_items : int or None
+        What the chunk counts for on a progress bar (default: its number of runs).
     """
 
     key: str
@@ -58,17 +60,18 @@ class SpectrumTask:
     t_end: float
     t_transient: float
     qr_interval: float
+    progress_items: int | None = None
 
     @property
     def n_items(self) -> int:
-        """Number of runs in the chunk."""
-        return int(self.params.shape[0])
+        """What the chunk counts for on a progress bar: its number of runs unless ``progress_items`` is given."""
+        return int(self.params.shape[0]) if self.progress_items is None else int(self.progress_items)
 
     def compute(self) -> dict[str, np.ndarray]:
         """The spectra of the chunk as arrays (NaN rows and ``failed`` 1 where a run could not be made)."""
         from ..analysis.lyapunov import lyapunov_spectrum
 
-        n = self.n_items
+        n = int(self.params.shape[0])
         out = {
             "exponents": np.full((n, DIM), np.nan), "errors": np.full((n, DIM), np.nan),
             "final_exponents": np.full((n, DIM), np.nan), "final_errors": np.full((n, DIM), np.nan),
