@@ -11,12 +11,13 @@ from reference_parameters import REF
 
 
 def test_json_contract_on_the_stable_one_impact_orbit(cli):
-    data = cli.json("lyapunov", "--gamma", "0.1", "--u0", "0,0", "--du0", "0,0", "--t-end", "800")
-    assert set(data) == {"parameters", "exponents"}
+    data = cli.json("lyapunov", "--gamma", "0.1", "--u0", "0,0", "--du0", "0,0", "--t-end", "1200")
+    assert set(data) == {"parameters", "exponents", "errors", "regime_change"}
+    assert data["regime_change"] is False and len(data["errors"]) == 4
     ex = data["exponents"]
     assert len(ex) == 4 and all(isinstance(x, float) for x in ex)
     assert ex == sorted(ex, reverse=True)
-    lib = lyapunov_spectrum(REF.replace(gamma=0.1), 0j, 0j, 800.0)
+    lib = lyapunov_spectrum(REF.replace(gamma=0.1), 0j, 0j, 1200.0)
     assert ex == list(lib.exponents)
     assert ex[0] == pytest.approx(0.0, abs=1e-6) and ex[1] < 0.0
 
@@ -68,3 +69,38 @@ def test_bad_input_from_the_shell(cli):
     code, _, err = cli.exe("lyapunov", "--du0", "x,1")
     assert code == 2
     assert "--du0" in err and "Traceback" not in err
+
+
+def test_a_change_of_regime_inside_the_window_is_warned_and_reported(cli):
+    """From rest with no transient discarded, the window holds the approach to B1,d."""
+    args = ("lyapunov", "--gamma", "0.1", "--t-end", "600", "--t-transient", "0")
+    code, out, err = cli.run(*args, "--json")
+    assert code == 0 and "warning: the motion changed regime" in err and "periodic" in err
+    data = cli.json(*args)
+    lib = lyapunov_spectrum(REF.replace(gamma=0.1), 0j, 0j, 600.0, t_transient=0.0)
+    assert data["regime_change"] is True and data["final_regime"] == "periodic"
+    assert data["regime_start"] == lib.regime_start > 0.0
+    assert data["final_exponents"] == list(lib.final_exponents)
+    assert data["final_errors"] == list(lib.final_errors)
+    code, out, err = cli.run(*args)
+    assert code == 0 and "final regime (periodic" in out and "warning" in err
+
+
+def test_scan_against_a_parameter(cli, tmp_path):
+    from rotorcontact.studies.lyapunov_scan import lyapunov_scan
+
+    args = ("lyapunov", "--param", "gamma", "--from", "0.09", "--to", "0.11", "--n", "2", "--t-end", "400",
+            "--no-progress", "--out", tmp_path / "l.nc")
+    code, out, err = cli.run(*args, "--json")
+    assert code == 0
+    data = cli.loads(out)
+    lib = lyapunov_scan(REF, "gamma", [0.09, 0.11], t_end=400.0, progress=False)
+    assert data["values"] == [0.09, 0.11] and data["param"] == "gamma"
+    assert data["exponents"] == [[x if math.isfinite(x) else None for x in row] for row in lib.exponents.tolist()]
+    assert data["regime_change"] == lib.regime_change.tolist()
+    assert ("warning: the motion changed regime" in err) == any(data["regime_change"])
+    assert {"errors", "final_regime", "regime_start", "final_exponents", "final_errors", "failed"} <= set(data)
+    code, _out, err = cli.run("lyapunov", "--from", "0.1", "--json")
+    assert code == 2 and "--param" in err
+    code, _out, err = cli.run("lyapunov", "--param", "gamma", "--from", "0.1", "--json")
+    assert code == 2 and "--to" in err

@@ -88,6 +88,19 @@ makes the averages exact products over whole periods, so the exponent along
 the flow converges to 0 like 1/t without the bounded oscillation of the
 speed along the orbit.
 
+Error estimates and changes of regime
+-------------------------------------
+The running sums are recorded after every map, so that the exponents can
+be taken over any part of the window: the error estimate of each exponent
+is the standard error of the mean of its values over
+`rotorcontact.analysis.regime_change.SUBWINDOWS` sub-windows (cut at impacts when
+the window runs from impact to impact). The regime the run ends in, and the
+time it began, are found by `rotorcontact.analysis.regime_change.final_regime`;
+when it began inside the window, the result says so (``regime_change``) and
+gives the spectrum over the final regime alone (``final_exponents``): from
+just after the switch into a final contact phase or flight, or from impact
+to impact for a final periodic motion.
+
 For a trajectory on a periodic orbit with one impact per period T the
 spectrum is 0 (the direction of the flow) and log|lambda_i| / T for the three
 multipliers lambda_i of the impact map (`rotorcontact.maps.impact_map`). In pure
@@ -113,6 +126,7 @@ from ..model.params import Parameters, check_range
 from ..model.validation import check_params
 from ..simulation.simulator import simulate
 from ..simulation.trajectory import Trajectory
+from .regime_change import SUBWINDOWS, final_regime, spread, subwindow_rates
 
 __all__ = [
     "COORDINATES",
@@ -488,6 +502,25 @@ class LyapunovResult:
         True when the window runs from impact to impact.
     trajectory : Trajectory
         The trajectory the spectrum was computed along.
+    errors : tuple of float
+        Error estimate of each exponent (same order): the standard error of
+        the mean of the exponents over `rotorcontact.analysis.regime_change.SUBWINDOWS`
+        sub-windows of the window (cut at impacts when the window runs from
+        impact to impact); 0 for -inf exponents, inf when the window cannot
+        be cut.
+    regime_change : bool
+        True when the motion settled on its final regime inside the window
+        (a chaotic transient that ends in rolling, a transient that settles on
+        a periodic orbit): ``exponents`` then average over two regimes, and
+        ``final_exponents`` are those of the final one.
+    final_regime : str or None
+        The regime the run ends in (`rotorcontact.analysis.regime_change.final_regime`:
+        ``"contact"``, ``"no-contact"``, ``"periodic"``), None when unsettled.
+    regime_start : float or None
+        Time at which the final regime began.
+    final_exponents, final_errors : tuple of float or None
+        The spectrum over the final regime alone (from ``max(regime_start,
+        t_start)`` to the end of the window) and its error estimate.
     """
 
     exponents: tuple[float, ...]
@@ -498,6 +531,12 @@ class LyapunovResult:
     collapsed: int
     aligned: bool
     trajectory: Trajectory = field(repr=False)
+    errors: tuple[float, ...] = ()
+    regime_change: bool = False
+    final_regime: str | None = None
+    regime_start: float | None = None
+    final_exponents: tuple[float, ...] | None = None
+    final_errors: tuple[float, ...] | None = None
 
     @property
     def coordinates(self) -> tuple[str, ...]:
@@ -516,7 +555,18 @@ class LyapunovResult:
             "aligned": self.aligned,
             "coordinates": list(COORDINATES),
             "status": self.trajectory.status,
+            "errors": _json_list(self.errors),
+            "regime_change": self.regime_change,
+            "final_regime": self.final_regime,
+            "regime_start": self.regime_start,
+            "final_exponents": None if self.final_exponents is None else _json_list(self.final_exponents),
+            "final_errors": None if self.final_errors is None else _json_list(self.final_errors),
         }
+
+
+def _json_list(values) -> list[float | None]:
+    """Finite values as they are, infinite ones as None."""
+    return [float(x) if math.isfinite(x) else None for x in values]
 
 
 # ---------------------------------------------------------------------------
@@ -540,6 +590,8 @@ class _Walker:
         self.tan = _Tangent(DIM, active=False)
         self.t_start: float | None = None
         self.snapshots: list[tuple[float, np.ndarray, int]] = []
+        #: (time, running sums) after every map once the window has opened, in time order
+        self.marks: list[tuple[float, np.ndarray]] = []
         self.n_impacts = 0
 
     # -- the window ---------------------------------------------------------
@@ -548,6 +600,11 @@ class _Walker:
         if self.t_start is None and t >= self.t_transient:
             self.tan.complete()
             self.t_start = t
+            self._mark(t)
+
+    def _mark(self, t: float) -> None:
+        if self.t_start is not None:
+            self.marks.append((float(t), self.tan.sums.copy()))
 
     def _advance_time(self, t0: float, t1: float, step) -> None:
         """Advance over [t0, t1] by maps step(a, b), with QR at least every qr_interval and at t_transient."""
@@ -558,6 +615,7 @@ class _Walker:
                 t_next = self.t_transient
             step(t, t_next)
             t = t_next
+            self._mark(t)
             self._maybe_start(t)
 
     # -- phases -------------------------------------------------------------
@@ -574,6 +632,7 @@ class _Walker:
         if self.tan.active:
             self.snapshots.append((t, self.tan.sums.copy(), self.tan.alive))
             self.n_impacts += 1
+        self._mark(t)
         return u, du_minus
 
     def _slide(self, c: np.ndarray) -> None:
@@ -636,10 +695,12 @@ class _Walker:
                         ic += 1
                     g = self._first_contact_field(ic, t_c, u, du_minus)
                     self.tan.apply(accumulation_saltation(p, u, du_minus, g))
+                    self._mark(t_c)
                     jf, ic = self._contact(nxt + 1, ic, t_c)
                     continue
                 s, _du_plus, sticking = impact_saltation(p, u, du_minus)
                 self.tan.apply(s, rank=3 if sticking else None)
+                self._mark(t_i)
                 jf = nxt
                 continue
             if ic < n_c and ct[ic, 0] == t0 and int(ct[ic, 2]) != ACCUMULATION:
@@ -648,6 +709,7 @@ class _Walker:
                 du = complex(fl[jf, 3], fl[jf, 4])
                 self._maybe_start(t0)
                 self.tan.apply(contact_projection(u, du))
+                self._mark(t0)
                 jf, ic = self._contact(nxt, ic, t0)
                 continue
             if nxt < n_f:
@@ -694,6 +756,7 @@ class _Walker:
                     a_minus, a_plus = float(prev_row[3]), float(first[3])
                     if a_minus != 0.0:
                         self.tan.apply(np.diag([1.0, a_plus / a_minus]))
+                        self._mark(float(c[0]))
                 self._maybe_start(float(c[0]))
                 if kind == ROLLING:
                     self.tan.apply(np.diag([1.0, 0.0]), rank=1)
@@ -703,6 +766,7 @@ class _Walker:
                     self._maybe_start(min(float(c[1]), max(float(c[0]), self.t_transient)))
                     if waiting and self.t_start is not None:
                         self.tan.apply(np.diag([1.0, 0.0]), rank=1)
+                    self._mark(max(float(c[0]), self.t_start if self.t_start is not None else -math.inf))
                 else:
                     self._slide(c)
                 prev_kind = kind
@@ -722,6 +786,7 @@ class _Walker:
                     g = self._contact_field(prev_kind, prev_row)
                 self._maybe_start(t)
                 self.tan.apply(liftoff_saltation(p, theta, thetadot, g))
+                self._mark(t)
                 return next_flight, ic
             # the run ends in contact
             return n_f, ic
@@ -758,8 +823,8 @@ class _Walker:
             raise ParameterError(
                 f"the averaging window [{t_a!r}, {t_b!r}] is empty; allowed: t_transient < t_end"
             )
-        finite = sorted((float(x) / time for x in sums[:alive]), reverse=True)
-        exps = tuple(finite + [-math.inf] * (DIM - alive))
+        exps, errors = self._spectrum(sums[:alive] / time, self._rates(t_a, t_b, aligned, after=False), alive)
+        change = self._final(t_a, t_b, aligned, alive)
         return LyapunovResult(
             exponents=exps,
             time=float(time),
@@ -769,7 +834,71 @@ class _Walker:
             collapsed=DIM - alive,
             aligned=bool(aligned),
             trajectory=traj,
+            errors=errors,
+            **change,
         )
+
+    @staticmethod
+    def _spectrum(means: np.ndarray, rates: np.ndarray | None, alive: int):
+        """Exponents largest first (-inf for annihilated directions) and their errors in the same order."""
+        order = np.argsort(-means, kind="stable")
+        err = spread(rates[:, :alive]) if rates is not None else np.full(alive, math.inf)
+        exps = tuple([float(means[i]) for i in order] + [-math.inf] * (DIM - alive))
+        errors = tuple([float(err[i]) for i in order] + [0.0] * (DIM - alive))
+        return exps, errors
+
+    def _sums_at(self, t: float, after: bool) -> np.ndarray:
+        """Running sums at time t: before (the first mark at t) or after (the last mark at t) the maps at t."""
+        times = np.array([m[0] for m in self.marks])
+        i = int(np.searchsorted(times, t, side="right" if after else "left"))
+        if after and i > 0 and times[i - 1] == t:
+            return self.marks[i - 1][1]
+        if not after and i < len(times) and times[i] == t:
+            return self.marks[i][1]
+        i = min(max(i, 1), len(times) - 1)
+        (t0, s0), (t1, s1) = self.marks[i - 1], self.marks[i]
+        return s0 + (s1 - s0) * ((t - t0) / (t1 - t0)) if t1 > t0 else s1
+
+    def _rates(self, t_a: float, t_b: float, at_impacts: bool, after: bool) -> np.ndarray | None:
+        """Exponents over the sub-windows of [t_a, t_b] (cut at impacts when ``at_impacts``); None if it cannot be cut."""
+        if at_impacts:
+            t_imp = np.array([s[0] for s in self.snapshots if t_a <= s[0] <= t_b])
+            if t_imp.size < 3:
+                return None
+            edges = np.unique(t_imp[np.round(np.linspace(0, t_imp.size - 1, SUBWINDOWS + 1)).astype(int)])
+        else:
+            edges = np.linspace(t_a, t_b, SUBWINDOWS + 1)
+        if edges.size < 3 or len(self.marks) < 2:
+            return None
+        times = np.array([m[0] for m in self.marks])
+        sums = np.array([m[1] for m in self.marks])
+        rates = subwindow_rates(times, sums, edges)
+        if after:
+            # the first sub-window starts after the maps at t_a (entering a contact phase)
+            first = (self._sums_at(edges[1], False) - self._sums_at(t_a, True)) / (edges[1] - t_a)
+            rates[0] = first
+        return rates
+
+    def _final(self, t_a: float, t_b: float, aligned: bool, alive: int) -> dict[str, Any]:
+        """The final regime of the run, whether it began inside the window, and its own spectrum."""
+        regime = final_regime(self.traj)
+        if regime is None:
+            return {}
+        out: dict[str, Any] = {"final_regime": regime.kind, "regime_start": float(regime.t_begin),
+                               "regime_change": bool(regime.t_begin > t_a)}
+        periodic = regime.kind == "periodic"
+        t0 = max(regime.t_begin, t_a)
+        t1 = t_b
+        if periodic and self.snapshots:
+            t1 = self.snapshots[-1][0]
+        if not t1 > t0:
+            return out
+        start = self._sums_at(t0, after=not periodic)
+        end = self._sums_at(t1, after=False) if periodic else self.tan.sums
+        means = (end - start)[:alive] / (t1 - t0)
+        exps, errors = self._spectrum(means, self._rates(t0, t1, periodic, after=not periodic), alive)
+        out.update(final_exponents=exps, final_errors=errors)
+        return out
 
 
 # ---------------------------------------------------------------------------

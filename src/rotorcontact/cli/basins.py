@@ -43,6 +43,17 @@ def register(sub) -> None:
     g.add_argument("--grid", required=True, metavar="SPEC",
                    help="grid of initial states: x=X0:X1:NX,y=Y0:Y1:NY | amplitude=A0:A1:NA,direction=B0:B1:NB "
                         "| plane:N | shock:N (see above)")
+    add_window_options(g)
+    add_scale_options(p, default_chunk="2048 grid points")
+    o = p.add_argument_group("output")
+    o.add_argument("--out", required=True, metavar="FILE.nc", help="NetCDF file to write")
+    o.add_argument("--plot", default=None, metavar="FILE.png", help="also draw the basin image")
+    o.add_argument("--json", action="store_true", help="print the fractions and a summary as JSON")
+    p.set_defaults(func=run)
+
+
+def add_window_options(g) -> None:
+    """--transient, --record, --t-transient, --t-record, --settle and --match-tol of a study of attractors."""
     g.add_argument("--transient", default="300", metavar="N", help="largest transient, in events (default 300)")
     g.add_argument("--record", default="50", metavar="N", help="events of the recorded window (default 50)")
     g.add_argument("--t-transient", dest="t_transient", default=None, metavar="T",
@@ -54,12 +65,6 @@ def register(sub) -> None:
                         "the stator (default 25; 0: the whole transient)")
     g.add_argument("--match-tol", dest="match_tol", default="1e-3", metavar="TOL",
                    help="largest difference between a periodic impact and the fixed point it is named after")
-    add_scale_options(p, default_chunk="2048 grid points")
-    o = p.add_argument_group("output")
-    o.add_argument("--out", required=True, metavar="FILE.nc", help="NetCDF file to write")
-    o.add_argument("--plot", default=None, metavar="FILE.png", help="also draw the basin image")
-    o.add_argument("--json", action="store_true", help="print the fractions and a summary as JSON")
-    p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -15,8 +15,8 @@ import sys
 from .. import __version__
 from ..errors import ParameterError
 
-SUBCOMMANDS = ("simulate", "equilibria", "orbits", "sweep", "basins", "design-map", "local", "lyapunov", "branches",
-               "cascade", "codim2", "reproduce")
+SUBCOMMANDS = ("simulate", "equilibria", "orbits", "sweep", "basins", "attractors", "design-map", "local", "lyapunov",
+               "branches", "cascade", "codim2", "reproduce")
 
 
 class _Parser(argparse.ArgumentParser):

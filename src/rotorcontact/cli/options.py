@@ -254,3 +254,46 @@ def parse_section_grid(text: str | None) -> tuple[int, int, int]:
         raise ParameterError(f"--grid = {text!r} has {shape[0] * shape[1] * shape[2]} points; allowed: at most "
                              f"{MAX_GRID_POINTS} (each is a Newton solve)")
     return shape  # type: ignore[return-value]
+
+
+def parameter_values(args: argparse.Namespace, params: Parameters, machine: Machine | None, max_values: int,
+                     why: str) -> tuple[str, Any]:
+    """The unit of ``--param`` and its ``--n`` values from ``--from`` to ``--to`` (a numpy array, ends included).
+
+    A model parameter is dimensionless; with ``--machine`` a machine quantity (speed, stiffness, ...)
+    takes its ends with units (``3000rpm``), bare numbers being SI. Both ends must give valid parameters.
+
+    Raises
+    ------
+    ParameterError
+        For an unknown parameter, a machine quantity without ``--machine``, a bad count or range.
+    """
+    from dataclasses import fields
+
+    import numpy as np
+
+    from ..model.units import quantity_in
+    from ..studies.parameter_path import parameter_path
+
+    param = args.param
+    machine_fields = tuple(f.name for f in fields(Machine))
+    if param in PARAM_NAMES:
+        unit, a, b = "1", parse_float("from", args.start_value), parse_float("to", args.stop_value)
+    elif param in machine_fields:
+        if machine is None:
+            raise ParameterError(f"--param = {param!r} is a machine quantity; allowed with --machine only "
+                                 f"(model parameters: {', '.join(PARAM_NAMES)})")
+        unit = Machine.units()[param]
+        a, b = quantity_in("--from", args.start_value, unit), quantity_in("--to", args.stop_value, unit)
+    else:
+        raise ParameterError(f"--param = {param!r} is invalid; allowed: {', '.join(PARAM_NAMES)}, or with "
+                             f"--machine {', '.join(machine_fields)}")
+    n_values = parse_int("n", args.n_values, 1, max_values, why=why)
+    if n_values > 1 and not a < b:
+        raise ParameterError(f"--from {a!r} must be smaller than --to {b!r}")
+    values = np.linspace(a, b, n_values)
+    try:
+        parameter_path(params, param, values[[0, -1]], machine)
+    except ParameterError as exc:
+        raise ParameterError(f"--from/--to: {exc}") from None
+    return unit, values

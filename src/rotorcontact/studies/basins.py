@@ -535,18 +535,28 @@ def basins(
 def _classified(result: BatchResult, params: Parameters, grid: BasinGrid, inside: np.ndarray, u0: np.ndarray,
                 du0: np.ndarray, match_tol: float, chunk_size: int, machine: Machine | None):
     """The basins dataset: the attractor of every grid point, named after the one-impact orbits it matches."""
-    one = (result.regime == PERIODIC) & (result.impacts_per_period == 1) & inside
-    t_max = 12.0
-    if one.any():
-        t_max = max(t_max, 1.25 * float(np.nanmax(result.period[one])))
-    orbits = _orbit_table(params, t_max)
-    codes, matched = classify(result, orbits, match_tol)
-    codes[~inside] = 0
+    codes, orbits = name_points(result, params, inside, match_tol)
     names = class_names([o.label for o in orbits])
     counts = np.bincount(codes[inside].ravel(), minlength=len(names)).astype(np.int32)
     fractions = counts / max(int(inside.sum()), 1)
     return _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fractions, orbits, match_tol,
                     chunk_size, machine)
+
+
+def name_points(result: BatchResult, params: Parameters, inside: np.ndarray, match_tol: float):
+    """Class codes of the points of a batch (0, ``"outside"``, where not ``inside``) and the orbits named.
+
+    The one-impact orbits are those of the impact map at ``params`` with periods up to 1.25 times the
+    longest period found (at least 12); codes index `class_names` of their labels.
+    """
+    one = (result.regime == PERIODIC) & (result.impacts_per_period == 1) & inside
+    t_max = 12.0
+    if one.any():
+        t_max = max(t_max, 1.25 * float(np.nanmax(result.period[one])))
+    orbits = _orbit_table(params, t_max)
+    codes, _matched = classify(result, orbits, match_tol)
+    codes[~inside] = 0
+    return codes, orbits
 
 
 def _fractions(names, counts, fractions) -> dict[str, float]:

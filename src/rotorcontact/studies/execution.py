@@ -91,7 +91,14 @@ class ChunkTask:
 
 
 def run_task(task: ChunkTask, parallel: bool = False) -> dict[str, np.ndarray]:
-    """Compute a chunk; returns its raw ``sections`` and ``summary`` arrays."""
+    """Compute a chunk; returns its raw ``sections`` and ``summary`` arrays.
+
+    A task of another kind (one with a ``compute()`` method returning its arrays, such as
+    `rotorcontact.studies.lyapunov_scan.SpectrumTask`) is computed by that method.
+    """
+    compute = getattr(task, "compute", None)
+    if compute is not None:
+        return compute()
     sections, summary = run_lanes(task.params, task.u0, task.du0, task.settings, carry=task.carry,
                                   parallel=parallel)
     return {"sections": sections, "summary": summary}
@@ -198,6 +205,10 @@ class InProcessExecutor(_Executor):
     def run(self, tasks):
         i = 0
         while i < len(tasks):
+            if not isinstance(tasks[i], ChunkTask):
+                yield i, run_task(tasks[i])
+                i += 1
+                continue
             group = [i]
             lanes = tasks[i].params.shape[0]
             while (
@@ -229,7 +240,7 @@ class InProcessExecutor(_Executor):
 
 
 def _stackable(a: ChunkTask, b: ChunkTask) -> bool:
-    return a.params.shape[1] == b.params.shape[1] and a.carry == b.carry and a.settings == b.settings
+    return isinstance(b, ChunkTask) and a.params.shape[1] == b.params.shape[1] and a.carry == b.carry and a.settings == b.settings
 
 
 class JoblibExecutor(_Executor):

@@ -1,0 +1,67 @@
+"""``rotorcontact attractors``: JSON contract, machine quantities with units, figure, bad input."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rotorcontact.model.params import reference_machine
+from rotorcontact.studies.attractors import attractors
+from reference_parameters import REF
+
+ITEM_KEYS = {"name", "label", "appears", "disappears", "present", "count", "fraction", "ci_low", "ci_high",
+             "exponent", "exponent_error", "labels"}
+
+
+def test_json_contract_matches_the_library(cli, tmp_path):
+    args = ("attractors", "--param", "gamma", "--from", "0.08", "--to", "0.16", "--n", "3", "--grid", "plane:7",
+            "--t-lyapunov", "100", "--no-progress", "--out", tmp_path / "a.nc", "--plot", tmp_path / "a.png")
+    data = cli.json(*args)
+    assert next(iter(data)) == "parameters"
+    assert {"out", "param", "unit", "values", "grid", "simulated_per_value", "confidence", "attractors", "impacts",
+            "chunks_computed", "chunks_reused", "seconds", "plot"} <= set(data)
+    assert data["param"] == "gamma" and data["unit"] == "1" and data["values"] == [0.08, 0.12, 0.16]
+    assert (tmp_path / "a.png").stat().st_size > 0 and (tmp_path / "a.nc").exists()
+    lib = attractors(REF, "gamma", [0.08, 0.12, 0.16], "plane:7", t_lyapunov=100.0,
+                     progress=False)
+    assert [a["name"] for a in data["attractors"]] == list(lib.names)
+    for item, att in zip(data["attractors"], lib.attractors):
+        assert set(item) == ITEM_KEYS
+        assert item["count"] == att.count.tolist() and item["fraction"] == att.fraction.tolist()
+        assert item["label"] == att.label and item["appears"] == att.appears
+        assert [x is None for x in item["exponent"]] == [not p for p in att.present]
+    total = np.sum([a["fraction"] for a in data["attractors"]], axis=0)
+    np.testing.assert_allclose(total, 1.0, atol=1e-12)
+    # the same command again reads the finished file back
+    code, _out, err = cli.run(*args, "--json")
+    assert code == 0 and "read back" in err
+
+
+def test_machine_speed_in_rpm(cli, tmp_path):
+    data = cli.json("attractors", "--machine", "reference", "--param", "speed", "--from", "3000rpm", "--to",
+                    "4000rpm", "--n", "2", "--grid", "plane:5", "--no-lyapunov", "--no-progress",
+                    "--out", tmp_path / "s.nc")
+    rpm = 2.0 * math.pi / 60.0
+    assert data["unit"] == "rad/s"
+    assert data["values"] == pytest.approx([3000 * rpm, 4000 * rpm], rel=1e-12)
+    assert data["values_rpm"] == pytest.approx([3000.0, 4000.0], rel=1e-12)
+    assert "machine" in data
+    m = reference_machine()
+    lib = attractors(m.parameters(), "speed", data["values"], "plane:5", lyapunov=False, progress=False, machine=m)
+    assert [a["count"] for a in data["attractors"]] == [a.count.tolist() for a in lib.attractors]
+    assert all("exponent_per_s" in a for a in data["attractors"])
+
+
+@pytest.mark.parametrize("extra, word", [
+    (["--param", "nonsense", "--from", "0", "--to", "1"], "--param"),
+    (["--param", "speed", "--from", "1", "--to", "2"], "--machine"),
+    (["--param", "gamma", "--from", "0.2", "--to", "0.1"], "--from"),
+    (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--t-lyapunov", "0"], "t-lyapunov"),
+    (["--param", "omega", "--from", "-1", "--to", "0.2"], "--from"),
+])
+def test_bad_input_exits_2_with_one_line(cli, tmp_path, extra, word):
+    code, _out, err = cli.run("attractors", *extra, "--n", "3", "--grid", "plane:3", "--out", tmp_path / "x.nc")
+    assert code == 2 and word in err and "Traceback" not in err
+    assert not (tmp_path / "x.nc").exists()

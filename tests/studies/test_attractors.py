@@ -1,0 +1,176 @@
+"""Attractors followed across a parameter: identities, basin fractions with intervals, births and deaths."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from scipy.optimize import brentq
+
+from rotorcontact import ParameterError, simulate
+from rotorcontact.analysis.equilibria import boundary_gamma, pseudo_equilibria
+from rotorcontact.maps.impact_map import one_impact_orbits
+from rotorcontact.model.params import reference_machine
+from rotorcontact.studies.attractors import (
+    attractor_label,
+    attractors,
+    parameter_path,
+    wilson_interval,
+)
+from rotorcontact.studies.basins import basins, parse_grid
+from reference_parameters import REF
+
+SCAN = np.linspace(0.06, 0.22, 17)
+
+
+@pytest.fixture(scope="module")
+def scan():
+    return attractors(REF, "gamma", SCAN, "plane:12", progress=False, t_lyapunov=200.0)
+
+
+def _stable_b1d(gamma: float) -> bool:
+    return any(o.label == "B1,d" and o.admissible and o.stable for o in one_impact_orbits(REF.replace(gamma=gamma)))
+
+
+def _b1d_exists(gamma: float) -> bool:
+    return any(o.label == "B1,d" for o in one_impact_orbits(REF.replace(gamma=gamma)))
+
+
+def test_fractions_agree_with_basins_at_one_value():
+    res = attractors(REF, "gamma", [0.09, 0.1, 0.11], "plane:15", progress=False, lyapunov=False)
+    same = basins(REF.replace(gamma=0.1), "plane:15", progress=False)
+    # the same grid: the same simulations, the same classes
+    n = int(same.dataset["inside"].values.sum())
+    assert res.attractor("B1,d").fraction[1] == same.fraction("B1,d")
+    assert res.attractor("P2").fraction[1] == same.fraction("forward-rub")
+    assert res.dataset.attrs["simulated_per_value"] == n
+    # a finer grid: its fractions lie within the sampling error of the coarse one
+    fine = basins(REF.replace(gamma=0.1), "plane:40", progress=False)
+    for name, cls in (("B1,d", "B1,d"), ("P2", "forward-rub")):
+        a = res.attractor(name)
+        assert a.ci_low[1] <= fine.fraction(cls) <= a.ci_high[1]
+    # the fractions of each value add up to one, and each interval holds its fraction
+    total = sum(a.fraction for a in res.attractors)
+    np.testing.assert_allclose(total, 1.0, rtol=0, atol=1e-12)
+    for a in res.attractors:
+        assert np.all((a.ci_low <= a.fraction) & (a.fraction <= a.ci_high))
+
+
+def test_b1d_and_p2_keep_their_labels_and_b1d_dies_at_its_fold(scan):
+    b1d = scan.attractor("B1,d")
+    stable = np.array([_stable_b1d(g) for g in SCAN])
+    # reached exactly where the impact map has it admissible and stable
+    assert np.array_equal(b1d.present, stable)
+    assert b1d.label == "periodic" and {lab for lab in b1d.labels if lab} == {"periodic"}
+    # it disappears at the first value past its fold (where the fixed point ceases to exist)
+    last = int(np.flatnonzero(b1d.present)[-1])
+    fold = brentq(lambda g: 1.0 if _b1d_exists(g) else -1.0, SCAN[last], SCAN[last + 1], xtol=1e-6)
+    assert _b1d_exists(SCAN[last]) and not _b1d_exists(SCAN[last + 1])
+    assert SCAN[last] < fold < b1d.disappears == SCAN[last + 1]
+    # along a periodic orbit the largest exponent is that of the flow direction, 0
+    on = b1d.present
+    assert np.all(np.abs(b1d.exponent[on]) < 5e-3)
+    p2 = scan.attractor("P2")
+    assert all(pe.admissible and pe.stable for g in SCAN for pe in pseudo_equilibria(REF.replace(gamma=g))
+               if pe.name == "P2")
+    assert p2.present.all() and p2.appears is None and p2.disappears is None
+    assert set(p2.labels) == {"contact"}
+    # at P2 the exponents are those of the pseudo-equilibrium, all negative
+    assert np.all(p2.exponent < 0)
+
+
+def test_irregular_motion_is_chaotic_or_a_transient(scan):
+    """Irregular windows: chaotic where the motion stays irregular with a clearly positive exponent, transient
+    where, continued, it settles (at gamma = 0.08 the chaotic set lies beyond the period doubling of B1,d)."""
+    irr = scan.attractor("irregular")
+    assert irr.present[np.isclose(SCAN, 0.08)].all() and np.isclose(SCAN, 0.08).sum() == 1
+    for lab, lam, err in zip(irr.labels, irr.exponent, irr.exponent_error):
+        if not lab:
+            continue
+        assert lab in ("chaotic", "transient", "quasi-periodic")
+        if lab == "chaotic":
+            assert lam > 3.0 * err and lam > 1e-3
+    assert "chaotic" in irr.labels or "transient" in irr.labels
+
+
+def test_x_r_is_reached_only_where_it_is_admissible():
+    """x_R becomes virtual at gamma*: below it no initial state ends there."""
+    values = np.linspace(0.06, 0.11, 11)
+    grid = "x=-0.93:-0.85:9,y=-0.44:-0.34:9"
+    res = attractors(REF, "gamma", values, grid, progress=False, lyapunov=False)
+    x_r = res.attractor("x_R")
+    g_star = boundary_gamma(REF)
+    assert not x_r.present[values < g_star].any()
+    assert x_r.appears > g_star and x_r.label == "periodic"
+    # where it is admissible, it is reached wherever the simulator takes some grid point to it without contact
+    g = parse_grid(grid)
+    u0, _du0, inside = g.initial_states(REF)
+    n_free = 0
+    for v, present in zip(values, x_r.present):
+        p = REF.replace(gamma=v)
+        if abs(p.k) >= 1.0:
+            continue
+        runs = [simulate(p, complex(u), 0j, 200.0) for u in u0[inside]]
+        if any(len(t.impacts) == 0 and not t.contact_intervals for t in runs):
+            n_free += 1
+            assert present
+    assert n_free >= 3
+
+
+def test_identical_results_across_executors(tmp_path):
+    from distributed import Client, LocalCluster
+
+    kw = {"grid": "plane:7", "progress": False, "chunk_size": 40, "t_lyapunov": 100.0}
+    values = [0.08, 0.12, 0.16]
+    a = attractors(REF, "gamma", values, out=tmp_path / "a.nc", **kw)
+    b = attractors(REF, "gamma", values, out=tmp_path / "b.nc", n_jobs=2, **kw)
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None)
+    client = Client(cluster)
+    try:
+        c = attractors(REF, "gamma", values, out=tmp_path / "c.nc", scheduler=client, **kw)
+    finally:
+        client.close()
+        cluster.close()
+    data = (tmp_path / "a.nc").read_bytes()
+    assert data == (tmp_path / "b.nc").read_bytes() == (tmp_path / "c.nc").read_bytes()
+    xr.testing.assert_identical(xr.load_dataset(tmp_path / "a.nc", engine="scipy"), a.dataset)
+    assert a.names == b.names == c.names
+    # run again: the finished file is read back
+    again = attractors(REF, "gamma", values, out=tmp_path / "a.nc", **kw)
+    assert again.reused_file and again.names == a.names
+
+
+def test_machine_speed_in_si_and_bad_input():
+    m = reference_machine()
+    rpm = 2.0 * math.pi / 60.0
+    path = parameter_path(REF, "speed", [3000 * rpm, 4000 * rpm], m)
+    assert path[0] == m.with_speed(3000 * rpm).parameters()
+    with pytest.raises(ParameterError, match="machine"):
+        parameter_path(REF, "speed", [1.0])
+    with pytest.raises(ParameterError, match="param"):
+        parameter_path(REF, "nonsense", [1.0])
+    with pytest.raises(ParameterError, match="gamma"):
+        attractors(REF, "gamma", [0.01, 0.1], "shock:3", progress=False)
+    with pytest.raises(ParameterError):
+        attractors(REF, "gamma", [0.1], "plane:3", t_lyapunov=0.0, progress=False)
+
+
+def test_labels_and_intervals():
+    assert attractor_label("irregular", 0.1, 0.01) == "chaotic"
+    assert attractor_label("irregular", 0.1, 0.01, settles=True) == "transient"
+    assert attractor_label("B1,d", 0.0, 0.0, settles=True) == "periodic"
+    assert attractor_label("irregular", 0.1, 0.05) == "quasi-periodic"
+    assert attractor_label("mixed", 1e-4, 1e-5) == "quasi-periodic"
+    assert attractor_label("irregular", None, None) == "undetermined"
+    assert attractor_label("2-impact", None, None) == "periodic"
+    assert attractor_label("backward-whirl", 0.0, 0.0) == "contact"
+    low, high = wilson_interval(np.array([0, 5, 10]), 10)
+    # the Wilson interval in closed form
+    z = 1.959963984540054
+    for k, lo, hi in zip((0, 5, 10), low, high):
+        ph = k / 10
+        centre = (ph + z * z / 20) / (1 + z * z / 10)
+        half = z / (1 + z * z / 10) * math.sqrt(ph * (1 - ph) / 10 + z * z / 400)
+        assert lo == pytest.approx(centre - half, abs=1e-12) and hi == pytest.approx(centre + half, abs=1e-12)
