@@ -54,7 +54,6 @@ examples:
 def register(sub) -> None:
     p = sub.add_parser(
         "attractors",
-        help="attractors and their basin fractions followed across a parameter",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

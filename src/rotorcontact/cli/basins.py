@@ -34,7 +34,6 @@ examples:
 def register(sub) -> None:
     p = sub.add_parser(
         "basins",
-        help="basins of attraction on a grid of initial states",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

@@ -42,7 +42,6 @@ DEFAULT_RANGES = {
 def register(sub) -> None:
     p = sub.add_parser(
         "branches",
-        help="branches of one-impact orbits against a parameter, with folds, NSFH, grazing, stability changes",
         description=(
             "Follow every periodic orbit with one impact per period (B_n,a..d, MODEL.md §5) with period "
             "up to T_max as --param goes from --from to --to, by pseudo-arclength continuation through folds. "

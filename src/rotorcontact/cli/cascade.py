@@ -26,7 +26,6 @@ from .options import (
 def register(sub) -> None:
     p = sub.add_parser(
         "cascade",
-        help="period-doubling cascades in a parameter range, with Feigenbaum's ratios and where they end",
         description=(
             "Follow each period doubling of the orbits with --impacts P impacts per period (default 1: B_n,m) in "
             "--from..--to: the doubled branch is followed to its own doubling, and so on --depth times. Prints "

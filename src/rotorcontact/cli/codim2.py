@@ -31,7 +31,6 @@ MAX_CURVES = 20
 def register(sub) -> None:
     p = sub.add_parser(
         "codim2",
-        help="two-parameter diagram: fold, NSFH/DIB and grazing curves and their intersections",
         description=(
             "Continue in a plane of two parameters the fold curve of the one-impact orbits (F1 has a double "
             "zero), the boundary-equilibrium (NSFH/DIB) curve |k| = 1 and the grazing curve of a chosen "

@@ -22,7 +22,6 @@ _UNITS = {"speed": "rpm", "stiffness": "N/m", "damping": "N s/m"}
 def register(sub) -> None:
     p = sub.add_parser(
         "design-map",
-        help="classify a machine's speed range or controller gains: safe, bistable, contact-certain",
         description=(
             "Classify each setting of a machine as safe (contact-free whirl only), bistable (contact-free whirl "
             "and a stable impacting orbit or forward rub coexist) or contact-certain (no contact-free whirl). "

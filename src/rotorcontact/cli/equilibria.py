@@ -27,7 +27,6 @@ MAX_POINTS = 10_000
 def register(sub) -> None:
     p = sub.add_parser(
         "equilibria",
-        help="regular and pseudo-equilibria, and the boundary equilibrium bifurcation",
         description=(
             "Equilibria of the rotor (MODEL.md §4): the regular equilibrium x_R, the pseudo-equilibria "
             "x_P1 and x_P2 (rub on the stator), and the boundary equilibrium x_B at gamma* with the type "

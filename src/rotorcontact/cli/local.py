@@ -24,7 +24,6 @@ from .options import (
 def register(sub) -> None:
     p = sub.add_parser(
         "local",
-        help="first-order expansion of the small impacting orbits at the boundary equilibrium (NSFH)",
         description=(
             "Local analysis at the boundary equilibrium gamma* (MODEL.md §6, docs/local.md): for each zero "
             "T0 of F1 on (0, T_max] at gamma*, the slopes d(rdot-)/d eps, d(thetadot-)/d eps and "

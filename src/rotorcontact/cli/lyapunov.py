@@ -31,7 +31,6 @@ MAX_SCAN_VALUES = 10_000
 def register(sub) -> None:
     p = sub.add_parser(
         "lyapunov",
-        help="Lyapunov spectrum of the 4-dimensional state along a simulated trajectory",
         description=(
             "Simulate the rotor and compute the full Lyapunov spectrum of the state (Re U, Im U, Re U', Im U'), "
             "largest first, with exact tangent propagation in free flight, saltation matrices at every impact "

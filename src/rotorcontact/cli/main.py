@@ -15,8 +15,22 @@ import sys
 from .. import __version__
 from ..errors import ParameterError
 
-SUBCOMMANDS = ("simulate", "equilibria", "orbits", "sweep", "basins", "attractors", "design-map", "local", "lyapunov",
-               "branches", "cascade", "codim2", "reproduce")
+#: The subcommands, each in its module of this package (``design-map`` in ``design_map``), with its summary.
+SUBCOMMANDS: dict[str, str] = {
+    "simulate": "simulate the rotor from an initial state",
+    "equilibria": "regular and pseudo-equilibria, and the boundary equilibrium bifurcation",
+    "orbits": "periodic orbits with one (or, with --impacts, p) impacts per period",
+    "sweep": "brute-force orbit diagram against one parameter",
+    "basins": "basins of attraction on a grid of initial states",
+    "attractors": "attractors and their basin fractions followed across a parameter",
+    "design-map": "classify a machine's speed range or controller gains: safe, bistable, contact-certain",
+    "local": "first-order expansion of the small impacting orbits at the boundary equilibrium (NSFH)",
+    "lyapunov": "Lyapunov spectrum of the 4-dimensional state along a simulated trajectory",
+    "branches": "branches of one-impact orbits against a parameter, with folds, NSFH, grazing, stability changes",
+    "cascade": "period-doubling cascades in a parameter range, with Feigenbaum's ratios and where they end",
+    "codim2": "two-parameter diagram: fold, NSFH/DIB and grazing curves and their intersections",
+    "reproduce": "compute the paper's Figures 2-7 and write report.json and report.html",
+}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -25,7 +39,13 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The command-line parser.
+
+    With ``argv``, only the module of the subcommand named there is loaded (the
+    others are listed by name and summary), so that a command, and its
+    ``--help``, loads nothing that other commands need; without, every module.
+    """
     parser = _Parser(
         prog="rotorcontact",
         description="Rotor-stator contact: exact impacting simulation and bifurcation analysis.",
@@ -33,8 +53,13 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"rotorcontact {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
-    for name in SUBCOMMANDS:
-        importlib.import_module(f"{__package__}.{name.replace('-', '_')}").register(sub)
+    # the top level has no option taking a value, so the first word that is not an option names the command
+    named = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
+    for name, summary in SUBCOMMANDS.items():
+        if named is None or name == named:
+            importlib.import_module(f"{__package__}.{name.replace('-', '_')}").register(sub)
+        else:
+            sub.add_parser(name, help=summary)
     return parser
 
 
@@ -48,7 +73,8 @@ def main(argv: list[str] | None = None) -> int:
     """
     command = "rotorcontact"
     try:
-        parser = build_parser()
+        argv = sys.argv[1:] if argv is None else list(argv)
+        parser = build_parser(argv)
         args = parser.parse_args(argv)
         command = f"rotorcontact {args.command}"
         return _run(args, command)

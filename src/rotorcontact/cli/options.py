@@ -10,7 +10,6 @@ from typing import Any
 
 
 from ..errors import ParameterError
-from ..maps.multi_impact import GRID_SHAPE, MAX_GRID_POINTS
 from ..io.json import dump_json
 from ..model.params import Machine, Parameters, check_range, check_velocity, load_machine, reference_machine
 
@@ -244,6 +243,8 @@ def print_json(data: Any) -> None:
 
 def parse_section_grid(text: str | None) -> tuple[int, int, int]:
     """``--grid NT,NR,ND``: the grid of impact states seeding orbits with several impacts (default `GRID_SHAPE`)."""
+    from ..maps.multi_impact import GRID_SHAPE, MAX_GRID_POINTS
+
     if text is None:
         return GRID_SHAPE
     parts = text.split(",")

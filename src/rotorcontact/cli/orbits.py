@@ -35,7 +35,6 @@ from .options import (
 def register(sub) -> None:
     p = sub.add_parser(
         "orbits",
-        help="periodic orbits with one (or, with --impacts, p) impacts per period",
         description=(
             "Every fixed point of the impact map with one impact per period and period T in (0, T_max] "
             "(MODEL.md §5): the orbits B_n,a..B_n,d from the zeros of F1, with admissibility, physical "

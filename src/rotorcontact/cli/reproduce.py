@@ -12,7 +12,6 @@ from .options import PARAM_NAMES, add_parameter_options, parameters_from_args, p
 def register(sub) -> None:
     p = sub.add_parser(
         "reproduce",
-        help="compute the paper's Figures 2-7 and write report.json and report.html",
         description=(
             "Compute from scratch everything behind Figures 2 to 7 of Mora, Budd, Glendinning & Keogh (2015) "
             "and write each figure (PNG and SVG), report.json and a self-contained report.html. By default the "

@@ -31,7 +31,6 @@ JSON_ROWS = 1000
 def register(sub) -> None:
     p = sub.add_parser(
         "simulate",
-        help="simulate the rotor from an initial state",
         description="Simulate the rotor exactly (closed-form flight, guaranteed impact location).",
     )
     add_parameter_options(p)

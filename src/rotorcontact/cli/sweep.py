@@ -48,7 +48,6 @@ examples:
 def register(sub) -> None:
     p = sub.add_parser(
         "sweep",
-        help="brute-force orbit diagram against one parameter",
         description=DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
