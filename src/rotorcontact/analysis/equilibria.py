@@ -54,7 +54,7 @@ from ..errors import ParameterError
 from ..model import contact_law
 from ..model.flow import flight_coefficients, has_regular_equilibrium
 from ..model.impact_law import impact_q, relative_velocity
-from ..model.params import Parameters, check_finite
+from ..model.params import BRANCH_PARAMETERS, Parameters, check_finite
 from ..model.validation import check_int, check_params
 
 __all__ = [
@@ -93,9 +93,6 @@ __all__ = [
 
 #: Names of the components of the polar state x.
 STATE_NAMES = ("r", "theta", "rdot", "thetadot")
-
-#: Parameters along which `equilibrium_branches` can follow the equilibria.
-BRANCH_PARAMETERS = ("gamma", "omega", "rho", "mu", "d")
 
 #: Names of the pseudo-equilibria, in the order MODEL.md §4 gives them.
 PSEUDO_NAMES = ("P1", "P2")

@@ -7,7 +7,7 @@ import math
 import time
 
 from ..model.si import rate_scale, scaled_list
-from ..studies.basins import GRID_SYNTAX
+from ..studies.grids import GRID_SYNTAX
 from .basins import add_window_options
 from .options import (
     add_parameter_options,

@@ -48,14 +48,13 @@ from ..maps.multi_impact import (
 from ..maps.orbit_system import orbit_angles
 from ..model.params import Parameters
 from ..model.validation import check_int, check_params
+from .limits import MAX_DOUBLINGS
 from .multi_impact_branches import MultiImpactBranch, continue_multi_impact
 from .results import BranchEvent, BranchResult, check_param_range
 
 __all__ = ["MAX_DOUBLINGS", "MultiImpactBranches", "multi_impact_branches", "one_impact_seed", "seed_orbits",
            "switch_at_doubling"]
 
-#: Largest number of successive branch switchings at period doubling.
-MAX_DOUBLINGS = 8
 #: Amplitude v . (x_0 - x_q) / 2 at which a period-doubled branch is entered.
 SWITCH_AMPLITUDE = 1e-3
 #: The amplitude is divided by 4 (at most `SWITCH_HALVINGS` times) until the entry orbit has a multiplier

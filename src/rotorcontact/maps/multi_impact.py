@@ -78,7 +78,7 @@ from .impact_map import (
     post_impact_state,
 )
 from ..simulation.motion import detect_period
-from ..model.params import Parameters, check_range
+from ..model.params import BRANCH_PARAMETERS, Parameters, check_range
 from ..model.validation import check_choice, check_int, check_params
 from ..simulation.simulator import simulate
 
@@ -101,7 +101,7 @@ __all__ = [
 ]
 
 #: Parameters in which multi-impact orbits can be continued.
-CONTINUATION_PARAMETERS = ("gamma", "omega", "rho", "mu", "d")
+CONTINUATION_PARAMETERS = BRANCH_PARAMETERS
 
 NEWTON_TOL = 1e-12
 MAX_NEWTON = 40

@@ -65,7 +65,7 @@ from .impact_map import (
     impact_map_jacobian,
     orbit_stability,
 )
-from ..model.params import Parameters
+from ..model.params import BRANCH_PARAMETERS, Parameters
 
 __all__ = [
     "BRANCH_PARAMETERS",
@@ -78,9 +78,6 @@ __all__ = [
     "orbit_angles",
     "label_of",
 ]
-
-#: Parameters along which one-impact orbits can be continued.
-BRANCH_PARAMETERS = ("gamma", "omega", "rho", "mu", "d")
 
 EPS = 2.220446049250313e-16
 

@@ -138,6 +138,11 @@ def check_velocity(name: str, value: complex) -> complex:
     return complex(value)
 
 
+#: The parameters a branch, a curve or a scan may be followed in (phi and r_ratio enter the model too, but no
+#: continuation varies them).
+BRANCH_PARAMETERS = ("gamma", "omega", "rho", "mu", "d")
+
+
 @dataclass(frozen=True)
 class Parameters:
     """Dimensionless parameters of the co-rotating model (MODEL.md §2).

@@ -33,7 +33,6 @@ Two grids are provided (`BasinGrid`, `parse_grid`):
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -56,11 +55,21 @@ from .batch import (
 )
 from ..errors import ParameterError
 from ..model.angles import angle_difference
-from ..model.params import MAX_VELOCITY, Machine, Parameters, check_finite
+from ..model.params import Machine, Parameters, check_finite
 from ..model.validation import check_int, check_params
 from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 from .driver import run_study
 from .execution import ChunkTask, study_digest
+from .grids import (  # noqa: F401  (offered here too, where they were first defined)
+    _AXIS_ATTRS,
+    GRID_KINDS,
+    GRID_SYNTAX,
+    MAX_GRID_POINTS,
+    BasinGrid,
+    displacement_grid,
+    parse_grid,
+    shock_grid,
+)
 
 __all__ = [
     "GRID_KINDS",
@@ -74,14 +83,6 @@ __all__ = [
     "class_names",
 ]
 
-GRID_KINDS = ("displacement", "shock")
-_AXES = {"displacement": ("x", "y"), "shock": ("amplitude", "direction")}
-_AXIS_ATTRS = {
-    "x": dict(long_name="initial displacement, real part of U(0)", units="1"),
-    "y": dict(long_name="initial displacement, imaginary part of U(0)", units="1"),
-    "amplitude": dict(long_name="amplitude of the velocity kick |U'(0)| applied at x_R", units="1"),
-    "direction": dict(long_name="direction of the kick from the outward radial direction of x_R", units="rad"),
-}
 #: Classes before and after the named orbits, in code order.
 CLASSES_BEFORE = ("outside", "no-contact")
 #: The contact regimes are named as in `rotorcontact.simulation.motion.REGIMES`; their former names ``"rub"`` and
@@ -89,194 +90,6 @@ CLASSES_BEFORE = ("outside", "no-contact")
 CLASSES_AFTER = ("one-impact", "multi-impact", "forward-rub", "backward-whirl", "mixed", "irregular", "undetermined",
                  "failed")
 DEFAULT_CHUNK = 2048
-
-GRID_SYNTAX = """\
-Grid of initial states, one of:
-  x=X0:X1:NX,y=Y0:Y1:NY               displacement plane U(0) = x + i y at U'(0) = 0
-                                      (points with |U(0)| > 1 are outside and not simulated)
-  amplitude=A0:A1:NA,direction=B0:B1:NB
-                                      velocity kicks U'(0) = A exp(i (arg k + B)) from the
-                                      contact-free whirl x_R (U(0) = k); B = 0 points at the
-                                      stator, B = pi/2 is a forward tangential kick
-  plane:N                             short for x=-1:1:N,y=-1:1:N
-  shock:N                             short for amplitude=0:1:N,direction=-pi:pi:N
-Each axis is START:STOP:COUNT (COUNT >= 1, both ends included). Numbers may be
-written with pi: pi, -pi, pi/2, 2pi, 0.5pi."""
-
-
-MAX_GRID_POINTS = 16_000_000  # 4000 x 4000; beyond this the arrays alone need gigabytes
-
-
-@dataclass(frozen=True)
-class BasinGrid:
-    """A grid of initial states.
-
-    Attributes
-    ----------
-    kind : {"displacement", "shock"}
-        See the module docstring.
-    axis0, axis1 : numpy.ndarray
-        Values along the first (image columns: x or amplitude) and second
-        (image rows: y or direction) axis.
-    """
-
-    kind: str
-    axis0: np.ndarray = field(repr=False)
-    axis1: np.ndarray = field(repr=False)
-
-    def __post_init__(self) -> None:
-        if self.kind not in GRID_KINDS:
-            raise ParameterError(f"grid kind {self.kind!r} is invalid; allowed: {', '.join(GRID_KINDS)}")
-        for name in ("axis0", "axis1"):
-            arr = np.asarray(getattr(self, name), dtype=float).reshape(-1)
-            if arr.size == 0 or not np.all(np.isfinite(arr)):
-                raise ParameterError(f"grid {name} must hold finite values")
-            object.__setattr__(self, name, arr)
-        if self.kind == "shock" and np.any(self.axis0 < 0):
-            raise ParameterError("grid amplitude values must be >= 0")
-        if self.kind == "shock" and np.any(self.axis0 > MAX_VELOCITY):
-            raise ParameterError(
-                f"grid amplitude {float(self.axis0.max())!r} is too large; allowed: amplitudes <= {MAX_VELOCITY:g} "
-                "clearances per unit time (far beyond any touchdown shock)"
-            )
-        points = self.axis0.size * self.axis1.size
-        if points > MAX_GRID_POINTS:
-            raise ParameterError(
-                f"grid of {self.axis0.size} x {self.axis1.size} = {points} points is too large; "
-                f"allowed: at most {MAX_GRID_POINTS} points"
-            )
-
-    @property
-    def names(self) -> tuple[str, str]:
-        """Names of the two axes."""
-        return _AXES[self.kind]
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        """(rows, columns) = (len(axis1), len(axis0))."""
-        return self.axis1.size, self.axis0.size
-
-    def describe(self) -> str:
-        """The grid in the syntax of `parse_grid`."""
-        a, b = self.names
-        f = lambda v: f"{v[0]:.17g}:{v[-1]:.17g}:{v.size}"  # noqa: E731
-        return f"{a}={f(self.axis0)},{b}={f(self.axis1)}"
-
-    def initial_states(self, params: Parameters) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(u0, du0, inside): complex arrays shaped `shape`, and where |u0| <= 1.
-
-        Raises
-        ------
-        ParameterError
-            For a shock grid where x_R is virtual (|k| >= 1).
-        """
-        c0, c1 = np.meshgrid(self.axis0, self.axis1)
-        if self.kind == "displacement":
-            u0 = c0 + 1j * c1
-            du0 = np.zeros_like(u0)
-            inside = np.abs(u0) <= 1.0
-        else:
-            k = params.k
-            if abs(k) >= 1.0:
-                raise ParameterError(
-                    f"shock grid: the contact-free whirl x_R is virtual at these parameters (|k| = {abs(k):.6g} >= 1)"
-                )
-            u0 = np.full(c0.shape, complex(k))
-            du0 = c0 * np.exp(1j * (np.angle(k) + c1))
-            inside = np.ones(c0.shape, dtype=bool)
-        return u0, du0, inside
-
-
-def _axis(name: str, lo: float, hi: float, n: int) -> np.ndarray:
-    lo = check_finite(f"{name} start", lo)
-    hi = check_finite(f"{name} stop", hi)
-    n = check_int(f"{name} count", n, 1)
-    if n > 1 and not lo < hi:
-        raise ParameterError(f"{name}: start {lo!r} must be smaller than stop {hi!r}")
-    return np.linspace(lo, hi, int(n))
-
-
-def displacement_grid(x: tuple[float, float, int] = (-1.0, 1.0, 101),
-                      y: tuple[float, float, int] = (-1.0, 1.0, 101)) -> BasinGrid:
-    """Initial displacements U(0) = x + i y at zero velocity; ``x`` and ``y`` are (start, stop, count)."""
-    return BasinGrid("displacement", _axis("x", *x), _axis("y", *y))
-
-
-def shock_grid(amplitude: tuple[float, float, int] = (0.0, 1.0, 101),
-               direction: tuple[float, float, int] = (-math.pi, math.pi, 101)) -> BasinGrid:
-    """Velocity kicks at x_R: amplitude and direction from the outward radial direction, each (start, stop, count)."""
-    return BasinGrid("shock", _axis("amplitude", *amplitude), _axis("direction", *direction))
-
-
-_PI = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+)?)\*?pi(?:/(\d+\.?\d*))?$")
-
-
-def _number(text: str, where: str) -> float:
-    s = text.strip().lower()
-    m = _PI.match(s)
-    if m:
-        factor = m.group(1)
-        f = 1.0 if factor in ("", "+") else (-1.0 if factor == "-" else float(factor))
-        value = f * math.pi / (float(m.group(2)) if m.group(2) else 1.0)
-    else:
-        try:
-            value = float(s)
-        except ValueError:
-            raise ParameterError(f"--grid: {where}: {text!r} is not a number") from None
-    if not math.isfinite(value):
-        raise ParameterError(f"--grid: {where}: {text!r} is not finite")
-    return value
-
-
-def parse_grid(text: str) -> BasinGrid:
-    """Parse a grid specification (`GRID_SYNTAX`).
-
-    Raises
-    ------
-    ParameterError
-        With a message that names the faulty part and shows the syntax.
-    """
-    if not isinstance(text, str) or not text.strip():
-        raise ParameterError(f"--grid = {text!r} is empty\n{GRID_SYNTAX}")
-    s = text.strip().replace(" ", "")
-    short = re.fullmatch(r"(plane|shock):(\d+)", s)
-    if short:
-        n = int(short.group(2))
-        if n < 1:
-            raise ParameterError(f"--grid = {text!r}: the count must be >= 1")
-        if short.group(1) == "plane":
-            return displacement_grid((-1.0, 1.0, n), (-1.0, 1.0, n))
-        return shock_grid((0.0, 1.0, n), (-math.pi, math.pi, n))
-    parts = s.split(",")
-    axes: dict[str, tuple[float, float, int]] = {}
-    for part in parts:
-        if "=" not in part:
-            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT\n{GRID_SYNTAX}")
-        name, spec = part.split("=", 1)
-        if name not in ("x", "y", "amplitude", "direction"):
-            raise ParameterError(
-                f"--grid = {text!r}: unknown axis {name!r}; allowed: x, y (displacement) or amplitude, "
-                "direction (shock)"
-            )
-        if name in axes:
-            raise ParameterError(f"--grid = {text!r}: axis {name!r} given twice")
-        fields_ = spec.split(":")
-        if len(fields_) != 3:
-            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT\n{GRID_SYNTAX}")
-        lo = _number(fields_[0], name)
-        hi = _number(fields_[1], name)
-        try:
-            n = int(fields_[2])
-        except ValueError:
-            raise ParameterError(f"--grid = {text!r}: {name} count {fields_[2]!r} is not an integer") from None
-        axes[name] = (lo, hi, n)
-    if set(axes) == {"x", "y"}:
-        return displacement_grid(axes["x"], axes["y"])
-    if set(axes) == {"amplitude", "direction"}:
-        return shock_grid(axes["amplitude"], axes["direction"])
-    raise ParameterError(
-        f"--grid = {text!r}: give both x and y, or both amplitude and direction\n{GRID_SYNTAX}"
-    )
 
 
 def class_names(orbit_labels: tuple[str, ...] | list[str]) -> tuple[str, ...]:

@@ -34,7 +34,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import ParameterError
-from ..model.params import Machine, Parameters, check_finite, check_velocity
+from ..model.params import BRANCH_PARAMETERS, Machine, Parameters, check_finite, check_velocity
 from ..model.validation import check_int, check_params
 from .attributes import (
     PARAMETER_LONG_NAMES,
@@ -506,10 +506,6 @@ def one_impact_overlay(params: Parameters, param: str, values: Any, *, max_value
     data = {k: ((param, "orbit"), v) for k, v in {**arrays, **flags}.items()}
     return xr.Dataset(data, coords={param: vals, "orbit": np.array(labels, dtype=str)},
                       attrs={"source": "one-impact fixed points of the impact map at each value"})
-
-
-#: Parameters along which one-impact branches can be continued.
-BRANCH_PARAMETERS = ("gamma", "omega", "rho", "mu", "d")
 
 
 def continued_branches(params: Parameters, param: str, values: Any, *, t_max: float = 12.0):
