@@ -7,6 +7,8 @@ import sys
 
 import pytest
 
+from rotorcontact.cli.main import SUBCOMMANDS
+
 HEAVY = ("numba", "scipy", "matplotlib", "xarray", "dask", "joblib", "pint")
 
 
@@ -44,3 +46,26 @@ def test_ctrl_c_while_a_command_is_loaded_ends_in_one_line(monkeypatch, capsys):
     assert cli_main.main(["simulate"]) == 130
     err = capsys.readouterr().err
     assert err.strip().splitlines() == ["rotorcontact: interrupted"]
+
+
+@pytest.mark.parametrize("argv", [[], *([name] for name in SUBCOMMANDS)], ids=["top", *SUBCOMMANDS])
+def test_help_loads_none_of_the_heavy_libraries(argv):
+    """``rotorcontact --help`` and ``rotorcontact CMD --help`` load only the command named, and it defers
+    its computations' libraries to the moment it runs."""
+    code = ("import contextlib, io\nfrom rotorcontact.cli.main import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()) as text:\n"
+            f"    try:\n        main({[*argv, '--help']!r})\n    except SystemExit as exc:\n        assert exc.code == 0\n"
+            "assert 'usage: rotorcontact' in text.getvalue()\n")
+    loaded = _modules_after(code)
+    assert not sorted({m.split(".")[0] for m in loaded} & set(HEAVY))
+
+
+def test_every_command_is_listed_with_its_summary(capsys):
+    from rotorcontact.cli.main import SUBCOMMANDS, main
+
+    with pytest.raises(SystemExit) as exc:
+        main(["--help"])
+    assert exc.value.code == 0
+    out = " ".join(capsys.readouterr().out.split())
+    for name, summary in SUBCOMMANDS.items():
+        assert name in out and " ".join(summary.split()) in out

@@ -6,7 +6,13 @@ import argparse
 import time
 
 from ..studies.grids import GRID_SYNTAX
-from .options import add_parameter_options, json_result, parameters_from_args, parse_float, print_json
+from .options import (
+    add_parameter_options,
+    json_result,
+    parameters_from_args,
+    parse_float,
+    print_json,
+)
 from .outputs import check_output_file, check_plot_path, note_reuse
 from .scale import add_scale_options, batch_settings, check_study_size, scale_kwargs
 

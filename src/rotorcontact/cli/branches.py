@@ -3,16 +3,12 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..continuation.branches import BRANCH_PARAMETERS, MAX_SEEDS, OrbitBranches, orbit_branches
-from ..continuation.multi_impact_families import MAX_DOUBLINGS, MultiImpactBranches, multi_impact_branches
-from ..simulation.motion import MAX_PERIOD_IMPACTS
+from ..continuation.limits import MAX_DOUBLINGS
 from ..errors import ParameterError
-from ..maps.impact_map import MAX_GROWTH, flight_growth, period_limit
-from ..model.params import Machine
+from ..model.params import BRANCH_PARAMETERS, Machine
 from ..model.si import parameter_si, rate_scale, scaled_list, times_si, velocity_scale
-from .outputs import check_plot_path
 from .options import (
     MAX_CONTINUATION_PERIOD,
     add_parameter_options,
@@ -25,6 +21,11 @@ from .options import (
     print_json,
     renamed,
 )
+from .outputs import check_plot_path
+
+if TYPE_CHECKING:
+    from ..continuation.branches import OrbitBranches
+    from ..continuation.multi_impact_families import MultiImpactBranches
 
 #: Largest --rdot-max: impact velocities of the model are of order one (clearances per unit time).
 MAX_RDOT = 1e3
@@ -81,6 +82,8 @@ def _check_reach(args: argparse.Namespace, params, start: float, stop: float, t_
     The flight grows like e^{growth T} (`rotorcontact.maps.impact_map.period_limit`); its rate is largest at
     an end of the range (it is convex in gamma and decreases with omega).
     """
+    from ..maps.impact_map import MAX_GROWTH, flight_growth, period_limit
+
     for option, given, value in (("to", args.stop, stop), ("from", args.start, start)):
         try:
             at = params.replace(**{args.param: value})
@@ -159,6 +162,8 @@ def _family_text(f: MultiImpactBranches) -> list[str]:
 def _run_impacts(args: argparse.Namespace, params, machine, start: float, stop: float, p: int, doublings: int,
                  one: OrbitBranches | None) -> int:
     """--impacts P (P >= 2), or the period-doubled branches of the one-impact ones (``one``)."""
+    from ..continuation.multi_impact_families import multi_impact_branches
+
     grid = parse_section_grid(args.grid)
     names = {"start": "--from", "stop": "--to", "doublings": "--doublings", "impacts": "--impacts"}
     try:
@@ -207,6 +212,9 @@ def param_range(args: argparse.Namespace) -> tuple[float, float]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..continuation.branches import MAX_SEEDS, orbit_branches
+    from ..simulation.motion import MAX_PERIOD_IMPACTS
+
     params, machine = parameters_from_args(args)
     start, stop = param_range(args)
     t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
-from ..continuation.branches import BRANCH_PARAMETERS, MAX_SEEDS
-from ..continuation.cascade import Cascade, cascades
-from ..continuation.multi_impact_families import MAX_DOUBLINGS
+from ..continuation.limits import MAX_DOUBLINGS
 from ..errors import ParameterError
-from ..simulation.motion import MAX_PERIOD_IMPACTS
+from ..model.params import BRANCH_PARAMETERS
 from .branches import param_range
 from .options import (
     MAX_CONTINUATION_PERIOD,
@@ -21,6 +20,9 @@ from .options import (
     print_json,
     renamed,
 )
+
+if TYPE_CHECKING:
+    from ..continuation.cascade import Cascade
 
 
 def register(sub) -> None:
@@ -66,6 +68,10 @@ def _text(found: tuple[Cascade, ...], param: str) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..continuation.branches import MAX_SEEDS
+    from ..continuation.cascade import cascades
+    from ..simulation.motion import MAX_PERIOD_IMPACTS
+
     params, machine = parameters_from_args(args)
     start, stop = param_range(args)
     p = parse_int("impacts", args.impacts, 1, MAX_PERIOD_IMPACTS, why="the longest period, in impacts, followed")

@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import argparse
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
-from ..continuation.codim2_orbits import CURVE_SPECS, extra_curves
-from ..continuation.codim2 import DEFAULT_RANGES, Codim2Diagram, codim2_diagram
 from ..errors import ParameterError
-from ..maps.orbit_system import BRANCH_PARAMETERS
-from .outputs import check_plot_path
+from ..model.params import BRANCH_PARAMETERS
 from .options import (
     MAX_CONTINUATION_PERIOD,
     add_parameter_options,
@@ -22,6 +20,10 @@ from .options import (
     print_json,
     renamed,
 )
+from .outputs import check_plot_path
+
+if TYPE_CHECKING:
+    from ..continuation.codim2 import Codim2Diagram
 
 #: Largest fold index of --folds, and most curves of --folds and of --grazing: each is a continuation.
 MAX_FOLD = 100
@@ -104,6 +106,9 @@ def _text(d: Codim2Diagram) -> list[str]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..continuation.codim2 import DEFAULT_RANGES, codim2_diagram
+    from ..continuation.codim2_orbits import CURVE_SPECS, extra_curves
+
     params, machine = parameters_from_args(args)
     plane = _plane(args.params)
     lo = _pair("from", args.start) if args.start is not None else tuple(DEFAULT_RANGES[n][0] for n in plane)

@@ -6,15 +6,17 @@ import argparse
 import itertools
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-
-from ..studies.design_map import MAP_AXES, DesignMap, design_map
 from ..errors import ParameterError
 from ..model.params import load_machine
 from ..model.units import quantity_in
 from .options import json_result, parse_int, print_json
 from .outputs import check_output_folder
 from .scale import add_executor_options, executor_kwargs
+
+if TYPE_CHECKING:
+    from ..studies.design_map import DesignMap
 
 _UNITS = {"speed": "rpm", "stiffness": "N/m", "damping": "N s/m"}
 
@@ -141,6 +143,8 @@ def _check_corners(machine, ranges: dict[str, tuple[float, float]], args: argpar
 
 
 def build_map(args: argparse.Namespace) -> DesignMap:
+    from ..studies.design_map import MAP_AXES, design_map
+
     machine = _machine(args)
     shock = _shock(args.shock) if args.shock is not None else None
     n = _count(args.n, shock is not None)

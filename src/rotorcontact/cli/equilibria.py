@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..analysis.equilibria import BRANCH_PARAMETERS, Equilibria, EquilibriumBranches, equilibria, equilibrium_branches
 from ..errors import ParameterError
-from ..model.params import Machine
+from ..model.params import BRANCH_PARAMETERS, Machine
 from ..model.si import equilibria_si, parameter_si
-from .outputs import check_plot_path
 from .options import (
     add_parameter_options,
     json_result,
@@ -19,6 +17,10 @@ from .options import (
     parse_int,
     print_json,
 )
+from .outputs import check_plot_path
+
+if TYPE_CHECKING:
+    from ..analysis.equilibria import Equilibria, EquilibriumBranches
 
 #: Largest --points: about a millisecond each, so 10000 take seconds (the default is 401).
 MAX_POINTS = 10_000
@@ -51,6 +53,8 @@ def register(sub) -> None:
 
 
 def _branches(args: argparse.Namespace, params) -> EquilibriumBranches | None:
+    from ..analysis.equilibria import equilibrium_branches
+
     if args.param not in BRANCH_PARAMETERS:
         raise ParameterError(
             f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
@@ -116,6 +120,8 @@ def _text(eq: Equilibria, branches: EquilibriumBranches | None, machine: Machine
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..analysis.equilibria import equilibria
+
     params, machine = parameters_from_args(args)
     if args.plot is not None:
         check_plot_path(args.plot)

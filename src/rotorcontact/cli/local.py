@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import argparse
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
-from ..analysis.local import LinearImpactingSystem, LocalAnalysis, local_analysis
 from ..model.params import Machine
 from ..model.si import parameter_si, times_si
 from .options import (
@@ -19,6 +17,9 @@ from .options import (
     print_json,
     renamed,
 )
+
+if TYPE_CHECKING:
+    from ..analysis.local import LocalAnalysis
 
 
 def register(sub) -> None:
@@ -70,6 +71,9 @@ def _table(gamma_star: float, analysis: LocalAnalysis, machine: Machine | None =
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..analysis.equilibria import boundary_gamma
+    from ..analysis.local import LinearImpactingSystem, local_analysis
+
     params, machine = parameters_from_args(args)
     t_max = parse_t_max(args.t_max, MAX_PERIOD)
     system = LinearImpactingSystem.from_parameters(params)

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..analysis.lyapunov import COORDINATES, lyapunov_spectrum
 from ..errors import ParameterError
 from ..model.params import check_range
 from ..model.si import rate_scale, scaled_list, times_si
@@ -77,6 +76,8 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..analysis.lyapunov import COORDINATES, lyapunov_spectrum
+
     params, machine = parameters_from_args(args)
     u0 = parse_complex("u0", args.u0)
     du0 = parse_velocity("du0", args.du0)
@@ -148,6 +149,7 @@ def run_scan(args, params, machine, u0, du0, t_end, t_transient, qr_interval) ->
     import sys
     import time
 
+    from ..analysis.lyapunov import COORDINATES
     from ..studies.lyapunov_scan import FINAL_NAMES, lyapunov_scan
 
     missing = [o for o, v in (("--from", args.start_value), ("--to", args.stop_value), ("--n", args.n_values))

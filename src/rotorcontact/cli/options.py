@@ -8,10 +8,16 @@ import re
 import sys
 from typing import Any
 
-
 from ..errors import ParameterError
 from ..io.json import dump_json
-from ..model.params import Machine, Parameters, check_range, check_velocity, load_machine, reference_machine
+from ..model.params import (
+    Machine,
+    Parameters,
+    check_range,
+    check_velocity,
+    load_machine,
+    reference_machine,
+)
 
 PARAM_NAMES = ("gamma", "omega", "rho", "mu", "d", "phi", "r_ratio")
 

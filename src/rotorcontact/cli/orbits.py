@@ -11,14 +11,11 @@ time to the next impact.
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from ..errors import ParameterError
-from ..maps.impact_map import ImpactOrbit, one_impact_orbits
-from ..continuation.multi_impact_branches import multi_impact_orbits
-from ..maps.multi_impact import MultiImpactOrbit
 from ..model.params import Machine
 from ..model.si import orbit_si, rate_scale, times_si, velocity_scale
-from ..simulation.motion import MAX_PERIOD_IMPACTS
 from .options import (
     MAX_PERIOD,
     add_parameter_options,
@@ -30,6 +27,10 @@ from .options import (
     print_json,
     renamed,
 )
+
+if TYPE_CHECKING:
+    from ..maps.impact_map import ImpactOrbit
+    from ..maps.multi_impact import MultiImpactOrbit
 
 
 def register(sub) -> None:
@@ -96,6 +97,8 @@ def _table(orbits: tuple[ImpactOrbit, ...], machine: Machine | None = None) -> l
 
 
 def _impacts(text: str) -> int:
+    from ..simulation.motion import MAX_PERIOD_IMPACTS
+
     return parse_int("impacts", text, 1, MAX_PERIOD_IMPACTS,
                      why="the longest period, in impacts, that the simulations recognise")
 
@@ -139,6 +142,8 @@ def _orbit_dict(o: ImpactOrbit, machine: Machine | None) -> dict:
 
 
 def _run_multi(args: argparse.Namespace, params, machine, t_max: float, p: int) -> int:
+    from ..continuation.multi_impact_branches import multi_impact_orbits
+
     grid = None if args.grid is None else parse_section_grid(args.grid)
     orbits = multi_impact_orbits(params, p, t_max=t_max, grid=grid)
     if args.json:
@@ -152,6 +157,8 @@ def _run_multi(args: argparse.Namespace, params, machine, t_max: float, p: int) 
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..maps.impact_map import one_impact_orbits
+
     params, machine = parameters_from_args(args)
     t_max = parse_t_max(args.t_max, MAX_PERIOD)
     p = _impacts(args.impacts)

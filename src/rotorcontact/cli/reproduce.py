@@ -4,9 +4,13 @@ from __future__ import annotations
 
 import argparse
 
-from ..report.reproduce import paper_parameters, reproduce
+from .options import (
+    PARAM_NAMES,
+    add_parameter_options,
+    parameters_from_args,
+    print_json,
+)
 from .outputs import check_output_folder
-from .options import PARAM_NAMES, add_parameter_options, parameters_from_args, print_json
 
 
 def register(sub) -> None:
@@ -26,6 +30,8 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..report.reproduce import paper_parameters, reproduce
+
     if args.machine is None and all(getattr(args, name) is None for name in PARAM_NAMES):
         params = paper_parameters()
     else:

@@ -5,8 +5,6 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..simulation.simulator import simulate
-from .outputs import check_plot_path
 from .options import (
     add_parameter_options,
     json_result,
@@ -17,6 +15,7 @@ from .options import (
     parse_velocity,
     print_json,
 )
+from .outputs import check_plot_path
 
 #: Largest --t-end: beyond it double precision cannot resolve impact times to 1e-9.
 MAX_T_END = 1e7
@@ -58,6 +57,8 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..simulation.simulator import simulate
+
     params, machine = parameters_from_args(args)
     u0 = parse_complex("u0", args.u0)
     du0 = parse_velocity("du0", args.du0)

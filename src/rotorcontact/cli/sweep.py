@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import time
 
+from ..continuation.limits import MAX_DOUBLINGS
 from ..errors import ParameterError
 from .options import (
     add_parameter_options,
@@ -17,9 +18,6 @@ from .options import (
     parse_velocity,
     print_json,
 )
-from ..continuation.multi_impact_families import MAX_DOUBLINGS
-from ..maps.multi_impact import CONTINUATION_PARAMETERS
-from ..simulation.motion import MAX_PERIOD_IMPACTS
 from .outputs import check_output_file, check_plot_path, note_reuse
 from .scale import add_scale_options, batch_settings, check_study_size, scale_kwargs
 
@@ -109,6 +107,8 @@ def _multi_overlay(args: argparse.Namespace, params, values):
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..maps.multi_impact import CONTINUATION_PARAMETERS
+    from ..simulation.motion import MAX_PERIOD_IMPACTS
     from ..studies.sweep import MODES, SWEEP_PARAMETERS, sweep, sweep_values
 
     params, machine = parameters_from_args(args)
