@@ -137,17 +137,17 @@ def test_too_many_local_workers_are_capped_with_a_note(capsys):
 
 @pytest.fixture
 def failing_simulate(monkeypatch):
-    """The CLI's simulator, made to fail at t = 1.5 after its impacts so far."""
+    """The simulator, as the CLI finds it when it runs, made to fail at t = 1.5 after its impacts so far."""
     import dataclasses
 
-    import rotorcontact.cli.simulate as cli_simulate
+    import rotorcontact.simulation.simulator as simulator
     from rotorcontact import simulate
 
     def fake(params, u0, du0, t_end, **kw):
         traj = simulate(params, u0, du0, min(t_end, 1.5), **kw)
         return dataclasses.replace(traj, status="failed", failure="the impact search exceeded its step limit")
 
-    monkeypatch.setattr(cli_simulate, "simulate", fake)
+    monkeypatch.setattr(simulator, "simulate", fake)
 
 
 def test_a_failed_simulation_exits_1_and_says_so(failing_simulate, capsys):

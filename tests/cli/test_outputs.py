@@ -23,10 +23,10 @@ PLOTTING = [
 ]
 #: where each subcommand does its computation, replaced by a function that must not be called
 COMPUTE = {
-    "simulate": "rotorcontact.cli.simulate.simulate",
-    "equilibria": "rotorcontact.cli.equilibria.equilibrium_branches",
-    "branches": "rotorcontact.cli.branches.orbit_branches",
-    "codim2": "rotorcontact.cli.codim2.codim2_diagram",
+    "simulate": "rotorcontact.simulation.simulator.simulate",
+    "equilibria": "rotorcontact.analysis.equilibria.equilibrium_branches",
+    "branches": "rotorcontact.continuation.branches.orbit_branches",
+    "codim2": "rotorcontact.continuation.codim2.codim2_diagram",
     "sweep": "rotorcontact.studies.sweep.sweep",
     "basins": "rotorcontact.studies.basins.basins",
 }
@@ -168,7 +168,7 @@ def test_design_map_figure_shows_the_recovery_probabilities():
 
 
 def test_reproduce_checks_its_output_folder_before_computing(capsys, tmp_path, monkeypatch):
-    monkeypatch.setattr("rotorcontact.cli.reproduce.reproduce", _never)
+    monkeypatch.setattr("rotorcontact.report.reproduce.reproduce", _never)
     blocker = tmp_path / "a-file"
     blocker.write_text("x")
     assert main(["reproduce", "--out", str(blocker)]) == 2
