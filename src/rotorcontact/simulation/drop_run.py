@@ -33,7 +33,13 @@ def levitated_state(machine: Machine, speed: float) -> tuple[complex, complex]:
     """(z, z') in m and m/s at t = 0 of the steady levitated whirl at ``speed`` (rad/s) (MODEL.md §7).
 
     The particular solution of the levitated flight: the harmonic response to the unbalance at phase
-    ``unbalance_phase`` plus the static deflection (F_s - m g)/k_y.
+    ``unbalance_phase`` plus the static deflection (F_s - m g)/k_y. A whirl that reaches the wall
+    later in its period impacts before the failure (the kernel finds those impacts).
+
+    Raises
+    ------
+    ParameterError
+        At an undamped resonance, or where the whirl does not start inside the clearance.
     """
     m = machine.mass
     fx, fy = unbalance_amplitudes(machine.eccentricity, speed, machine.unbalance_phase)
@@ -50,8 +56,8 @@ def levitated_state(machine: Machine, speed: float) -> tuple[complex, complex]:
         raise ParameterError(f"speed = {speed!r} rad/s is an undamped resonance of the bearing; no steady whirl")
     if abs(z) >= machine.clearance:
         raise ParameterError(
-            f"speed = {speed / RPM:.6g} rpm: the levitated whirl reaches |z| = {abs(z):.4g} m, not inside the "
-            f"clearance {machine.clearance:g} m; allowed: a speed whose levitated whirl stays inside it"
+            f"speed = {speed / RPM:.6g} rpm: the levitated whirl starts at |z| = {abs(z):.4g} m, not inside the "
+            f"clearance {machine.clearance:g} m; allowed: a speed whose levitated whirl starts inside it"
         )
     return z, v
 

@@ -1,0 +1,164 @@
+"""The general machine's kernel (MODEL.md §7) against closed forms, mpmath and today's simulator."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+from rotorcontact import Machine, ParameterError, reference_machine
+from rotorcontact.model.machine_model import effective_mass_factor
+from rotorcontact.simulation.drop import drop_kernel
+from rotorcontact.simulation.drop_run import RPM, drop, levitated_state
+from rotorcontact.simulation.simulator import simulate
+
+CR = 0.7e-3
+G = 9.81
+
+
+def run(machine, z0, v0, spin, t_end, t_fail=0.0, chatter_v=1e-9, max_events=100_000):
+    m = machine
+    race = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
+    return drop_kernel(m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky,
+                       m.cx, m.cy, m.fs, m.g, m.polar_inertia or 0.0, *race, complex(z0), complex(v0),
+                       m.unbalance_phase, spin, 0.0, t_fail, t_end, max_events, chatter_v)
+
+
+def machine(**changes):
+    return Machine(**{**reference_machine().as_dict(), **changes})
+
+
+@pytest.mark.parametrize("d", [0.5, 0.9])
+def test_free_fall_from_the_centre_closed_form(d):
+    m = machine(eccentricity=0.0, gravity=G, restitution=d)
+    impacts, status, _t, _s = run(m, 0j, 0j, 0.0, 5.0)
+    t1 = math.sqrt(2.0 * CR / G)
+    v1 = G * t1
+    n = len(impacts)
+    assert status == 1 and n > 20  # impacts accumulate (chatter)
+    k = np.arange(n)
+    # t_n = t1 + sum_{j=1}^{n} 2 d^j v1 / g, the bounces of a ball
+    expected = t1 + 2.0 * v1 / G * d * (1.0 - d**k) / (1.0 - d)
+    assert impacts[:, 0] == pytest.approx(expected, rel=1e-11, abs=1e-13)
+    assert impacts[:, 2] == pytest.approx(v1 * d**k, rel=1e-9, abs=1e-11 * v1)  # location to rounding of f
+    assert np.all(impacts[:, 1] == pytest.approx(-math.pi / 2, abs=1e-12))
+    t_acc = t1 + 2.0 * v1 * d / (G * (1.0 - d))  # the accumulation time
+    last = impacts[-1, 0]
+    assert last < t_acc and t_acc - last == pytest.approx(2.0 * v1 * d**n / (G * (1.0 - d)), rel=1e-6, abs=1e-12)
+    np.testing.assert_allclose(np.diff(impacts[:8, 0]), 2.0 * v1 * d ** np.arange(1, 8) / G, rtol=1e-10)
+
+
+def _mp_impacts(m, spin, count):
+    """The spinning drop without unbalance in mpmath: exact parabolas and the impact law of MODEL.md §7."""
+    mp.mp.dps = 40
+    g, c, mass, d, mu, r = (mp.mpf(x) for x in (m.g, m.clearance, m.mass, m.restitution, m.friction, m.rotor_radius))
+    ip = mp.mpf(m.polar_inertia)
+    x = y = vx = vy = mp.mpf(0)
+    om = mp.mpf(spin)
+    t = mp.mpf(0)
+    out = []
+    on_wall = False
+    for _ in range(count):
+        def f(s):
+            return (x + vx * s) ** 2 + (y + vy * s - g * s * s / 2) ** 2 - c * c
+        # bracket the first root: sample finely, then bisect in mpmath
+        lo = mp.mpf(0) if not on_wall else mp.mpf("1e-30")
+        hi = lo
+        step = mp.mpf("1e-6")
+        while f(hi + step) < 0:
+            hi += step
+        s = mp.findroot(f, (hi, hi + step), solver="anderson")
+        t += s
+        x, y = x + vx * s, y + vy * s - g * s * s / 2
+        vy = vy - g * s
+        nx, ny = x / c, y / c
+        vn = vx * nx + vy * ny
+        vt = -vx * ny + vy * nx
+        vrel = vt + r * om
+        kappa = 1 + mass * r * r / ip
+        pn = (1 + d) * vn
+        qt = -vrel / kappa if abs(vrel) / kappa <= mu * pn else -mp.sign(vrel) * mu * pn
+        vn, vt = -d * vn, vt + qt
+        om_before = om
+        om = om + mass * r * qt / ip
+        vx, vy = vn * nx - vt * ny, vn * ny + vt * nx
+        out.append((t, mp.atan2(y, x), pn * mass, qt * mass, om_before, om))
+        on_wall = True
+    return out
+
+
+def test_spinning_drop_first_impact_by_hand_and_later_ones_against_mpmath():
+    ip = 0.04
+    m = machine(eccentricity=0.0, gravity=G, polar_inertia=ip)
+    spin = 12000 * RPM
+    impacts, _status, _t, _s = run(m, 0j, 0j, spin, 0.2)
+    # first impact, by hand: straight fall to the bottom, v_rel = R Omega > 0 slides forward
+    t1 = math.sqrt(2.0 * CR / G)
+    v1 = G * t1
+    p_n = (1.0 + m.restitution) * m.mass * v1
+    kappa = 1.0 + m.mass * m.rotor_radius**2 / ip
+    p_t = -min(m.friction * p_n, m.mass * m.rotor_radius * spin / kappa)
+    assert impacts[0, 0] == pytest.approx(t1, rel=1e-13)
+    assert impacts[0, 1] == pytest.approx(-math.pi / 2, abs=1e-13)
+    assert impacts[0, 3] == pytest.approx(p_n, rel=1e-12)
+    assert impacts[0, 4] == pytest.approx(p_t, rel=1e-12)
+    assert impacts[0, 6] == pytest.approx(spin + m.rotor_radius * p_t / ip, rel=1e-14)
+    assert impacts[0, 10] == pytest.approx(p_t / m.mass, rel=1e-12)  # +theta at the bottom is +x
+    ref = _mp_impacts(m, spin, 12)
+    for row, (t, ang, pn, pt, _ob, om) in zip(impacts[:12], ref):
+        assert row[0] == pytest.approx(float(t), rel=1e-11)
+        assert row[1] == pytest.approx(float(ang), abs=1e-9)
+        assert row[3] == pytest.approx(float(pn), rel=1e-8)
+        assert row[4] == pytest.approx(float(pt), rel=1e-8)
+        assert row[6] == pytest.approx(float(om), rel=1e-12)
+
+
+def test_paper_machine_through_the_general_model_equals_the_simulator():
+    # a damping where the rotor settles on a persistent impacting orbit (no accumulation of impacts)
+    m = machine(damping=800.0)
+    p = m.parameters()
+    u0, du0 = 0.3 + 0.2j, 0.8 + 0.4j
+    traj = simulate(p, u0, du0, 1500.0, on_chatter="stop")
+    om = m.speed
+    # inertial state Z = U e^{it}, Z' = (U' + i U) e^{it} at t = 0, in metres and seconds (MODEL.md §2)
+    impacts, status, _t, _s = run(m, CR * u0, CR * om * (du0 + 1j * u0), om, 1500.0 / om, t_fail=math.inf)
+    n = len(traj.impacts)
+    assert traj.status == "completed" and status == 0 and n >= 400
+    t_ref = np.asarray(traj.impacts.t)
+    assert len(impacts) == n
+    np.testing.assert_allclose(impacts[:n, 0] * om, t_ref, rtol=1e-12, atol=0)
+
+
+def test_the_levitated_state_is_the_steady_whirl_and_must_fit():
+    m = machine(gravity=G, stiffness_x=6e5, damping_y=2000.0)
+    z, v = levitated_state(m, m.speed)
+    impacts, status, t_stop, state = run(m, z, v, m.speed, 0.05, t_fail=math.inf)
+    # started on its steady state, the levitated rotor whirls without impact and returns to it
+    assert len(impacts) == 0 and status == 0
+    z_end, v_end = levitated_state(Machine(**{**m.as_dict(), "unbalance_phase": m.unbalance_phase + m.speed * t_stop}),
+                                   m.speed)
+    assert complex(state[1], state[2]) == pytest.approx(z_end, abs=1e-12 * CR)
+    with pytest.raises(ParameterError, match="speed"):
+        levitated_state(machine(eccentricity=2e-3), 184.2)
+
+
+def test_drop_result_contract_and_rolling_free_bounds():
+    m = machine(gravity=G, polar_inertia=0.04)
+    r = drop(m, speed=12000 * RPM, t_end=0.5)
+    d = r.to_dict()
+    assert set(d) >= {"machine", "speed_rpm", "status", "message", "impacts", "contact_intervals", "summary"}
+    assert set(d["impacts"][0]) == {"t_s", "angle_rad", "normal_velocity_m_per_s", "normal_impulse_Ns",
+                                    "tangential_impulse_Ns", "spin_rpm_before", "spin_rpm_after", "race_rpm_after"}
+    assert set(d["summary"]) == {"regime", "backward_whirl_onset_s", "max_normal_impulse_Ns", "max_contact_force_N",
+                                 "final_spin_rpm", "energy_dissipated_J", "time_to_rest_s"}
+    assert d["speed_rpm"] == pytest.approx(12000.0, rel=1e-14)
+    spins = [row["spin_rpm_after"] for row in d["impacts"]]
+    assert all(-math.pi < row["angle_rad"] <= math.pi for row in d["impacts"])
+    # friction only slows the spin here (v_rel > 0 at every impact of this drop) and never reverses v_rel
+    assert all(b <= a for a, b in zip([12000.0] + spins, spins))
+    assert d["summary"]["energy_dissipated_J"] > 0.0
+    assert effective_mass_factor(m.mass, m.rotor_radius, 1 / 0.04, m.race_radius, 0.0) > 1.0
+    with pytest.raises(ParameterError, match="t_end"):
+        drop(m, t_end=0.0)
