@@ -7,6 +7,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from rotorcontact import Machine, ParameterError, reference_machine
 from rotorcontact.model.machine_model import effective_mass_factor
@@ -162,3 +163,29 @@ def test_drop_result_contract_and_rolling_free_bounds():
     assert effective_mass_factor(m.mass, m.rotor_radius, 1 / 0.04, m.race_radius, 0.0) > 1.0
     with pytest.raises(ParameterError, match="t_end"):
         drop(m, t_end=0.0)
+
+
+def test_the_failure_switch_starts_a_free_fall_from_the_levitated_whirl():
+    m = machine(gravity=G)
+    t_fail = 0.0137
+    r = drop(m, fail_at=t_fail, t_end=0.1)
+    # levitated until t_fail: the steady whirl there (its unbalance phase advanced by Omega t_fail)
+    z_f, v_f = levitated_state(machine(gravity=G, unbalance_phase=m.unbalance_phase + m.speed * t_fail), m.speed)
+    # then gravity and the unbalance alone (K = C = F_s = 0), integrated by hand:
+    # x = x_f + A s + e (cos psi - cos(psi + Om s)), y = y_f + B s + e (sin psi - sin(psi + Om s)) - g s^2 / 2
+    e, om = m.eccentricity, m.speed
+    psi = m.unbalance_phase + om * t_fail
+    a = v_f.real - e * om * math.sin(psi)
+    b = v_f.imag + e * om * math.cos(psi)
+
+    def gap(s):
+        x = z_f.real + a * s + e * (math.cos(psi) - math.cos(psi + om * s))
+        y = z_f.imag + b * s + e * (math.sin(psi) - math.sin(psi + om * s)) - G * s * s / 2
+        return x * x + y * y - CR * CR
+
+    grid = np.linspace(0.0, 0.05, 50001)
+    vals = np.array([gap(s) for s in grid])
+    i = int(np.argmax(vals > 0))
+    s1 = brentq(gap, grid[i - 1], grid[i], xtol=1e-18, rtol=1e-15)
+    assert r.column("t_s")[0] == pytest.approx(t_fail + s1, rel=1e-12)
+    assert r.column("spin_after")[0] == m.speed  # no polar inertia: the speed stays held
