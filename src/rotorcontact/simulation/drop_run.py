@@ -19,7 +19,7 @@ from ..model.params import Machine, check_range
 from ..model.validation import check_int
 from .drop import IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
-__all__ = ["DropResult", "drop", "levitated_state", "RPM"]
+__all__ = ["DropResult", "drop", "run_general", "levitated_state", "RPM"]
 
 #: rad/s per rpm.
 RPM = 2.0 * math.pi / 60.0
@@ -195,7 +195,19 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     max_events = check_int("max_events", max_events, low=1)
     z0, v0 = levitated_state(machine, speed)
+    return run_general(machine, z0, v0, speed, fail_at, t_end, max_events=max_events)
+
+
+def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_at: float, t_end: float, *,
+                max_events: int = 1_000_000) -> DropResult:
+    """Run the general machine from (z0, z0') (m, m/s) at spin ``speed`` (rad/s), failing at ``fail_at``.
+
+    ``fail_at = inf``: the magnetic bearing holds throughout (``rotorcontact simulate --machine``).
+    The unbalance angle starts at ``machine.unbalance_phase``; the race starts at rest.
+    """
     m = machine
+    if not abs(z0) <= m.clearance * (1.0 + 1e-12):
+        raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m; allowed: |z0| <= c_r")
     v_scale = math.sqrt(m.g * m.clearance) if m.g > 0.0 else m.clearance * speed
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
     impacts, status, t_stop, state = drop_kernel(
