@@ -70,3 +70,15 @@ def test_simulate_with_a_general_machine_runs_the_general_model_in_si(cli, machi
     m_ref = Machine(**{**reference_machine().as_dict(), "gravity": 9.81})
     gen = run_general(m_ref, 0j, 0j, m_ref.speed, math.inf, 50.0 / m_ref.speed)
     assert gen.column("t_s") == pytest.approx(ref_t, rel=1e-10)
+
+
+def test_drop_map_json_figure_and_netcdf(cli, machine_file, tmp_path):
+    out = tmp_path / "map"
+    data = cli.json("drop-map", machine_file, "--speed", "3000:9000rpm", "--friction", "0.05:0.3", "--n", "2",
+                    "--t-end", "0.01s", "--out", str(out))
+    assert data["speeds_rpm"] == pytest.approx([3000.0, 9000.0], rel=1e-12)
+    assert data["frictions"] == pytest.approx([0.05, 0.3], rel=1e-15)
+    assert all(r in ("levitated", "bouncing", "contact", "backward-whirl") for row in data["regime"] for r in row)
+    assert (out / "drop_map.nc").is_file() and (out / "drop_map.png").stat().st_size > 0
+    code, _out, err = cli.run("drop-map", machine_file, "--speed", "3000rpm", "--out", str(out))
+    assert code == 2 and "--speed" in err and len(err.strip().splitlines()) == 1

@@ -15,7 +15,7 @@ import sys
 from .. import __version__
 from ..errors import ParameterError
 
-SUBCOMMANDS = ("simulate", "drop", "equilibria", "orbits", "sweep", "basins", "design-map", "local", "lyapunov", "branches", "codim2", "reproduce")
+SUBCOMMANDS = ("simulate", "drop", "drop-map", "equilibria", "orbits", "sweep", "basins", "design-map", "local", "lyapunov", "branches", "codim2", "reproduce")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -91,7 +91,13 @@ class ChunkTask:
 
 
 def run_task(task: ChunkTask, parallel: bool = False) -> dict[str, np.ndarray]:
-    """Compute a chunk; returns its raw ``sections`` and ``summary`` arrays."""
+    """Compute a chunk; returns its raw ``sections`` and ``summary`` arrays.
+
+    A task of another kind (not a `ChunkTask`: a ``key``, ``n_items`` and a ``compute(parallel)`` method
+    returning its arrays, such as the drop map's) computes itself; every executor runs it the same way.
+    """
+    if not isinstance(task, ChunkTask):
+        return task.compute(parallel)
     sections, summary = run_lanes(task.params, task.u0, task.du0, task.settings, carry=task.carry,
                                   parallel=parallel)
     return {"sections": sections, "summary": summary}
@@ -198,6 +204,10 @@ class InProcessExecutor(_Executor):
     def run(self, tasks):
         i = 0
         while i < len(tasks):
+            if not isinstance(tasks[i], ChunkTask):
+                yield i, run_task(tasks[i], parallel=True)
+                i += 1
+                continue
             group = [i]
             lanes = tasks[i].params.shape[0]
             while (
@@ -229,6 +239,8 @@ class InProcessExecutor(_Executor):
 
 
 def _stackable(a: ChunkTask, b: ChunkTask) -> bool:
+    if not isinstance(b, ChunkTask):
+        return False
     return a.params.shape[1] == b.params.shape[1] and a.carry == b.carry and a.settings == b.settings
 
 
