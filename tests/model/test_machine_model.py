@@ -112,3 +112,60 @@ def test_race_drag_closed_form_against_solve_ivp():
     # it stops and stays at rest (linear decay without viscous drag)
     assert race_spin(10.0, 1.0, ib, torque, 0.0) == 0.0
     assert race_spin(10.0, 0.02, ib, torque, 0.0) == pytest.approx(10.0 - torque * 0.02 / ib, rel=1e-14)
+
+
+def test_rolling_whirl_rate_fixed_stator_and_race():
+    from rotorcontact import reference_machine
+    from rotorcontact.model.machine_model import rolling_whirl_rate
+
+    m = reference_machine()
+    rate = rolling_whirl_rate(m.rotor_radius, m.clearance, m.speed, m.race_radius, 0.0)
+    assert rate == pytest.approx(-(m.rotor_radius / m.clearance) * m.speed, rel=1e-15)  # rounding order only
+    assert rate / (2 * math.pi) == pytest.approx(-1675.0, abs=0.5)  # -1675 Hz on the reference rig
+    # with a race at Omega_b the surfaces roll when c_r Theta' + R Omega - R_b Omega_b = 0
+    race = 120.0
+    rate_b = rolling_whirl_rate(m.rotor_radius, m.clearance, m.speed, m.race_radius, race)
+    assert m.clearance * rate_b + m.rotor_radius * m.speed - m.race_radius * race == pytest.approx(0.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("rolling", [False, True])
+@pytest.mark.parametrize("inv_polar, inv_race", [(0.0, 0.0), (1 / 0.04, 0.0), (1 / 0.04, 1 / 2e-4)])
+def test_contact_accelerations_solve_the_contact_equations(rolling, inv_polar, inv_race):
+    """Against the five linear equations of MODEL.md §7 solved by numpy: tangential and normal balance,
+    spin, race and the friction law (sliding) or v_rel' = 0 (rolling)."""
+    from rotorcontact.model.machine_model import contact_accelerations
+
+    rng = np.random.default_rng(7)
+    mu, e = 0.2, 0.3e-3
+    for _ in range(50):
+        f_n, f_t = rng.uniform(-20.0, 20.0, 2)
+        delta, thetadot = rng.uniform(-math.pi, math.pi), rng.uniform(-500.0, 500.0)
+        sgn = rng.choice([-1.0, 1.0])
+        drag = rng.uniform(0.0, 0.2)
+        got = contact_accelerations(f_n, f_t, delta, e, CR, thetadot, mu, sgn, rolling, M, R, inv_polar, RB,
+                                    inv_race, drag)
+        a, b = M * R * inv_polar, M * RB * inv_race
+        # unknowns: theta'', Omega', Omega_b', n, q
+        A = np.array([
+            [CR, e * math.cos(delta), 0.0, 0.0, -1.0],
+            [0.0, -e * math.sin(delta), 0.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0, -a],
+            [0.0, 0.0, 1.0, 0.0, b],
+            [CR, R, -RB, 0.0, 0.0] if rolling else [0.0, 0.0, 0.0, mu * sgn, 1.0],
+        ])
+        rhs = np.array([f_t, f_n + CR * thetadot**2, 0.0, -drag * inv_race, 0.0])
+        ref = np.linalg.solve(A, rhs)
+        np.testing.assert_allclose(got, ref, rtol=1e-10, atol=1e-10 * np.abs(ref).max())
+
+
+def test_contact_keeps_the_angular_momentum_balance_without_unbalance():
+    """Contact forces act at the contact point: d/dt (m c_r^2 Theta' + I_p Omega + I_b Omega_b) is the external
+    tangential moment m c_r f_t less the race's drag."""
+    from rotorcontact.model.machine_model import contact_accelerations
+
+    ip, ib, drag = 0.04, 2e-4, 0.07
+    for rolling in (False, True):
+        thetadd, sd, rd, n, q = contact_accelerations(3.0, -4.0, 0.4, 0.0, CR, -300.0, 0.2, 1.0, rolling, M, R,
+                                                      1 / ip, RB, 1 / ib, drag)
+        rate = M * CR * CR * thetadd + ip * sd + ib * rd
+        assert rate == pytest.approx(M * CR * -4.0 - drag, rel=1e-12)

@@ -35,6 +35,8 @@ __all__ = [
     "unbalance_amplitudes",
     "kinetic_energy",
     "angular_momentum",
+    "rolling_whirl_rate",
+    "contact_accelerations",
 ]
 
 
@@ -158,3 +160,61 @@ def unbalance_amplitudes(eccentricity: float, spin: float, psi: float) -> tuple[
     f = eccentricity * spin * spin * cmath.exp(1j * psi)
     return f, -1j * f
 
+
+
+@njit(cache=True)
+def rolling_whirl_rate(radius: float, clearance: float, spin: float, race_radius: float, race: float) -> float:
+    """Theta' of rolling contact, v_rel = c_r Theta' + R Omega - R_b Omega_b = 0 (MODEL.md §7): -(R/c_r) Omega on a
+    fixed stator (race = 0)."""
+    return (race_radius * race - radius * spin) / clearance
+
+
+@njit(cache=True)
+def contact_accelerations(f_n: float, f_t: float, delta: float, ecc: float, clearance: float, thetadot: float,
+                          mu: float, sgn: float, rolling: bool, mass: float, radius: float, inv_polar: float,
+                          race_radius: float, inv_race: float, race_drag: float):
+    """Accelerations in continuous contact on |z| = c_r of the general machine (MODEL.md §7).
+
+    Parameters
+    ----------
+    f_n, f_t : float
+        Normal (outward) and tangential components of the external force per unit mass without the
+        unbalance's -i e Omega' e^{i psi} term (bearing, static force, gravity, e Omega^2 e^{i psi}).
+    delta : float
+        psi - theta, the unbalance angle relative to the contact point.
+    ecc, clearance, thetadot : float
+        e, c_r and the whirl rate theta'.
+    mu, sgn : float
+        Friction coefficient and sgn(v_rel) while sliding.
+    rolling : bool
+        v_rel = 0 held (rolling) instead of sliding.
+    mass, radius, inv_polar, race_radius, inv_race : float
+        m, R, 1/I_p (0: speed held), R_b, 1/I_b (0: fixed stator).
+    race_drag : float
+        The race's drag torque T_b sgn(Omega_b) + c_b Omega_b, N m.
+
+    Returns
+    -------
+    thetadd, spin_dot, race_dot : float
+        theta'', Omega', Omega_b'.
+    n, q : float
+        Normal and tangential contact force per unit mass (N/m, F_t/m; q along +theta on the rotor).
+    """
+    a = mass * radius * inv_polar  # Omega' = a q
+    b = mass * race_radius * inv_race  # Omega_b' = -b q - drag / I_b
+    drag = race_drag * inv_race
+    sd = math.sin(delta)
+    cd = math.cos(delta)
+    base_n = f_n + clearance * thetadot * thetadot
+    if rolling:
+        # c theta'' = f_t - e Omega' cos(delta) + q and c theta'' + R Omega' - R_b Omega_b' = 0
+        q = -(f_t + race_radius * drag) / (1.0 + radius * a + race_radius * b - ecc * a * cd)
+        n = base_n + ecc * a * q * sd
+    else:
+        # n = base_n + e Omega' sin(delta), q = -mu sgn n
+        n = base_n / (1.0 + ecc * a * mu * sgn * sd)
+        q = -mu * sgn * n
+    spin_dot = a * q
+    thetadd = (f_t - ecc * spin_dot * cd + q) / clearance
+    race_dot = -b * q - drag
+    return thetadd, spin_dot, race_dot, n, q
