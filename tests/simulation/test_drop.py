@@ -19,12 +19,15 @@ CR = 0.7e-3
 G = 9.81
 
 
-def run(machine, z0, v0, spin, t_end, t_fail=0.0, chatter_v=1e-9, max_events=100_000):
+def run(machine, z0, v0, spin, t_end, t_fail=0.0, chatter_v=1e-9, max_events=100_000, follow_contact=False):
+    """The kernel's impacts, status, stop time and final state (contact phases: see the tests below)."""
     m = machine
     race = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
-    return drop_kernel(m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky,
-                       m.cx, m.cy, m.fs, m.g, m.polar_inertia or 0.0, *race, complex(z0), complex(v0),
-                       m.unbalance_phase, spin, 0.0, t_fail, t_end, max_events, chatter_v)
+    impacts, _contacts, status, t_stop, state = drop_kernel(
+        m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
+        m.fs, m.g, m.polar_inertia or 0.0, *race, complex(z0), complex(v0), m.unbalance_phase, spin, 0.0, t_fail,
+        t_end, max_events, chatter_v, follow_contact)
+    return impacts, status, t_stop, state
 
 
 def machine(**changes):
@@ -189,3 +192,40 @@ def test_the_failure_switch_starts_a_free_fall_from_the_levitated_whirl():
     s1 = brentq(gap, grid[i - 1], grid[i], xtol=1e-18, rtol=1e-15)
     assert r.column("t_s")[0] == pytest.approx(t_fail + s1, rel=1e-12)
     assert r.column("spin_after")[0] == m.speed  # no polar inertia: the speed stays held
+
+
+def test_chatter_into_rolling_contact_at_the_reference_speed_whirls_at_minus_r_over_cr_omega():
+    """Held speed, gravity: the drop ends rolling on a fixed stator with Theta' = -(R/c_r) Omega (-1675 Hz)."""
+    m = machine(gravity=G)
+    r = drop(m, t_end=0.3)
+    last = r.contact_intervals()[-1]
+    assert r.status == "completed" and last["kind"] == "rolling" and last["t_end_s"] == 0.3
+    expected = -(m.rotor_radius / m.clearance) * m.speed / (2 * math.pi)
+    assert last["whirl_frequency_hz"] == pytest.approx(expected, rel=1e-9)
+    assert expected == pytest.approx(-1675.0, abs=0.5)
+    assert r.regime == "backward-whirl" and r.backward_whirl_onset is not None
+
+
+def test_rolling_with_a_race_keeps_the_surfaces_together():
+    m = machine(gravity=G, polar_inertia=0.04, race_inertia=2e-4, race_drag_torque=0.05, race_drag_coefficient=1e-4)
+    r = drop(m, speed=12000 * RPM, t_end=0.2)
+    last = r.contact_intervals()[-1]
+    assert last["kind"] == "rolling"
+    _t, x, y, vx, vy, spin, race = r.final_state
+    theta_dot = (x * vy - y * vx) / (x * x + y * y)
+    v_rel = m.clearance * theta_dot + m.rotor_radius * spin - m.race_radius * race
+    assert abs(v_rel) <= 1e-8 * m.rotor_radius * abs(spin)
+    # the race has been spun up by the rotor: the whirl is (R_b Omega_b - R Omega)/c_r
+    assert race > 0.0
+    assert r.to_dict()["impacts"][-1]["race_rpm_after"] is not None
+
+
+def test_free_fall_accumulates_into_rest_at_the_bottom():
+    m = machine(eccentricity=0.0, gravity=G, restitution=0.5)
+    r = drop(m, speed=1e-9, t_end=0.1)
+    _t, x, y, vx, vy, _spin, _race = r.final_state
+    assert r.status == "completed" and r.contact_intervals()[-1]["t_end_s"] == 0.1
+    # at the bottom, rolling with the held spin 1e-9 rad/s: the whirl -(R/c_r) Omega turns it by at most
+    # (R/c_r) 1e-9 0.1 rad over the run
+    assert y == pytest.approx(-CR, rel=1e-12) and abs(vx) + abs(vy) <= 1e-9
+    assert abs(x) <= CR * (m.rotor_radius / CR) * 1e-9 * 0.1

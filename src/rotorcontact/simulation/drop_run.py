@@ -8,7 +8,7 @@ is the ``rotorcontact drop --json`` contract (README).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -17,7 +17,7 @@ from ..errors import ParameterError
 from ..model.machine_model import constant_response, harmonic_response, unbalance_amplitudes
 from ..model.params import Machine, check_range
 from ..model.validation import check_int
-from .drop import IMPACT_FIELDS, STATUS_NAMES, drop_kernel
+from .drop import CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
 __all__ = ["DropResult", "drop", "run_general", "levitated_state", "RPM"]
 
@@ -82,6 +82,8 @@ class DropResult:
         One row per impact, columns `rotorcontact.simulation.drop.IMPACT_FIELDS` (SI, rad/s).
     final_state : numpy.ndarray
         t, x, y, vx, vy, spin, race at the stop (SI).
+    contacts : numpy.ndarray
+        One row per contact phase, columns `rotorcontact.simulation.drop.CONTACT_FIELDS` (SI).
     """
 
     machine: Machine
@@ -92,6 +94,7 @@ class DropResult:
     t_stop: float
     impacts: np.ndarray
     final_state: np.ndarray
+    contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
 
     def column(self, name: str) -> np.ndarray:
         """One column of the impact table by its name in `IMPACT_FIELDS`."""
@@ -100,38 +103,52 @@ class DropResult:
     @property
     def message(self) -> str:
         n = len(self.impacts)
+        c = len(self.contacts)
         if self.status == "completed":
-            return f"Reached t_end = {self.t_end:g} s after {n} impacts."
+            return f"Reached t_end = {self.t_end:g} s after {n} impacts and {c} contact phases."
         if self.status == "chatter":
             return (f"Impacts accumulate into continuous contact at t = {self.t_stop:.6g} s after {n} impacts; "
-                    "the run stops there (contact phases of the general model are not followed).")
+                    "the run stops there.")
         if self.status == "max-events":
             return f"Stopped after the maximum number of events at t = {self.t_stop:.6g} s ({n} impacts)."
-        return f"The impact search failed at t = {self.t_stop:.6g} s after {n} impacts."
+        return f"The run failed at t = {self.t_stop:.6g} s after {n} impacts and {c} contact phases."
 
     @property
     def backward_whirl_onset(self) -> float | None:
-        """Time of the first impact after which every impact leaves the centre whirling against the spin
-        (tangential velocity after the impact < 0, at least two impacts), s; None otherwise."""
-        if len(self.impacts) < 2:
-            return None
-        angle = self.column("angle_rad")
-        v_plus = self.column("vx_plus") + 1j * self.column("vy_plus")
-        v_t = (np.exp(-1j * angle) * v_plus).imag * np.sign(self.speed)
-        forward = np.flatnonzero(v_t >= 0.0)
-        first = 0 if forward.size == 0 else forward[-1] + 1
-        if first > len(v_t) - 2:
-            return None
-        return float(self.column("t_s")[first])
+        """Onset of backward whirl, s: the start of the first contact phase whose mean whirl rate is against
+        the spin, or the first impact after which every impact leaves the centre whirling against the spin
+        (at least two impacts), whichever is earlier; None if neither."""
+        onsets = []
+        direction = 1.0 if self.speed > 0.0 else -1.0
+        backward = np.flatnonzero(self.contacts[:, 4] * direction < 0.0) if len(self.contacts) else []
+        if len(backward):
+            onsets.append(float(self.contacts[backward[0], 0]))
+        if len(self.impacts) >= 2:
+            angle = self.column("angle_rad")
+            v_plus = self.column("vx_plus") + 1j * self.column("vy_plus")
+            v_t = (np.exp(-1j * angle) * v_plus).imag * direction
+            forward = np.flatnonzero(v_t >= 0.0)
+            first = 0 if forward.size == 0 else forward[-1] + 1
+            if first <= len(v_t) - 2:
+                onsets.append(float(self.column("t_s")[first]))
+        return min(onsets) if onsets else None
 
     @property
     def regime(self) -> str:
-        """``"levitated"`` (no impact), ``"backward-whirl"``, ``"contact"`` (impacts accumulate) or ``"bouncing"``."""
-        if len(self.impacts) == 0:
+        """``"levitated"`` (no impact, no contact), ``"backward-whirl"``, ``"contact"`` (continuous contact,
+        or impacts that accumulate) or ``"bouncing"``."""
+        if len(self.impacts) == 0 and len(self.contacts) == 0:
             return "levitated"
         if self.backward_whirl_onset is not None:
             return "backward-whirl"
-        return "contact" if self.status == "chatter" else "bouncing"
+        return "contact" if self.status == "chatter" or len(self.contacts) else "bouncing"
+
+    def contact_intervals(self) -> list[dict[str, Any]]:
+        """The contact phases as in the JSON contract: t_start_s, t_end_s, kind, max_normal_force_N and
+        whirl_frequency_hz (mean whirl rate of the centre over the phase / 2 pi, negative when backward)."""
+        return [{"t_start_s": float(r[0]), "t_end_s": float(r[1]), "kind": CONTACT_KINDS[int(r[2])],
+                 "max_normal_force_N": float(r[3]), "whirl_frequency_hz": float(r[4] / (2.0 * math.pi))}
+                for r in self.contacts]
 
     def to_dict(self) -> dict[str, Any]:
         """The ``rotorcontact drop --json`` contract (README)."""
@@ -156,12 +173,12 @@ class DropResult:
             "status": self.status,
             "message": self.message,
             "impacts": rows,
-            "contact_intervals": [],
+            "contact_intervals": self.contact_intervals(),
             "summary": {
                 "regime": self.regime,
                 "backward_whirl_onset_s": self.backward_whirl_onset,
                 "max_normal_impulse_Ns": float(p_n.max()) if p_n.size else None,
-                "max_contact_force_N": None,
+                "max_contact_force_N": float(self.contacts[:, 3].max()) if len(self.contacts) else None,
                 "final_spin_rpm": float(self.final_state[5] / RPM),
                 "energy_dissipated_J": float(self.column("energy_lost_J").sum()),
                 "time_to_rest_s": None,
@@ -210,10 +227,11 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
         raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m; allowed: |z0| <= c_r")
     v_scale = math.sqrt(m.g * m.clearance) if m.g > 0.0 else m.clearance * speed
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
-    impacts, status, t_stop, state = drop_kernel(
+    impacts, contacts, status, t_stop, state = drop_kernel(
         m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
         m.fs, m.g, m.polar_inertia or 0.0, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
         fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale)
-    return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state)
+    return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state,
+                      contacts)
 
 

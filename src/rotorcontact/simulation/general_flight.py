@@ -163,8 +163,12 @@ def _polish(flight, spin, s, f, fp, fpp, dx, dy):
 
 
 @njit(cache=True)
-def next_impact(flight, spin, horizon, on_boundary):
+def next_impact(flight, spin, horizon, on_boundary, liftoff=False):
     """First s in (0, horizon] where |Z(s)| reaches 1 (one clearance) while increasing.
+
+    ``liftoff``: the start is a lift-off from continuous contact (f = f' = f'' = 0 to the event
+    tolerance); the flight leaves when f3 = f''' < 0, and with M4 >= |f''''| ahead, f <= f3 s^3/6 + M4 s^4/24
+    stays negative on (0, -4 f3/M4): half of it is the first step.
 
     Returns
     -------
@@ -188,7 +192,17 @@ def next_impact(flight, spin, horizon, on_boundary):
             f = 0.0
             if fp > -ftol * (1.0 + speed * window):
                 if fpp >= -ftol / (window * window):
-                    return STUCK, 0.0
+                    if not liftoff or f3 >= 0.0:
+                        return STUCK, 0.0
+                    _axis_bounds(flight[0], spin, s, dx, window, bx)
+                    _axis_bounds(flight[1], spin, s, dy, window, by)
+                    z_b = np.sqrt(bx * bx + by * by)
+                    m4 = 6.0 * z_b[2] * z_b[2] + 8.0 * z_b[1] * z_b[3] + 2.0 * z_b[0] * z_b[4]
+                    h = min(-2.0 * f3 / m4, window)
+                    if h >= horizon:
+                        return NO_CROSSING, horizon
+                    s = h
+                    continue
                 fp = min(fp, 0.0)
         elif f >= -ftol:
             if fp > 0.0:
