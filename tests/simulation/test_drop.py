@@ -12,7 +12,7 @@ from scipy.optimize import brentq
 from rotorcontact import Machine, ParameterError, reference_machine
 from rotorcontact.model.machine_model import effective_mass_factor
 from rotorcontact.simulation.drop import drop_kernel
-from rotorcontact.simulation.drop_run import RPM, drop, levitated_state
+from rotorcontact.simulation.drop_run import RPM, drop, levitated_state, run_general
 from rotorcontact.simulation.simulator import simulate
 
 CR = 0.7e-3
@@ -229,3 +229,24 @@ def test_free_fall_accumulates_into_rest_at_the_bottom():
     # (R/c_r) 1e-9 0.1 rad over the run
     assert y == pytest.approx(-CR, rel=1e-12) and abs(vx) + abs(vy) <= 1e-9
     assert abs(x) <= CR * (m.rotor_radius / CR) * 1e-9 * 0.1
+
+
+def test_contact_phases_of_the_paper_machine_match_the_simulator():
+    """Chatter into sliding, then rolling: the same phases as today's simulator's (MODEL.md §4).
+
+    The two handle the end of an accumulation differently (the simulator extrapolates the tail from
+    normal velocities 1e-5 c_r Omega; the general kernel drops velocities below 1e-6 c_r Omega), so the
+    times agree to the length of a bounce tail, 2 d v / (N (1 - d)) < 1e-4 here (N of order one).
+    """
+    m = machine(damping=600.0)
+    p = m.parameters()
+    u0, du0 = 0.3 + 0.2j, 0.8 + 0.4j
+    om = m.speed
+    ref = simulate(p, u0, du0, 150.0).to_dict()["contact_intervals"]
+    got = run_general(m, CR * u0, CR * om * (du0 + 1j * u0), om, math.inf, 150.0 / om).contact_intervals()
+    assert [c["kind"] for c in got] == [c["kind"] for c in ref] == ["sliding-forward", "rolling"]
+    for a, b in zip(got, ref):
+        assert a["t_start_s"] * om == pytest.approx(b["t_start"], abs=1e-4)
+        assert a["t_end_s"] * om == pytest.approx(b["t_end"], abs=1e-4)
+    # rolling in the inertial frame: Theta' = -(R/c_r) Omega
+    assert got[1]["whirl_frequency_hz"] * 2 * math.pi / om == pytest.approx(-p.r_ratio, rel=1e-9)
