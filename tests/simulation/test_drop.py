@@ -250,3 +250,19 @@ def test_contact_phases_of_the_paper_machine_match_the_simulator():
         assert a["t_end_s"] * om == pytest.approx(b["t_end"], abs=1e-4)
     # rolling in the inertial frame: Theta' = -(R/c_r) Omega
     assert got[1]["whirl_frequency_hz"] * 2 * math.pi / om == pytest.approx(-p.r_ratio, rel=1e-9)
+
+
+def test_forward_rub_of_the_paper_machine_follows_the_simulator():
+    """A plastic impact (d = 0) into a forward rub: the general kernel's sliding phase against the simulator's
+    dense output at the same times (inertial Z = U e^{it})."""
+    m = machine(restitution=0.0)
+    p = m.parameters()
+    om = m.speed
+    u0, du0 = 0.9 + 0j, 0.5j
+    traj = simulate(p, u0, du0, 200.0)
+    assert [c["kind"] for c in traj.to_dict()["contact_intervals"]] == ["sliding-forward"]
+    for t in (100.0, 200.0):
+        r = run_general(m, CR * u0, CR * om * (du0 + 1j * u0), om, math.inf, t / om)
+        assert [c["kind"] for c in r.contact_intervals()] == ["sliding-forward"]
+        z = complex(r.final_state[1], r.final_state[2]) / CR
+        assert z == pytest.approx(complex(traj.Z(np.array([t]))[0]), abs=1e-8)
