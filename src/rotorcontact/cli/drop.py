@@ -38,7 +38,8 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _time(option: str, text: str) -> float:
+def parse_time(option: str, text: str) -> float:
+    """A time option in seconds: a bare number, or a quantity with units ("0.5s", "20 ms")."""
     try:
         return float(text)
     except ValueError:
@@ -48,8 +49,8 @@ def _time(option: str, text: str) -> float:
 def run(args: argparse.Namespace) -> int:
     machine = load_machine(args.machine)
     speed = None if args.speed is None else quantity_in("--speed", args.speed, "rad/s")
-    fail_at = _time("fail-at", args.fail_at)
-    t_end = _time("t-end", args.t_end)
+    fail_at = parse_time("fail-at", args.fail_at)
+    t_end = parse_time("t-end", args.t_end)
     if not 0.0 < t_end <= MAX_T_END:
         raise ParameterError(f"--t-end = {t_end!r} s is out of range; allowed: (0, {MAX_T_END:g}] s")
     max_events = parse_int("max-events", args.max_events, 1, MAX_EVENTS)

@@ -3,18 +3,18 @@
 from __future__ import annotations
 
 import argparse
-import re
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ParameterError
 from ..model.params import load_machine
-from ..model.units import quantity_in
 from ..studies.drop_map import REGIMES, drop_map
-from .drop import _time
+from .design_map import parse_range
+from .drop import parse_time
 from .outputs import check_output_folder
 from .options import parse_float, parse_int, print_json
+from .scale import add_executor_options, executor_kwargs
 
 MAX_N = 10_000
 
@@ -33,28 +33,16 @@ def register(sub) -> None:
     p.add_argument("--fail-at", dest="fail_at", default="0s", metavar="T", help="failure time (default 0s)")
     p.add_argument("--t-end", dest="t_end", default="2s", metavar="T", help="final time of each drop (default 2s)")
     p.add_argument("--out", required=True, metavar="DIR", help="folder for drop_map.nc and drop_map.png")
-    p.add_argument("--n-jobs", dest="n_jobs", default=None, metavar="N", help="joblib worker processes")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="Dask scheduler ('local' or an address)")
     p.add_argument("--chunk-size", dest="chunk_size", default="16", metavar="N", help="drops per chunk")
     p.add_argument("--json", action="store_true", help="print the map as JSON on stdout")
+    add_executor_options(p)
     p.set_defaults(func=run)
-
-
-def _speed_range(text: str) -> tuple[float, float]:
-    m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*:\s*([-+0-9.eE]+)\s*(.*)", text)
-    if not m:
-        raise ParameterError(f"--speed = {text!r} is not a range; allowed: A:B with units, such as 3000:36000rpm")
-    unit = m.group(3).strip() or "rad/s"
-    return quantity_in("--speed", f"{m.group(1)} {unit}", "rad/s"), quantity_in("--speed", f"{m.group(2)} {unit}",
-                                                                                "rad/s")
 
 
 def run(args: argparse.Namespace) -> int:
     machine = load_machine(args.machine)
     n = parse_int("n", args.n, 1, MAX_N)
-    lo, hi = _speed_range(args.speed)
-    if not 0.0 < lo <= hi:
-        raise ParameterError(f"--speed = {args.speed!r}: allowed: 0 < A <= B")
+    lo, hi = parse_range("speed", args.speed, "rad/s")
     speeds = np.linspace(lo, hi, n)
     if args.friction is None:
         frictions = np.array([machine.friction])
@@ -67,11 +55,10 @@ def run(args: argparse.Namespace) -> int:
         frictions = np.linspace(a, b, n)
     out = check_output_folder("--out", args.out)
     out.mkdir(parents=True, exist_ok=True)
-    n_jobs = None if args.n_jobs is None else parse_int("n-jobs", args.n_jobs, 1, 1024)
     chunk = parse_int("chunk-size", args.chunk_size, 1, 1_000_000)
-    run_ = drop_map(machine, speeds, frictions, fail_at=_time("fail-at", args.fail_at),
-                    t_end=_time("t-end", args.t_end), chunk_size=chunk, out=Path(out) / "drop_map.nc",
-                    n_jobs=n_jobs, scheduler=args.scheduler, progress=not args.json)
+    run_ = drop_map(machine, speeds, frictions, fail_at=parse_time("fail-at", args.fail_at),
+                    t_end=parse_time("t-end", args.t_end), chunk_size=chunk, out=Path(out) / "drop_map.nc",
+                    progress=not args.json, **executor_kwargs(args))
     ds = run_.dataset
     from ..plotting.drop_map import save_drop_map_figure
 
