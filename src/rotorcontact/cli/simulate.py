@@ -68,6 +68,8 @@ def run(args: argparse.Namespace) -> int:
                            why="each event is kept in memory, about 150 bytes each")
     if args.plot is not None:
         check_plot_path(args.plot)
+    if machine is not None and machine.needs_general_model:
+        return _run_general(args, machine, u0, du0, t_end, max_events)
     traj = simulate(params, u0, du0, t_end, on_chatter=args.on_chatter, max_events=max_events, machine=machine)
     if args.plot is not None:
         from ..plotting.trajectory import save_trajectory_figure
@@ -89,5 +91,37 @@ def run(args: argparse.Namespace) -> int:
             print(f"figure written to {args.plot}")
     if traj.status == "failed":
         print(f"rotorcontact simulate: failed: {traj.message}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _run_general(args: argparse.Namespace, machine, u0: complex, du0: complex, t_end: float, max_events: int) -> int:
+    """The general machine of MODEL.md §7 with its bearing on, in SI (times s, positions m, spin rpm).
+
+    The initial state is given as for the paper's model (co-rotating, in clearances, MODEL.md §2):
+    z = c_r U, z' = c_r Omega (U' + i U) at t = 0, and t_end in units of 1/Omega.
+    """
+    import math
+
+    from ..simulation.drop_run import run_general
+
+    om = machine.speed
+    result = run_general(machine, machine.clearance * u0, machine.clearance * om * (du0 + 1j * u0), om, math.inf,
+                         t_end / om, max_events=max_events)
+    if args.plot is not None:
+        from ..plotting.drop import save_drop_figure
+
+        save_drop_figure(result, args.plot)
+    if args.json:
+        out = result.to_dict()
+        out["model"] = "general"
+        print_json(out)
+    else:
+        print(result.message)
+        print(f"regime: {result.regime} (general machine, MODEL.md §7)")
+        if args.plot:
+            print(f"figure written to {args.plot}")
+    if result.status == "failed":
+        print(f"rotorcontact simulate: failed: {result.message}", file=sys.stderr)
         return 1
     return 0

@@ -32,6 +32,8 @@ __all__ = [
     "check_velocity",
     "MAX_MAGNITUDE",
     "MAX_VELOCITY",
+    "OPTIONAL_MACHINE_KEYS",
+    "RACE_KEYS",
 ]
 
 #: Largest magnitude of a dimensionless parameter (|gamma|, omega, rho, mu, |phi|, r_ratio).
@@ -236,7 +238,27 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "speed": dict(low=0.0, low_open=True, unit="rad/s"),
     "friction": dict(low=0.0, unit="1"),
     "restitution": dict(low=0.0, high=1.0, unit="1"),
+    # the general machine (MODEL.md §7); absent (None): the paper's machine of MODEL.md §1
+    "stiffness_x": dict(low=0.0, low_open=True, unit="N/m"),
+    "stiffness_y": dict(low=0.0, low_open=True, unit="N/m"),
+    "damping_x": dict(low=0.0, unit="N s/m"),
+    "damping_y": dict(low=0.0, unit="N s/m"),
+    "gravity": dict(low=0.0, unit="m/s^2"),
+    "static_force": dict(unit="N"),
+    "polar_inertia": dict(low=0.0, low_open=True, unit="kg m^2"),
+    "race_inertia": dict(low=0.0, low_open=True, unit="kg m^2"),
+    "race_drag_torque": dict(low=0.0, unit="N m"),
+    "race_drag_coefficient": dict(low=0.0, unit="N m s"),
 }
+
+#: Keys of the general machine (MODEL.md §7), optional in machine files; absent, each keeps the meaning of
+#: the paper's machine (isotropic bearing, no gravity, speed held, fixed stator).
+OPTIONAL_MACHINE_KEYS = (
+    "stiffness_x", "stiffness_y", "damping_x", "damping_y", "gravity", "static_force", "polar_inertia",
+    "race_inertia", "race_drag_torque", "race_drag_coefficient",
+)
+#: The race keys, given all three or none.
+RACE_KEYS = ("race_inertia", "race_drag_torque", "race_drag_coefficient")
 
 
 def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
@@ -289,6 +311,26 @@ class Machine:
         Coulomb friction coefficient mu, >= 0.
     restitution : float
         Newton restitution coefficient d, in [0, 1].
+    stiffness_x, stiffness_y : float or None
+        Bearing stiffness along x and y in N/m, > 0 (None: ``stiffness``).
+    damping_x, damping_y : float or None
+        Bearing damping along x and y in N s/m, >= 0 (None: ``damping``).
+    gravity : float or None
+        Gravitational acceleration g in m/s^2 along -y, >= 0 (None: 0).
+    static_force : float or None
+        The magnetic bearing's static force F_s in N along +y while levitated
+        (None: m g, which balances gravity).
+    polar_inertia : float or None
+        Rotor polar moment of inertia I_p in kg m^2, > 0 (None: the speed is
+        held by the motor).
+    race_inertia, race_drag_torque, race_drag_coefficient : float or None
+        The touchdown bearing's inner race: inertia I_b in kg m^2 (> 0), the
+        constant drag torque in N m and the viscous drag coefficient in N m s
+        (>= 0) of its own rolling bearing. All three or none (None: the stator
+        does not turn).
+
+    The optional fields describe the general machine of MODEL.md §7; a
+    machine without them is the paper's machine of MODEL.md §1.
     """
 
     mass: float
@@ -301,19 +343,97 @@ class Machine:
     speed: float
     friction: float
     restitution: float
+    stiffness_x: float | None = None
+    stiffness_y: float | None = None
+    damping_x: float | None = None
+    damping_y: float | None = None
+    gravity: float | None = None
+    static_force: float | None = None
+    polar_inertia: float | None = None
+    race_inertia: float | None = None
+    race_drag_torque: float | None = None
+    race_drag_coefficient: float | None = None
 
     def __post_init__(self) -> None:
         for f in fields(self):
             rule = {k: v for k, v in _MACHINE_RULES[f.name].items() if k != "unit"}
             value = getattr(self, f.name)
+            if value is None and f.name in OPTIONAL_MACHINE_KEYS:
+                continue
             if isinstance(value, str):  # a quantity with units, as in machine files: "12000 rpm"
                 value = to_si(f.name, value, _MACHINE_RULES[f.name]["unit"], source="Machine")
             object.__setattr__(self, f.name, check_range(f.name, value, **rule))
+        given = [key for key in RACE_KEYS if getattr(self, key) is not None]
+        if given and len(given) < len(RACE_KEYS):
+            missing = [key for key in RACE_KEYS if getattr(self, key) is None][0]
+            raise ParameterError(
+                f"{missing} = None while {given[0]} = {getattr(self, given[0])!r}; the race needs "
+                f"all of {', '.join(RACE_KEYS)} (or none: a fixed stator)"
+            )
+        if given and self.polar_inertia is None:
+            raise ParameterError(
+                f"race_inertia = {self.race_inertia!r} with polar_inertia = None; a turning race needs the "
+                "rotor's polar_inertia (kg m^2): with the speed held the race would spin up without bound"
+            )
 
     @staticmethod
     def units() -> dict[str, str]:
         """SI unit of each field."""
         return {name: rule["unit"] for name, rule in _MACHINE_RULES.items()}
+
+    # The general machine (MODEL.md §7): the values the optional fields stand for.
+    @property
+    def kx(self) -> float:
+        """Bearing stiffness along x, N/m."""
+        return self.stiffness if self.stiffness_x is None else self.stiffness_x
+
+    @property
+    def ky(self) -> float:
+        """Bearing stiffness along y, N/m."""
+        return self.stiffness if self.stiffness_y is None else self.stiffness_y
+
+    @property
+    def cx(self) -> float:
+        """Bearing damping along x, N s/m."""
+        return self.damping if self.damping_x is None else self.damping_x
+
+    @property
+    def cy(self) -> float:
+        """Bearing damping along y, N s/m."""
+        return self.damping if self.damping_y is None else self.damping_y
+
+    @property
+    def g(self) -> float:
+        """Gravitational acceleration along -y, m/s^2."""
+        return 0.0 if self.gravity is None else self.gravity
+
+    @property
+    def fs(self) -> float:
+        """The bearing's static force along +y while levitated, N (default m g)."""
+        return self.mass * self.g if self.static_force is None else self.static_force
+
+    @property
+    def free_speed(self) -> bool:
+        """The spin is a state (``polar_inertia`` given), not held by the motor."""
+        return self.polar_inertia is not None
+
+    @property
+    def has_race(self) -> bool:
+        """The touchdown bearing's inner race turns (the race keys are given)."""
+        return self.race_inertia is not None
+
+    @property
+    def race_radius(self) -> float:
+        """Radius of the race's contact surface R_b = R + c_r, m."""
+        return self.rotor_radius + self.clearance
+
+    @property
+    def needs_general_model(self) -> bool:
+        """The machine is not the paper's machine of MODEL.md §1: it needs the model of MODEL.md §7."""
+        return (
+            self.kx != self.ky or self.cx != self.cy or self.g != 0.0 or self.fs != 0.0
+            or self.free_speed or self.has_race
+        )
 
     def parameters(self) -> Parameters:
         """Convert to the dimensionless `Parameters` (MODEL.md §2)."""
@@ -359,8 +479,8 @@ class Machine:
         return self.mass * self.clearance * self.speed
 
     def as_dict(self) -> dict[str, float]:
-        """The machine as a plain dict of SI floats."""
-        return asdict(self)
+        """The machine as a plain dict of SI floats; optional fields that are absent are left out."""
+        return {k: v for k, v in asdict(self).items() if v is not None}
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any], source: str = "machine") -> "Machine":
@@ -377,18 +497,22 @@ class Machine:
         if not isinstance(data, Mapping):
             raise ParameterError(f"{source}: expected a table of machine parameters, got {type(data).__name__}")
         allowed = [f.name for f in fields(cls)]
+        required = [key for key in allowed if key not in OPTIONAL_MACHINE_KEYS]
         unknown = [key for key in data if key not in allowed]
         if unknown:
             raise ParameterError(
                 f"{source}: unknown key {unknown[0]!r}; allowed keys: {', '.join(allowed)}"
             )
-        missing = [key for key in allowed if key not in data]
+        missing = [key for key in required if key not in data]
         if missing:
             raise ParameterError(
-                f"{source}: missing key {missing[0]!r}; required keys: {', '.join(allowed)}"
+                f"{source}: missing key {missing[0]!r}; required keys: {', '.join(required)}"
             )
-        values = {key: to_si(key, data[key], _MACHINE_RULES[key]["unit"], source) for key in allowed}
-        return cls(**values)
+        values = {key: to_si(key, data[key], _MACHINE_RULES[key]["unit"], source) for key in data}
+        try:
+            return cls(**values)
+        except ParameterError as exc:
+            raise ParameterError(f"{source}: {exc}") from None
 
 
 def _machine_file(name: str) -> Path:

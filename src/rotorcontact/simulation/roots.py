@@ -154,6 +154,10 @@ def _step_from_bounds(f, fp, fpp, f3, f4, z0, z1, z2, z3, z4, z5):
     return best
 
 
+#: Public name of the crossing-free step from derivative bounds, for other flights (`general_flight`).
+crossing_free_step = _step_from_bounds
+
+
 @njit(cache=True)
 def _derivatives(w: complex, dw: complex, gamma: float, omega: float):
     """W'' to W^(6) from W and W' by the flow's own law W'' = -gamma W' - omega^2 W."""
@@ -292,6 +296,10 @@ def _nearest_root(f: float, fp: float, fpp: float) -> float:
     if disc < 0.0:
         return math.nan
     return -2.0 * f / (fp + math.sqrt(disc))
+
+
+#: Public name of the quadratic model's nearest root, the polishing step of a crossing.
+nearest_root_step = _nearest_root
 
 
 @njit(cache=True)

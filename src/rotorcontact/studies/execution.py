@@ -93,12 +93,12 @@ class ChunkTask:
 def run_task(task: ChunkTask, parallel: bool = False) -> dict[str, np.ndarray]:
     """Compute a chunk; returns its raw ``sections`` and ``summary`` arrays.
 
-    A task of another kind (one with a ``compute()`` method returning its arrays, such as
-    `rotorcontact.studies.lyapunov_scan.SpectrumTask`) is computed by that method.
+    A task of another kind (not a `ChunkTask`: a ``key``, ``n_items`` and a ``compute(parallel)`` method
+    returning its arrays, such as the drop map's or the Lyapunov scan's) computes itself; every executor
+    runs it the same way.
     """
-    compute = getattr(task, "compute", None)
-    if compute is not None:
-        return compute()
+    if not isinstance(task, ChunkTask):
+        return task.compute(parallel)
     sections, summary = run_lanes(task.params, task.u0, task.du0, task.settings, carry=task.carry,
                                   parallel=parallel)
     return {"sections": sections, "summary": summary}
@@ -206,7 +206,7 @@ class InProcessExecutor(_Executor):
         i = 0
         while i < len(tasks):
             if not isinstance(tasks[i], ChunkTask):
-                yield i, run_task(tasks[i])
+                yield i, run_task(tasks[i], parallel=True)
                 i += 1
                 continue
             group = [i]
@@ -240,7 +240,9 @@ class InProcessExecutor(_Executor):
 
 
 def _stackable(a: ChunkTask, b: ChunkTask) -> bool:
-    return isinstance(b, ChunkTask) and a.params.shape[1] == b.params.shape[1] and a.carry == b.carry and a.settings == b.settings
+    if not isinstance(b, ChunkTask):
+        return False
+    return a.params.shape[1] == b.params.shape[1] and a.carry == b.carry and a.settings == b.settings
 
 
 class JoblibExecutor(_Executor):

@@ -67,7 +67,7 @@ class SpectrumTask:
         """What the chunk counts for on a progress bar: its number of runs unless ``progress_items`` is given."""
         return int(self.params.shape[0]) if self.progress_items is None else int(self.progress_items)
 
-    def compute(self) -> dict[str, np.ndarray]:
+    def compute(self, parallel: bool = False) -> dict[str, np.ndarray]:
         """The spectra of the chunk as arrays (NaN rows and ``failed`` 1 where a run could not be made)."""
         from ..analysis.lyapunov import lyapunov_spectrum
 

@@ -1,0 +1,80 @@
+"""``rotorcontact drop``: the magnetic bearing fails and the spinning rotor drops onto its touchdown bearing."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..errors import ParameterError
+from ..model.params import load_machine
+from ..model.units import quantity_in
+from .outputs import check_plot_path
+from .options import parse_int, print_json
+
+#: Largest --t-end, s.
+MAX_T_END = 1e4
+#: Default and largest --max-events.
+DEFAULT_MAX_EVENTS = 1_000_000
+MAX_EVENTS = 10_000_000
+
+
+def register(sub) -> None:
+    p = sub.add_parser(
+        "drop",
+        description="Levitate the machine in its steady whirl at --speed, fail the magnetic bearing at "
+                    "--fail-at and follow the drop exactly (MODEL.md §7) to --t-end.",
+    )
+    p.add_argument("machine", metavar="M.toml", help="machine file, or 'reference'")
+    p.add_argument("--speed", default=None, metavar="SPEED",
+                   help="spin speed at the start, with units (12000rpm, 1250 rad/s; default: the machine's)")
+    p.add_argument("--fail-at", dest="fail_at", default="0s", metavar="T", help="failure time (default 0s)")
+    p.add_argument("--t-end", dest="t_end", default="2s", metavar="T", help="final time (default 2s)")
+    p.add_argument("--max-events", dest="max_events", default=str(DEFAULT_MAX_EVENTS), metavar="N",
+                   help=f"largest number of flights (default {DEFAULT_MAX_EVENTS})")
+    p.add_argument("--json", action="store_true", help="print the result as JSON on stdout")
+    p.add_argument("--plot", default=None, metavar="FILE.png", help="write a three-panel figure")
+    p.set_defaults(func=run)
+
+
+def parse_time(option: str, text: str) -> float:
+    """A time option in seconds: a bare number, or a quantity with units ("0.5s", "20 ms")."""
+    try:
+        return float(text)
+    except ValueError:
+        return quantity_in(f"--{option}", text, "s")
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..simulation.drop_run import RPM, drop
+
+    machine = load_machine(args.machine)
+    speed = None if args.speed is None else quantity_in("--speed", args.speed, "rad/s")
+    fail_at = parse_time("fail-at", args.fail_at)
+    t_end = parse_time("t-end", args.t_end)
+    if not 0.0 < t_end <= MAX_T_END:
+        raise ParameterError(f"--t-end = {t_end!r} s is out of range; allowed: (0, {MAX_T_END:g}] s")
+    max_events = parse_int("max-events", args.max_events, 1, MAX_EVENTS)
+    if args.plot is not None:
+        check_plot_path(args.plot)
+    try:
+        result = drop(machine, speed, fail_at, t_end, max_events=max_events)
+    except ParameterError as exc:
+        raise ParameterError(str(exc).replace("fail_at", "--fail-at").replace("t_end", "--t-end")
+                             .replace("speed =", "--speed =")) from None
+    if args.plot is not None:
+        from ..plotting.drop import save_drop_figure
+
+        save_drop_figure(result, args.plot)
+    if args.json:
+        print_json(result.to_dict())
+    else:
+        s = result.to_dict()["summary"]
+        print(result.message)
+        print(f"regime: {s['regime']}, spin {result.speed / RPM:.6g} -> {s['final_spin_rpm']:.6g} rpm, "
+              f"energy dissipated {s['energy_dissipated_J']:.6g} J")
+        if args.plot:
+            print(f"figure written to {args.plot}")
+    if result.status == "failed":
+        print(f"rotorcontact drop: failed: {result.message}", file=sys.stderr)
+        return 1
+    return 0

@@ -1,0 +1,220 @@
+"""The general machine in SI (MODEL.md §7): per-axis flight coefficients, the impact law with spin.
+
+Free flight, per unit mass, along each axis a in {x, y}:
+
+    a'' + gamma_a a' + w2_a a = Re(H_a (w2_a - Omega^2 + i gamma_a Omega) e^{i Omega s}) + b_a,
+
+with gamma_a = c_a/m, w2_a = k_a/m, the unbalance forcing e Omega^2 (cos psi, sin psi), psi = psi0 + Omega s,
+and b = (0, F_s/m - g). Its exact solution is a = Re(H_a e^{i Omega s}) + P_a(s) + h_a(s): the harmonic
+response H_a (`harmonic_response`), a polynomial of degree <= 2 for the constant force (`constant_response`)
+and the homogeneous motion h_a, written e^{-gamma s/2}(C(s) h0 + S(s)(gamma h0/2 + h0')) as in
+`rotorcontact.model.flow.scaled_cs` (which covers k = 0 and k = c = 0: free fall).
+
+At |z| = c_r the impact law (`impact_with_spin`) applies Newton restitution to the normal velocity and a
+Coulomb impulse against the relative surface velocity v_rel = v_t + R Omega - R_b Omega_b, bounded so that
+v_rel never reverses, with the effective inverse mass 1/m + R^2/I_p + R_b^2/I_b (`effective_mass_factor`).
+With 1/I_p = 1/I_b = 0 it is `rotorcontact.model.impact_law.apply_reset` in SI.
+"""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+from numba import njit
+
+from .impact_law import slip_bound, sticks
+
+__all__ = [
+    "harmonic_response",
+    "constant_response",
+    "effective_mass_factor",
+    "surface_velocity",
+    "impact_with_spin",
+    "race_spin",
+    "unbalance_amplitudes",
+    "kinetic_energy",
+    "angular_momentum",
+    "rolling_whirl_rate",
+    "contact_accelerations",
+]
+
+
+@njit(cache=True)
+def harmonic_response(gamma: float, w2: float, spin: float, amplitude: complex) -> complex:
+    """H with a_p = Re(H e^{i Omega s}) solving a'' + gamma a' + w2 a = Re(amplitude e^{i Omega s}) (MODEL.md §7).
+
+    H = amplitude / (w2 - Omega^2 + i gamma Omega); zero when there is no forcing. The undamped
+    resonance w2 = Omega^2, gamma = 0 with forcing has no bounded response and gives nan (refused
+    by the callers' checks).
+    """
+    if amplitude == 0.0:
+        return 0j
+    den = complex(w2 - spin * spin, gamma * spin)
+    if den == 0.0:
+        return complex(math.nan, math.nan)
+    return amplitude / den
+
+
+@njit(cache=True)
+def constant_response(gamma: float, w2: float, b: float) -> tuple[float, float, float]:
+    """(p0, p1, p2) of P(s) = p0 + p1 s + p2 s^2/2 solving P'' + gamma P' + w2 P = b (MODEL.md §7).
+
+    b/w2 with a spring; b s/gamma with damping only; b s^2/2 in free fall (k = c = 0).
+    """
+    if w2 > 0.0:
+        return b / w2, 0.0, 0.0
+    if gamma > 0.0:
+        return 0.0, b / gamma, 0.0
+    return 0.0, 0.0, b
+
+
+@njit(cache=True)
+def effective_mass_factor(mass: float, radius: float, inv_polar: float, race_radius: float,
+                          inv_race: float) -> float:
+    """kappa = m (1/m + R^2/I_p + R_b^2/I_b): a tangential impulse P changes v_rel by kappa P/m (MODEL.md §7).
+
+    ``inv_polar`` = 1/I_p (0 with the speed held), ``inv_race`` = 1/I_b (0 for a fixed stator).
+    """
+    return 1.0 + mass * (radius * radius * inv_polar + race_radius * race_radius * inv_race)
+
+
+@njit(cache=True)
+def surface_velocity(v_t: float, radius: float, spin: float, race_radius: float, race: float) -> float:
+    """v_rel = v_t + R Omega - R_b Omega_b, the slip of the rotor's surface on the race's (MODEL.md §7).
+
+    In units of c_r Omega this is `rotorcontact.model.impact_law.relative_velocity` with the race at rest.
+    """
+    return v_t + radius * spin - race_radius * race
+
+
+@njit(cache=True)
+def impact_with_spin(z: complex, v: complex, spin: float, race: float, mass: float, d: float, mu: float,
+                     radius: float, inv_polar: float, race_radius: float, inv_race: float):
+    """State just after an impact at z (on |z| = c_r) of the general machine (MODEL.md §7).
+
+    Returns
+    -------
+    v_plus : complex
+        Velocity of the centre after the impact, m/s.
+    spin_plus, race_plus : float
+        Spin of the rotor and of the race after, rad/s.
+    v_n, v_rel : float
+        Normal velocity (outward) and relative surface velocity before, m/s.
+    p_n, p_t : float
+        Normal impulse (magnitude) and tangential impulse on the rotor along +theta, N s.
+    """
+    e = z / abs(z)
+    w = e.conjugate() * v
+    v_n = w.real
+    v_t = w.imag
+    v_rel = surface_velocity(v_t, radius, spin, race_radius, race)
+    kappa = effective_mass_factor(mass, radius, inv_polar, race_radius, inv_race)
+    slip = slip_bound(d, mu, v_n)  # mu (1 + d) v_n: the Coulomb bound per unit mass
+    # the impulse per unit mass that brings v_rel to 0 is v_rel / kappa: the slip bound of MODEL.md §2
+    if sticks(v_rel / kappa, slip):
+        q_t = -v_rel / kappa
+    else:
+        q_t = -math.copysign(slip, v_rel)
+    v_plus = e * complex(-d * v_n, v_t + q_t)
+    spin_plus = spin + mass * radius * q_t * inv_polar
+    race_plus = race - mass * race_radius * q_t * inv_race
+    return v_plus, spin_plus, race_plus, v_n, v_rel, mass * (1.0 + d) * v_n, mass * q_t
+
+
+@njit(cache=True)
+def race_spin(race0: float, s: float, inertia: float, torque: float, coefficient: float) -> float:
+    """Spin of the race a time s after race0, free of contact: I_b Omega_b' = -T sgn(Omega_b) - c_b Omega_b.
+
+    Closed form: exponential approach to -T/c_b (c_b > 0) or linear decay (c_b = 0), held at rest once it
+    stops (the constant torque is static friction there).
+    """
+    if race0 == 0.0:
+        return 0.0
+    sgn = 1.0 if race0 > 0.0 else -1.0
+    w0 = abs(race0)
+    if coefficient > 0.0:
+        floor = torque / coefficient
+        w = (w0 + floor) * math.exp(-coefficient * s / inertia) - floor
+    else:
+        w = w0 - torque * s / inertia
+    return sgn * max(w, 0.0)
+
+
+@njit(cache=True)
+def kinetic_energy(mass: float, v: complex, polar: float, spin: float, race_inertia: float, race: float) -> float:
+    """(m |v|^2 + I_p Omega^2 + I_b Omega_b^2) / 2, J (``polar``, ``race_inertia``: 0 for held / fixed)."""
+    return 0.5 * (mass * (v.real * v.real + v.imag * v.imag) + polar * spin * spin + race_inertia * race * race)
+
+
+@njit(cache=True)
+def angular_momentum(mass: float, z: complex, v: complex, polar: float, spin: float, race_inertia: float,
+                     race: float) -> float:
+    """m Im(conj(z) v) + I_p Omega + I_b Omega_b, about the stator centre, kg m^2/s (MODEL.md §7)."""
+    return mass * (z.real * v.imag - z.imag * v.real) + polar * spin + race_inertia * race
+
+
+@njit(cache=True)
+def unbalance_amplitudes(eccentricity: float, spin: float, psi: float) -> tuple[complex, complex]:
+    """Complex amplitudes (F_x, F_y) of the unbalance forcing e Omega^2 (cos, sin)(psi + Omega s) per unit mass."""
+    f = eccentricity * spin * spin * cmath.exp(1j * psi)
+    return f, -1j * f
+
+
+
+@njit(cache=True)
+def rolling_whirl_rate(radius: float, clearance: float, spin: float, race_radius: float, race: float) -> float:
+    """Theta' of rolling contact, v_rel = c_r Theta' + R Omega - R_b Omega_b = 0 (MODEL.md §7): -(R/c_r) Omega on a
+    fixed stator (race = 0)."""
+    return (race_radius * race - radius * spin) / clearance
+
+
+@njit(cache=True)
+def contact_accelerations(f_n: float, f_t: float, delta: float, ecc: float, clearance: float, thetadot: float,
+                          mu: float, sgn: float, rolling: bool, mass: float, radius: float, inv_polar: float,
+                          race_radius: float, inv_race: float, race_drag: float):
+    """Accelerations in continuous contact on |z| = c_r of the general machine (MODEL.md §7).
+
+    Parameters
+    ----------
+    f_n, f_t : float
+        Normal (outward) and tangential components of the external force per unit mass without the
+        unbalance's -i e Omega' e^{i psi} term (bearing, static force, gravity, e Omega^2 e^{i psi}).
+    delta : float
+        psi - theta, the unbalance angle relative to the contact point.
+    ecc, clearance, thetadot : float
+        e, c_r and the whirl rate theta'.
+    mu, sgn : float
+        Friction coefficient and sgn(v_rel) while sliding.
+    rolling : bool
+        v_rel = 0 held (rolling) instead of sliding.
+    mass, radius, inv_polar, race_radius, inv_race : float
+        m, R, 1/I_p (0: speed held), R_b, 1/I_b (0: fixed stator).
+    race_drag : float
+        The race's drag torque T_b sgn(Omega_b) + c_b Omega_b, N m.
+
+    Returns
+    -------
+    thetadd, spin_dot, race_dot : float
+        theta'', Omega', Omega_b'.
+    n, q : float
+        Normal and tangential contact force per unit mass (N/m, F_t/m; q along +theta on the rotor).
+    """
+    a = mass * radius * inv_polar  # Omega' = a q
+    b = mass * race_radius * inv_race  # Omega_b' = -b q - drag / I_b
+    drag = race_drag * inv_race
+    sd = math.sin(delta)
+    cd = math.cos(delta)
+    base_n = f_n + clearance * thetadot * thetadot
+    if rolling:
+        # c theta'' = f_t - e Omega' cos(delta) + q and c theta'' + R Omega' - R_b Omega_b' = 0
+        q = -(f_t + race_radius * drag) / (1.0 + radius * a + race_radius * b - ecc * a * cd)
+        n = base_n + ecc * a * q * sd
+    else:
+        # n = base_n + e Omega' sin(delta), q = -mu sgn n
+        n = base_n / (1.0 + ecc * a * mu * sgn * sd)
+        q = -mu * sgn * n
+    spin_dot = a * q
+    thetadd = (f_t - ecc * spin_dot * cd + q) / clearance
+    race_dot = -b * q - drag
+    return thetadd, spin_dot, race_dot, n, q

@@ -1,0 +1,47 @@
+"""Figure of a drop map: regime, onset of backward whirl and peak impulse over speed and friction."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
+
+from .style import save_figure
+
+__all__ = ["plot_drop_map", "save_drop_map_figure"]
+
+_REGIME_COLORS = ("#9ecae1", "#fdd0a2", "#a1d99b", "#de2d26")
+
+
+def plot_drop_map(ds):
+    """Three panels over (speed, friction): the regime after the drop, the onset of backward whirl (s)
+    and the peak normal impulse (N s). Returns (fig, axes)."""
+    regimes = ds.attrs["regimes"].split(",")
+    speed = ds["speed_rpm"].values
+    mu = ds["friction"].values
+    fig, axes = plt.subplots(1, 3, figsize=(14.0, 4.2))
+    cmap = ListedColormap(_REGIME_COLORS[: len(regimes)])
+    norm = BoundaryNorm(np.arange(len(regimes) + 1) - 0.5, cmap.N)
+    panels = [("regime", "regime after the drop"), ("backward_whirl_onset_s", "onset of backward whirl (s)"),
+              ("max_normal_impulse_Ns", "peak normal impulse (N s)")]
+    for ax, (name, title) in zip(axes, panels):
+        values = ds[name].values
+        if name == "regime":
+            mesh = ax.pcolormesh(speed, mu, values, cmap=cmap, norm=norm, shading="nearest")
+            bar = fig.colorbar(mesh, ax=ax, ticks=range(len(regimes)))
+            bar.ax.set_yticklabels(regimes)
+        else:
+            mesh = ax.pcolormesh(speed, mu, np.ma.masked_invalid(values), cmap="viridis", shading="nearest")
+            fig.colorbar(mesh, ax=ax)
+        ax.set_xlabel("speed at failure (rpm)")
+        ax.set_ylabel("friction coefficient")
+        ax.set_title(title)
+    fig.suptitle(f"drop map: bearing fails at {ds.attrs['fail_at_s']:g} s, followed to {ds.attrs['t_end_s']:g} s")
+    fig.tight_layout()
+    return fig, axes
+
+
+def save_drop_map_figure(ds, path):
+    """Draw `plot_drop_map` and save it to ``path``."""
+    fig, _ = plot_drop_map(ds)
+    return save_figure(fig, path)

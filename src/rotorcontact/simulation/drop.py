@@ -1,0 +1,278 @@
+"""The event-driven kernel of the general machine (MODEL.md §7): flights, impacts with spin, failure.
+
+Data flows one way: machine -> per-axis exact flight (`general_flight.make_flight`) -> guaranteed
+impact location (`general_flight.next_impact`) -> impact law with spin and effective mass
+(`rotorcontact.model.machine_model.impact_with_spin`) -> table of impacts. The magnetic bearing fails at
+t_fail: the flight in progress is cut there and the next one has K = C = F_s = 0 and, with a polar
+inertia, a free speed. The rigid impact law sits behind one call, `_impact`, where another contact law
+can plug in.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..model.angles import wrap_angle
+from ..model.machine_model import impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate
+from .general_contact import C_END, C_LIFTOFF, C_STEP_LIMIT, NP, contact_phase, contact_rates
+from .general_flight import flight_state, make_flight, next_impact
+from .roots import CROSSING, ITERATION_LIMIT, NO_CROSSING, STUCK
+from .tables import push_row
+
+__all__ = ["drop_kernel", "IMPACT_FIELDS", "CONTACT_FIELDS", "CONTACT_KINDS", "STATUS_NAMES"]
+
+COMPLETED = 0
+CHATTER = 1
+MAX_EVENTS = 2
+FAILED = 3
+STATUS_NAMES = {COMPLETED: "completed", CHATTER: "chatter", MAX_EVENTS: "max-events", FAILED: "failed"}
+
+#: Columns of the kernel's impact table (SI).
+IMPACT_FIELDS = ("t_s", "angle_rad", "normal_velocity_m_per_s", "normal_impulse_Ns", "tangential_impulse_Ns",
+                 "spin_before", "spin_after", "race_after", "x_m", "y_m", "vx_plus", "vy_plus",
+                 "energy_lost_J", "v_rel_before")
+NCOL = len(IMPACT_FIELDS)
+BOUNDARY_TOL = 1e-12
+#: Columns of the kernel's contact table (SI): kind 0 sliding forward, 1 rolling, 2 sliding backward.
+CONTACT_FIELDS = ("t_start_s", "t_end_s", "kind", "max_normal_force_N", "whirl_rate_rad_per_s")
+CONTACT_KINDS = ("sliding-forward", "rolling", "sliding-backward")
+MAX_STALLS = 50
+VREL_TOL = 1e-12  # |v_rel| below this times the surface speeds: the surfaces roll
+
+
+@njit(cache=True)
+def _contact_params(mass, clearance, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque, race_coef):
+    p = np.empty(NP)
+    p[0] = mass
+    p[1] = clearance
+    p[2] = ecc
+    p[3] = radius
+    p[4] = radius + clearance
+    p[5] = mu
+    p[6] = kx
+    p[7] = ky
+    p[8] = cx
+    p[9] = cy
+    p[10] = b_y
+    p[11] = inv_p
+    p[12] = inv_race
+    p[13] = race_torque
+    p[14] = race_coef
+    return p
+
+
+@njit(cache=True)
+def _slip_rate(y, p, sgn):
+    """sgn * v_rel' while sliding along sgn: positive where that slip is consistent (it grows)."""
+    r, _n, _q, _v = contact_rates(y, p, False, sgn)
+    return sgn * (p[1] * r[1] + p[3] * r[3] - p[4] * r[4])
+
+
+@njit(cache=True)
+def _contact_mode(y, p, at_switch):
+    """(mode, sgn) at a contact state: -1 lift-off (n <= 0), 0 sliding along sgn, 1 rolling.
+
+    ``at_switch``: the state ends a phase at v_rel = 0 (located to the event tolerance in time), so v_rel
+    is taken as 0 there.
+
+    Away from v_rel = 0 the slip goes on along sgn(v_rel). At v_rel = 0 the surfaces roll when the
+    friction rolling needs is available (|q| <= mu n); else they slip the way whose slip grows.
+    """
+    _r, n, q, v_rel = contact_rates(y, p, True, 1.0)
+    scale = abs(p[1] * y[1]) + abs(p[3] * y[3]) + abs(p[4] * y[4]) + 1e-300
+    sgn = 1.0 if v_rel > 0.0 else -1.0
+    away = abs(v_rel) > VREL_TOL * scale and not at_switch
+    if away or _slip_rate(y, p, sgn) > 0.0:
+        # the slip goes on (away from v_rel = 0, or from it while it grows); otherwise v_rel is 0 to the
+        # event tolerance and neither slip grows: the surfaces roll if friction allows
+        if away or _slip_rate(y, p, -sgn) <= 0.0:
+            if contact_rates(y, p, False, sgn)[1] <= 0.0:
+                return -1, sgn
+            return 0, sgn
+    if n <= 0.0:
+        return -1, 1.0
+    if abs(q) <= p[5] * n:
+        return 1, 1.0
+    sgn = -1.0 if q > 0.0 else 1.0
+    return 0, sgn
+
+
+@njit(cache=True)
+def _impact(z, v, spin, race, mass, d, mu, radius, inv_polar, race_radius, inv_race):
+    """The contact law at an impact (rigid: restitution and slip-bounded Coulomb friction, MODEL.md §7)."""
+    return impact_with_spin(z, v, spin, race, mass, d, mu, radius, inv_polar, race_radius, inv_race)
+
+
+@njit(cache=True)
+def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, polar, race_inertia, race_torque,
+                race_coef, z0, v0, psi0, spin0, race0, t_fail, t_end, max_events, chatter_v, follow_contact=True):
+    """Run the general machine from (z0, v0) (m, m/s) at t = 0 to t_end.
+
+    ``polar`` and ``race_inertia`` are 0 for a held speed and a fixed stator. The speed is held until
+    t_fail; from t_fail on K, C, F_s vanish and the speed is free when ``polar`` > 0. A run stops with
+    status chatter where impacts accumulate: a normal velocity below ``chatter_v`` (m/s) or a start on the
+    wall pressed outwards. With ``follow_contact`` continuous contact follows there
+    (`general_contact`: sliding, rolling, lift-off), else the run stops with status chatter.
+
+    Returns
+    -------
+    impacts : (n, NCOL) array (`IMPACT_FIELDS`)
+    contacts : (c, 5) array (`CONTACT_FIELDS`)
+    status : int
+    t_stop : float
+    state : (7,) array: t, x, y, vx, vy, spin, race at the stop (SI)
+    """
+    cr = clearance
+    inv_polar = 1.0 / polar if polar > 0.0 else 0.0
+    inv_race = 1.0 / race_inertia if race_inertia > 0.0 else 0.0
+    race_radius = radius + clearance
+    impacts = np.empty((64, NCOL))
+    contacts = np.empty((16, 5))
+    crow = np.empty(5)
+    n_ct = 0
+    row = np.empty(NCOL)
+    n_imp = 0
+    in_contact = False
+    liftoff = False
+    switched = False
+    stalls = 0
+    t = 0.0
+    z = z0 / cr
+    v = v0 / cr
+    psi = psi0
+    spin = spin0
+    race = race0
+    on_boundary = abs(abs(z) - 1.0) <= BOUNDARY_TOL
+    status = COMPLETED
+    events = 0
+    while t < t_end:
+        events += 1
+        if events > max_events:
+            status = MAX_EVENTS
+            break
+        levitated = t < t_fail
+        if levitated:
+            gx, w2x, gy, w2y, by = cx / mass, kx / mass, cy / mass, ky / mass, (fs / mass - g) / cr
+            horizon = min(t_fail, t_end) - t
+            inv_p = 0.0
+        else:
+            gx, w2x, gy, w2y, by = 0.0, 0.0, 0.0, 0.0, -g / cr
+            horizon = t_end - t
+            inv_p = inv_polar
+        if in_contact:
+            on = 1.0 if levitated else 0.0
+            p = _contact_params(mass, cr, ecc, radius, mu, on * kx, on * ky, on * cx, on * cy, by * cr, inv_p,
+                                inv_race, race_torque, race_coef)
+            y = np.array([math.atan2(z.imag, z.real), (z.conjugate() * v).imag, psi, spin, race])
+            mode, sgn = _contact_mode(y, p, switched)
+            switched = False
+            t0 = t
+            if mode >= 0:
+                rolling = mode == 1
+                if rolling:
+                    y[1] = rolling_whirl_rate(radius, cr, spin, race_radius, race)
+                code_c, t1, y1, n_max = contact_phase(y, t, t + horizon, p, rolling, sgn)
+                kind = 1.0 if rolling else (0.0 if sgn > 0.0 else 2.0)
+                if n_ct > 0 and contacts[n_ct - 1, 1] == t0 and contacts[n_ct - 1, 2] == kind and t1 > t0:
+                    # the same phase goes on (after the integrator's step budget, or the failure): one interval
+                    t_a = contacts[n_ct - 1, 0]
+                    contacts[n_ct - 1, 4] = (contacts[n_ct - 1, 4] * (t0 - t_a) + (y1[0] - y[0])) / (t1 - t_a)
+                    contacts[n_ct - 1, 1] = t1
+                    contacts[n_ct - 1, 3] = max(contacts[n_ct - 1, 3], n_max * mass)
+                elif t1 > t0:
+                    crow[0] = t0
+                    crow[1] = t1
+                    crow[2] = kind
+                    crow[3] = n_max * mass
+                    crow[4] = (y1[0] - y[0]) / (t1 - t0)
+                    contacts, n_ct = push_row(contacts, n_ct, crow)
+                stalls = stalls + 1 if t1 == t0 else 0
+                if stalls > MAX_STALLS:
+                    status = FAILED
+                    break
+                t = t1
+                e1 = complex(math.cos(y1[0]), math.sin(y1[0]))
+                z = e1
+                v = 1j * y1[1] * e1
+                psi, spin, race = y1[2], y1[3], y1[4]
+                if code_c == C_END or code_c == C_STEP_LIMIT:
+                    if t >= t_end:
+                        break
+                    # the bearing failed (the contact goes on with the new forces), or the phase goes on
+                    # after the integrator's step budget
+                    continue
+                if code_c != C_LIFTOFF:
+                    switched = True
+                    continue  # a switch between sliding and rolling
+            in_contact = False
+            liftoff = True
+            on_boundary = True
+            continue
+        flight = make_flight(z, v, spin, psi, gx, w2x, gy, w2y, by, ecc / cr)
+        code, s = next_impact(flight, spin, horizon, on_boundary, liftoff)
+        liftoff = False
+        if code == ITERATION_LIMIT:
+            status = FAILED
+            break
+        if code == STUCK:
+            if not follow_contact:
+                status = CHATTER
+                break
+            stalls += 1
+            if stalls > MAX_STALLS:
+                status = FAILED
+                break
+            w = z.conjugate() * v / abs(z)
+            v = z / abs(z) * complex(0.0, w.imag)
+            in_contact = True
+            continue
+        z, v = flight_state(flight, spin, s)
+        if code == CROSSING:
+            t = t + s
+        else:  # the flight reached its horizon: the failure (exactly at t_fail) or the end
+            t = t_fail if levitated and t_fail < t_end else t_end
+        psi = psi + spin * s
+        if race_inertia > 0.0:
+            race = race_spin(race, s, race_inertia, race_torque, race_coef)
+        if code == NO_CROSSING:
+            on_boundary = abs(abs(z) - 1.0) <= BOUNDARY_TOL
+            continue
+        z = z / abs(z)
+        zs = z * cr
+        vs = v * cr
+        e_before = kinetic_energy(mass, vs, polar if inv_p > 0.0 else 0.0, spin, race_inertia, race)
+        v_plus, spin_plus, race_plus, v_n, v_rel, p_n, p_t = _impact(
+            zs, vs, spin, race, mass, d, mu, radius, inv_p, race_radius, inv_race)
+        e_after = kinetic_energy(mass, v_plus, polar if inv_p > 0.0 else 0.0, spin_plus, race_inertia, race_plus)
+        row[0] = t
+        row[1] = wrap_angle(math.atan2(z.imag, z.real))
+        row[2] = v_n
+        row[3] = p_n
+        row[4] = p_t
+        row[5] = spin
+        row[6] = spin_plus
+        row[7] = race_plus
+        row[8] = zs.real
+        row[9] = zs.imag
+        row[10] = v_plus.real
+        row[11] = v_plus.imag
+        row[12] = e_before - e_after
+        row[13] = v_rel
+        impacts, n_imp = push_row(impacts, n_imp, row)
+        v = v_plus / cr
+        spin = spin_plus
+        race = race_plus
+        on_boundary = True
+        if v_n < chatter_v:
+            if not follow_contact:
+                status = CHATTER
+                break
+            # the impacts accumulate: continuous contact from here with the normal velocity dropped
+            w = z.conjugate() * v
+            v = z * complex(0.0, w.imag)
+            in_contact = True
+    state = np.array([min(t, t_end), z.real * cr, z.imag * cr, v.real * cr, v.imag * cr, spin, race])
+    return impacts[:n_imp].copy(), contacts[:n_ct].copy(), status, min(t, t_end), state

@@ -1,0 +1,237 @@
+"""A drop of the general machine (MODEL.md §7): levitated whirl, bearing failure, impacts; its result object.
+
+`drop` starts from the levitated steady state (the contact-free whirl with gravity, `levitated_state`),
+fails the magnetic bearing at ``fail_at`` and runs `drop.drop_kernel` to ``t_end``. `DropResult.to_dict`
+is the ``rotorcontact drop --json`` contract (README).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..model.machine_model import constant_response, harmonic_response, unbalance_amplitudes
+from ..model.params import Machine, check_range
+from ..model.validation import check_int
+from .drop import CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
+
+__all__ = ["DropResult", "drop", "run_general", "levitated_state", "RPM"]
+
+#: rad/s per rpm.
+RPM = 2.0 * math.pi / 60.0
+#: Normal velocity (in units of sqrt(g c_r), or c_r Omega without gravity) below which impacts are taken to
+#: accumulate into contact.
+CHATTER_VELOCITY = 1e-6
+_COL = {name: i for i, name in enumerate(IMPACT_FIELDS)}
+
+
+def levitated_state(machine: Machine, speed: float) -> tuple[complex, complex]:
+    """(z, z') in m and m/s at t = 0 of the steady levitated whirl at ``speed`` (rad/s) (MODEL.md §7).
+
+    The particular solution of the levitated flight: the harmonic response to the unbalance at phase
+    ``unbalance_phase`` plus the static deflection (F_s - m g)/k_y. A whirl that reaches the wall
+    later in its period impacts before the failure (the kernel finds those impacts).
+
+    Raises
+    ------
+    ParameterError
+        At an undamped resonance, or where the whirl does not start inside the clearance.
+    """
+    m = machine.mass
+    fx, fy = unbalance_amplitudes(machine.eccentricity, speed, machine.unbalance_phase)
+    z = 0j
+    v = 0j
+    for axis, (k, c, f, b) in enumerate(((machine.kx, machine.cx, fx, 0.0),
+                                         (machine.ky, machine.cy, fy, machine.fs / m - machine.g))):
+        h = complex(harmonic_response(c / m, k / m, speed, f))
+        p0, _p1, _p2 = constant_response(c / m, k / m, b)
+        unit = 1.0 if axis == 0 else 1j
+        z += unit * (h.real + p0)
+        v += unit * (1j * speed * h).real
+    if not (math.isfinite(abs(z)) and math.isfinite(abs(v))):
+        raise ParameterError(f"speed = {speed!r} rad/s is an undamped resonance of the bearing; no steady whirl")
+    if abs(z) >= machine.clearance:
+        raise ParameterError(
+            f"speed = {speed / RPM:.6g} rpm: the levitated whirl starts at |z| = {abs(z):.4g} m, not inside the "
+            f"clearance {machine.clearance:g} m; allowed: a speed whose levitated whirl starts inside it"
+        )
+    return z, v
+
+
+@dataclass(frozen=True)
+class DropResult:
+    """A drop of the general machine.
+
+    Attributes
+    ----------
+    machine : Machine
+    speed : float
+        Spin speed at the start, rad/s.
+    fail_at, t_end : float
+        Failure time and final time, s.
+    status : str
+        ``"completed"`` (reached t_end), ``"chatter"`` (impacts accumulate into continuous contact, where
+        the run stops), ``"max-events"`` or ``"failed"``.
+    t_stop : float
+        Time the run stopped, s.
+    impacts : numpy.ndarray
+        One row per impact, columns `rotorcontact.simulation.drop.IMPACT_FIELDS` (SI, rad/s).
+    final_state : numpy.ndarray
+        t, x, y, vx, vy, spin, race at the stop (SI).
+    contacts : numpy.ndarray
+        One row per contact phase, columns `rotorcontact.simulation.drop.CONTACT_FIELDS` (SI).
+    """
+
+    machine: Machine
+    speed: float
+    fail_at: float
+    t_end: float
+    status: str
+    t_stop: float
+    impacts: np.ndarray
+    final_state: np.ndarray
+    contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
+
+    def column(self, name: str) -> np.ndarray:
+        """One column of the impact table by its name in `IMPACT_FIELDS`."""
+        return self.impacts[:, _COL[name]]
+
+    @property
+    def message(self) -> str:
+        n = len(self.impacts)
+        c = len(self.contacts)
+        if self.status == "completed":
+            return f"Reached t_end = {self.t_end:g} s after {n} impacts and {c} contact phases."
+        if self.status == "chatter":
+            return (f"Impacts accumulate into continuous contact at t = {self.t_stop:.6g} s after {n} impacts; "
+                    "the run stops there.")
+        if self.status == "max-events":
+            return f"Stopped after the maximum number of events at t = {self.t_stop:.6g} s ({n} impacts)."
+        return f"The run failed at t = {self.t_stop:.6g} s after {n} impacts and {c} contact phases."
+
+    @property
+    def backward_whirl_onset(self) -> float | None:
+        """Onset of backward whirl, s: the start of the first contact phase whose mean whirl rate is against
+        the spin, or the first impact after which every impact leaves the centre whirling against the spin
+        (at least two impacts), whichever is earlier; None if neither."""
+        onsets = []
+        direction = 1.0 if self.speed > 0.0 else -1.0
+        backward = np.flatnonzero(self.contacts[:, 4] * direction < 0.0) if len(self.contacts) else []
+        if len(backward):
+            onsets.append(float(self.contacts[backward[0], 0]))
+        if len(self.impacts) >= 2:
+            angle = self.column("angle_rad")
+            v_plus = self.column("vx_plus") + 1j * self.column("vy_plus")
+            v_t = (np.exp(-1j * angle) * v_plus).imag * direction
+            forward = np.flatnonzero(v_t >= 0.0)
+            first = 0 if forward.size == 0 else forward[-1] + 1
+            if first <= len(v_t) - 2:
+                onsets.append(float(self.column("t_s")[first]))
+        return min(onsets) if onsets else None
+
+    @property
+    def regime(self) -> str:
+        """``"levitated"`` (no impact, no contact), ``"backward-whirl"``, ``"contact"`` (continuous contact,
+        or impacts that accumulate) or ``"bouncing"``."""
+        if len(self.impacts) == 0 and len(self.contacts) == 0:
+            return "levitated"
+        if self.backward_whirl_onset is not None:
+            return "backward-whirl"
+        return "contact" if self.status == "chatter" or len(self.contacts) else "bouncing"
+
+    def contact_intervals(self) -> list[dict[str, Any]]:
+        """The contact phases as in the JSON contract: t_start_s, t_end_s, kind, max_normal_force_N and
+        whirl_frequency_hz (mean whirl rate of the centre over the phase / 2 pi, negative when backward)."""
+        return [{"t_start_s": float(r[0]), "t_end_s": float(r[1]), "kind": CONTACT_KINDS[int(r[2])],
+                 "max_normal_force_N": float(r[3]), "whirl_frequency_hz": float(r[4] / (2.0 * math.pi))}
+                for r in self.contacts]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``rotorcontact drop --json`` contract (README)."""
+        race = self.machine.has_race
+        rows = [
+            {
+                "t_s": float(r[_COL["t_s"]]),
+                "angle_rad": float(r[_COL["angle_rad"]]),
+                "normal_velocity_m_per_s": float(r[_COL["normal_velocity_m_per_s"]]),
+                "normal_impulse_Ns": float(r[_COL["normal_impulse_Ns"]]),
+                "tangential_impulse_Ns": float(r[_COL["tangential_impulse_Ns"]]),
+                "spin_rpm_before": float(r[_COL["spin_before"]] / RPM),
+                "spin_rpm_after": float(r[_COL["spin_after"]] / RPM),
+                "race_rpm_after": float(r[_COL["race_after"]] / RPM) if race else None,
+            }
+            for r in self.impacts
+        ]
+        p_n = self.column("normal_impulse_Ns")
+        return {
+            "machine": self.machine.as_dict(),
+            "speed_rpm": self.speed / RPM,
+            "status": self.status,
+            "message": self.message,
+            "impacts": rows,
+            "contact_intervals": self.contact_intervals(),
+            "summary": {
+                "regime": self.regime,
+                "backward_whirl_onset_s": self.backward_whirl_onset,
+                "max_normal_impulse_Ns": float(p_n.max()) if p_n.size else None,
+                "max_contact_force_N": float(self.contacts[:, 3].max()) if len(self.contacts) else None,
+                "final_spin_rpm": float(self.final_state[5] / RPM),
+                "energy_dissipated_J": float(self.column("energy_lost_J").sum()),
+                "time_to_rest_s": None,
+            },
+        }
+
+
+def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_end: float = 2.0, *,
+         max_events: int = 1_000_000) -> DropResult:
+    """Drop the machine: levitated at ``speed``, the magnetic bearing failing at ``fail_at`` (MODEL.md §7).
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine (its optional keys of MODEL.md §7 give gravity, anisotropy, spin inertia, race).
+    speed : float, optional
+        Spin speed at the start in rad/s (default: ``machine.speed``).
+    fail_at : float
+        Time of the bearing failure, s (>= 0).
+    t_end : float
+        Final time, s (> 0).
+    max_events : int
+        Largest number of flights.
+
+    Returns
+    -------
+    DropResult
+    """
+    speed = machine.speed if speed is None else check_range("speed", speed, low=0.0, low_open=True)
+    fail_at = check_range("fail_at", fail_at, low=0.0)
+    t_end = check_range("t_end", t_end, low=0.0, low_open=True)
+    max_events = check_int("max_events", max_events, low=1)
+    z0, v0 = levitated_state(machine, speed)
+    return run_general(machine, z0, v0, speed, fail_at, t_end, max_events=max_events)
+
+
+def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_at: float, t_end: float, *,
+                max_events: int = 1_000_000) -> DropResult:
+    """Run the general machine from (z0, z0') (m, m/s) at spin ``speed`` (rad/s), failing at ``fail_at``.
+
+    ``fail_at = inf``: the magnetic bearing holds throughout (``rotorcontact simulate --machine``).
+    The unbalance angle starts at ``machine.unbalance_phase``; the race starts at rest.
+    """
+    m = machine
+    if not abs(z0) <= m.clearance * (1.0 + 1e-12):
+        raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m; allowed: |z0| <= c_r")
+    v_scale = math.sqrt(m.g * m.clearance) if m.g > 0.0 else m.clearance * speed
+    race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
+    impacts, contacts, status, t_stop, state = drop_kernel(
+        m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
+        m.fs, m.g, m.polar_inertia or 0.0, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
+        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale)
+    return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state,
+                      contacts)
+
+

@@ -1,0 +1,136 @@
+"""Continuous contact of the general machine on |z| = c_r: sliding and rolling with spin (MODEL.md §7).
+
+State (theta, theta', psi, Omega, Omega_b); the accelerations are `machine_model.contact_accelerations`
+(the rigid contact law; a compliant law would give its own). Phases are integrated with the
+Dormand-Prince 5(4) scheme of `contact` (tolerance `contact.CONTACT_TOL` relative), and each switch is
+located by bisection on single steps to `contact.EVENT_TOL` in time:
+
+* sliding ends where v_rel = c_r theta' + R Omega - R_b Omega_b reaches 0 (then rolling if the friction it
+  needs, |q| <= mu n, is available, else sliding the other way) or at lift-off (n = 0);
+* rolling ends where |q| reaches mu n (slip) or at lift-off.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..model.machine_model import contact_accelerations
+from .contact import (
+    _A21, _A31, _A32, _A41, _A42, _A43, _A51, _A52, _A53, _A54, _A61, _A62, _A63, _A64, _A65,
+    _B1, _B3, _B4, _B5, _B6, _E1, _E3, _E4, _E5, _E6, _E7, CONTACT_TOL, EVENT_TOL, MAX_CONTACT_STEPS,
+)
+
+__all__ = ["contact_phase", "contact_rates", "SLIDING", "ROLLING_MODE", "C_LIFTOFF", "C_END", "C_SWITCH",
+           "C_STEP_LIMIT"]
+
+SLIDING = 0
+ROLLING_MODE = 1
+C_END = 0
+C_LIFTOFF = 1
+C_SWITCH = 2
+C_STEP_LIMIT = 3
+NP = 15  # mass, cr, ecc, R, Rb, mu, kx, ky, cx, cy, b_y, inv_polar, inv_race, race_torque, race_coef
+
+
+@njit(cache=True)
+def contact_rates(y, p, rolling, sgn):
+    """(y', n, q, v_rel) of the contact state y = (theta, theta', psi, Omega, Omega_b); ``p`` as `NP`."""
+    mass, cr, ecc, r, rb, mu = p[0], p[1], p[2], p[3], p[4], p[5]
+    th, thd, psi, om, omb = y[0], y[1], y[2], y[3], y[4]
+    e = complex(math.cos(th), math.sin(th))
+    z = cr * e
+    v = 1j * cr * thd * e
+    f = complex(-(p[6] * z.real + p[8] * v.real) / mass, -(p[7] * z.imag + p[9] * v.imag) / mass + p[10])
+    f += ecc * om * om * complex(math.cos(psi), math.sin(psi))
+    w = e.conjugate() * f
+    drag = 0.0
+    if p[12] > 0.0 and omb != 0.0:
+        drag = math.copysign(p[13], omb) + p[14] * omb
+    thdd, omd, ombd, n, q = contact_accelerations(w.real, w.imag, psi - th, ecc, cr, thd, mu, sgn, rolling, mass, r,
+                                                  p[11], rb, p[12], drag)
+    out = np.empty(5)
+    out[0] = thd
+    out[1] = thdd
+    out[2] = om
+    out[3] = omd
+    out[4] = ombd
+    return out, n, q, cr * thd + r * om - rb * omb
+
+
+@njit(cache=True)
+def _step(y, h, p, rolling, sgn):
+    k1 = contact_rates(y, p, rolling, sgn)[0]
+    k2 = contact_rates(y + h * _A21 * k1, p, rolling, sgn)[0]
+    k3 = contact_rates(y + h * (_A31 * k1 + _A32 * k2), p, rolling, sgn)[0]
+    k4 = contact_rates(y + h * (_A41 * k1 + _A42 * k2 + _A43 * k3), p, rolling, sgn)[0]
+    k5 = contact_rates(y + h * (_A51 * k1 + _A52 * k2 + _A53 * k3 + _A54 * k4), p, rolling, sgn)[0]
+    k6 = contact_rates(y + h * (_A61 * k1 + _A62 * k2 + _A63 * k3 + _A64 * k4 + _A65 * k5), p, rolling, sgn)[0]
+    yn = y + h * (_B1 * k1 + _B3 * k3 + _B4 * k4 + _B5 * k5 + _B6 * k6)
+    k7 = contact_rates(yn, p, rolling, sgn)[0]
+    err_v = h * (_E1 * k1 + _E3 * k3 + _E4 * k4 + _E5 * k5 + _E6 * k6 + _E7 * k7)
+    err = 0.0
+    for i in range(5):
+        scale = CONTACT_TOL * (1e-3 + max(abs(y[i]), abs(yn[i])))
+        err = max(err, abs(err_v[i]) / scale)
+    return yn, err
+
+
+@njit(cache=True)
+def _events(y, p, rolling, sgn):
+    """Switching functions, positive inside the phase: n, and sgn v_rel (sliding) or mu n - |q| (rolling)."""
+    _r, n, q, v_rel = contact_rates(y, p, rolling, sgn)
+    if rolling:
+        return n, p[5] * n - abs(q)
+    return n, sgn * v_rel
+
+
+@njit(cache=True)
+def contact_phase(y0, t0, t_end, p, rolling, sgn):
+    """Integrate one contact phase from y0 at t0 until lift-off, a switch, or t_end.
+
+    Returns
+    -------
+    code : int
+        `C_LIFTOFF`, `C_SWITCH` (end of slip or start of slip), `C_END` or `C_STEP_LIMIT`.
+    t : float
+    y : (5,) array
+        The state at the end.
+    n_max : float
+        Largest normal force per unit mass over the accepted steps.
+    """
+    t = t0
+    y = y0.copy()
+    n_max = max(_events(y, p, rolling, sgn)[0], 0.0)
+    h = 1e-3 / (1.0 + abs(y[1]) + abs(y[3]))
+    for _ in range(MAX_CONTACT_STEPS):
+        if t >= t_end:
+            return C_END, t_end, y, n_max
+        h = min(h, t_end - t)
+        yn, err = _step(y, h, p, rolling, sgn)
+        if err > 1.0:
+            h *= max(0.2, 0.9 * err ** -0.2)
+            continue
+        g1, g2 = _events(yn, p, rolling, sgn)
+        if g1 <= 0.0 or g2 <= 0.0:
+            lo, hi = 0.0, h
+            for _b in range(200):
+                if hi - lo <= EVENT_TOL * (abs(t) + 1e-3):
+                    break
+                mid = 0.5 * (lo + hi)
+                ym, _e = _step(y, mid, p, rolling, sgn)
+                a1, a2 = _events(ym, p, rolling, sgn)
+                if a1 <= 0.0 or a2 <= 0.0:
+                    hi = mid
+                else:
+                    lo = mid
+            ye, _e = _step(y, hi, p, rolling, sgn)
+            e1, _e2 = _events(ye, p, rolling, sgn)
+            return (C_LIFTOFF if e1 <= 0.0 else C_SWITCH), t + hi, ye, n_max
+        t += h
+        y = yn
+        n_max = max(n_max, g1)
+        h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
+    return C_STEP_LIMIT, t, y, n_max

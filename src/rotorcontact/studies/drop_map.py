@@ -1,0 +1,131 @@
+"""The drop map: drops of one machine over a grid of speeds (and friction coefficients), as a chunked study.
+
+Each grid point is `rotorcontact.simulation.drop_run.drop` at that speed and friction; the map records
+the regime after the drop, the onset of backward whirl, the peak normal impulse, the energy dissipated,
+the final spin and the number of impacts. It runs on `rotorcontact.studies.driver.run_study` (in
+process, joblib or Dask; resumable NetCDF); every point is independent, so the result does not depend
+on the executor or the chunk size.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..model.params import Machine, check_range
+from ..model.validation import check_int
+from ..simulation.drop_run import drop
+from .driver import StudyRun, run_study
+from .execution import study_digest
+
+__all__ = ["REGIMES", "DropTask", "drop_map"]
+
+#: Regime codes of the map, in the order of their codes 0, 1, 2, ...
+REGIMES = ("levitated", "bouncing", "contact", "backward-whirl")
+_FIELDS = ("regime", "backward_whirl_onset_s", "max_normal_impulse_Ns", "energy_dissipated_J", "final_spin_rpm",
+           "n_impacts")
+
+
+@dataclass(frozen=True)
+class DropTask:
+    """A chunk of the drop map: the drops at a list of (speed, friction) points."""
+
+    key: str
+    machine: dict[str, float] = field(repr=False)
+    speeds: np.ndarray = field(repr=False)
+    frictions: np.ndarray = field(repr=False)
+    fail_at: float
+    t_end: float
+
+    @property
+    def n_items(self) -> int:
+        return int(self.speeds.size)
+
+    def compute(self, parallel: bool = False) -> dict[str, np.ndarray]:
+        """The map's fields at each point (``parallel`` is unused: one drop is one sequential kernel call)."""
+        out = {name: np.full(self.speeds.size, np.nan) for name in _FIELDS}
+        for i, (speed, mu) in enumerate(zip(self.speeds, self.frictions)):
+            r = drop(Machine(**{**self.machine, "friction": float(mu)}), float(speed), self.fail_at, self.t_end)
+            s = r.to_dict()["summary"]
+            out["regime"][i] = REGIMES.index(s["regime"])
+            out["backward_whirl_onset_s"][i] = np.nan if s["backward_whirl_onset_s"] is None \
+                else s["backward_whirl_onset_s"]
+            out["max_normal_impulse_Ns"][i] = 0.0 if s["max_normal_impulse_Ns"] is None else s["max_normal_impulse_Ns"]
+            out["energy_dissipated_J"][i] = s["energy_dissipated_J"]
+            out["final_spin_rpm"][i] = s["final_spin_rpm"]
+            out["n_impacts"][i] = len(r.impacts)
+        return out
+
+
+def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, t_end: float = 2.0,
+             chunk_size: int = 16, out: str | Path | None = None, resume: bool = True, n_jobs: int | None = None,
+             scheduler: Any = None, processes: bool = True, progress: bool = False) -> StudyRun:
+    """Drops of ``machine`` at each speed (rad/s) and friction coefficient: an xarray Dataset on (friction, speed).
+
+    Parameters
+    ----------
+    machine : Machine
+    speeds : array_like
+        Spin speeds at the start, rad/s (> 0).
+    frictions : array_like, optional
+        Friction coefficients (default: the machine's).
+    fail_at, t_end : float
+        Failure and final time of each drop, s.
+    chunk_size : int
+        Drops per chunk.
+    out, resume, n_jobs, scheduler, processes, progress
+        As for `rotorcontact.studies.driver.run_study`.
+
+    Returns
+    -------
+    StudyRun
+        Its dataset has the variables ``regime`` (codes into `REGIMES`, listed in the attribute
+        ``regimes``), ``backward_whirl_onset_s`` (nan: none), ``max_normal_impulse_Ns``,
+        ``energy_dissipated_J``, ``final_spin_rpm`` and ``n_impacts``.
+    """
+    speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
+    frictions = np.atleast_1d(np.asarray([machine.friction] if frictions is None else frictions, dtype=float))
+    if speeds.ndim != 1 or speeds.size == 0 or frictions.ndim != 1 or frictions.size == 0:
+        raise ParameterError("speeds and frictions must be non-empty lists of numbers")
+    for v in speeds:
+        check_range("speed", v, low=0.0, low_open=True)
+    for v in frictions:
+        check_range("friction", v, low=0.0)
+    fail_at = check_range("fail_at", fail_at, low=0.0)
+    t_end = check_range("t_end", t_end, low=0.0, low_open=True)
+    chunk_size = check_int("chunk_size", chunk_size, low=1)
+    grid_mu, grid_speed = np.meshgrid(frictions, speeds, indexing="ij")
+    flat_speed, flat_mu = grid_speed.ravel(), grid_mu.ravel()
+    n = flat_speed.size
+    manifest = {"study": "drop-map", "machine": machine.as_dict(), "speeds": speeds.tolist(),
+                "frictions": frictions.tolist(), "fail_at": fail_at, "t_end": t_end}
+
+    def keys(size: int) -> list[str]:
+        return [f"drops-{i:06d}" for i in range(0, n, size)]
+
+    def waves(size: int, _sink):
+        yield [DropTask(key, machine.as_dict(), flat_speed[i:i + size], flat_mu[i:i + size], fail_at, t_end)
+               for key, i in zip(keys(size), range(0, n, size))]
+
+    def assemble(size: int, load):
+        import xarray as xr
+
+        parts = [load(k) for k in keys(size)]
+        data = {name: np.concatenate([p[name] for p in parts]).reshape(grid_speed.shape) for name in _FIELDS}
+        ds = xr.Dataset(
+            {name: (("friction", "speed_rpm"), data[name]) for name in _FIELDS},
+            coords={"friction": frictions, "speed_rpm": speeds * 60.0 / (2.0 * np.pi)},
+        )
+        ds["transient_impacts"] = (("friction", "speed_rpm"), np.zeros(grid_speed.shape))
+        ds.attrs.update({"regimes": ",".join(REGIMES), "fail_at_s": fail_at, "t_end_s": t_end,
+                         "chunk_size": size})
+        ds.attrs.update({f"machine_{k}": v for k, v in machine.as_dict().items()})
+        return ds, int(data["n_impacts"].sum())
+
+    return run_study(manifest, study_digest(manifest), keys=keys, waves=waves, assemble=assemble, n_items=n,
+                     desc="drop-map", chunk_size=chunk_size, out=out, resume=resume, n_jobs=n_jobs,
+                     scheduler=scheduler, processes=processes, progress=progress)

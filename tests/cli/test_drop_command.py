@@ -1,0 +1,84 @@
+"""``rotorcontact drop`` and ``simulate --machine`` with a general machine (MODEL.md §7)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rotorcontact import Machine, reference_machine
+from rotorcontact.simulation.drop_run import RPM, drop, run_general
+
+GENERAL = """
+mass = 50.0
+damping = 1400.0
+stiffness = 9.8e5
+eccentricity = 0.3e-3
+clearance = "0.7 mm"
+rotor_radius = 0.04
+unbalance_phase = 0.21
+speed = "1759 rpm"
+friction = 0.15
+restitution = 0.95
+gravity = "9.81 m/s^2"
+polar_inertia = "0.04 kg m^2"
+"""
+
+
+@pytest.fixture
+def machine_file(tmp_path):
+    path = tmp_path / "m.toml"
+    path.write_text(GENERAL)
+    return str(path)
+
+
+def test_drop_json_contract_matches_the_python_api(cli, machine_file, tmp_path):
+    data = cli.json("drop", machine_file, "--speed", "12000rpm", "--t-end", "0.5s")
+    assert set(data) == {"machine", "speed_rpm", "status", "message", "impacts", "contact_intervals", "summary"}
+    assert data["speed_rpm"] == pytest.approx(12000.0, rel=1e-12)
+    m = Machine(**{**reference_machine().as_dict(), "speed": 1759 * RPM, "gravity": 9.81, "polar_inertia": 0.04})
+    assert data["machine"] == pytest.approx(m.as_dict(), rel=1e-15)
+    api = drop(m, 12000 * RPM, 0.0, 0.5).to_dict()
+    assert data["impacts"] == api["impacts"] and data["summary"] == api["summary"]
+    first = data["impacts"][0]
+    assert set(first) == {"t_s", "angle_rad", "normal_velocity_m_per_s", "normal_impulse_Ns",
+                          "tangential_impulse_Ns", "spin_rpm_before", "spin_rpm_after", "race_rpm_after"}
+    assert first["spin_rpm_before"] == pytest.approx(12000.0, rel=1e-12) and first["race_rpm_after"] is None
+    code, out, err = cli.run("drop", machine_file, "--speed", "12000rpm", "--t-end", "0.5s",
+                             "--plot", str(tmp_path / "d.png"))
+    assert code == 0 and "regime:" in out and (tmp_path / "d.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("argv, word", [
+    (("--t-end=-1s",), "--t-end"), (("--speed", "3m"), "--speed"), (("--fail-at=-1s",), "--fail-at"),
+    (("--t-end", "2 kg"), "--t-end"),
+])
+def test_drop_bad_input_exits_2_with_one_line(cli, machine_file, argv, word):
+    code, out, err = cli.run("drop", machine_file, *argv)
+    assert code == 2 and word in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_simulate_with_a_general_machine_runs_the_general_model_in_si(cli, machine_file):
+    data = cli.json("simulate", "--machine", machine_file, "--t-end", "50")
+    assert data["model"] == "general"
+    m = Machine(**{**reference_machine().as_dict(), "speed": 1759 * RPM, "gravity": 9.81, "polar_inertia": 0.04})
+    api = run_general(m, 0j, 0j, m.speed, math.inf, 50.0 / m.speed).to_dict()
+    assert data["impacts"] == api["impacts"]
+    # gravity balanced by the static force and the speed held: the paper's machine, so today's impacts (in s)
+    paper = cli.json("simulate", "--machine", "reference", "--t-end", "50")
+    ref_t = [row["t"] / reference_machine().speed for row in paper["impacts"]]
+    m_ref = Machine(**{**reference_machine().as_dict(), "gravity": 9.81})
+    gen = run_general(m_ref, 0j, 0j, m_ref.speed, math.inf, 50.0 / m_ref.speed)
+    assert gen.column("t_s") == pytest.approx(ref_t, rel=1e-10)
+
+
+def test_drop_map_json_figure_and_netcdf(cli, machine_file, tmp_path):
+    out = tmp_path / "map"
+    data = cli.json("drop-map", machine_file, "--speed", "3000:9000rpm", "--friction", "0.05:0.3", "--n", "2",
+                    "--t-end", "0.01s", "--out", str(out))
+    assert data["speeds_rpm"] == pytest.approx([3000.0, 9000.0], rel=1e-12)
+    assert data["frictions"] == pytest.approx([0.05, 0.3], rel=1e-15)
+    assert all(r in ("levitated", "bouncing", "contact", "backward-whirl") for row in data["regime"] for r in row)
+    assert (out / "drop_map.nc").is_file() and (out / "drop_map.png").stat().st_size > 0
+    code, _out, err = cli.run("drop-map", machine_file, "--speed", "3000rpm", "--out", str(out))
+    assert code == 2 and "--speed" in err and len(err.strip().splitlines()) == 1

@@ -1,0 +1,268 @@
+"""The general machine's kernel (MODEL.md §7) against closed forms, mpmath and today's simulator."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from rotorcontact import Machine, ParameterError, reference_machine
+from rotorcontact.model.machine_model import effective_mass_factor
+from rotorcontact.simulation.drop import drop_kernel
+from rotorcontact.simulation.drop_run import RPM, drop, levitated_state, run_general
+from rotorcontact.simulation.simulator import simulate
+
+CR = 0.7e-3
+G = 9.81
+
+
+def run(machine, z0, v0, spin, t_end, t_fail=0.0, chatter_v=1e-9, max_events=100_000, follow_contact=False):
+    """The kernel's impacts, status, stop time and final state (contact phases: see the tests below)."""
+    m = machine
+    race = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
+    impacts, _contacts, status, t_stop, state = drop_kernel(
+        m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
+        m.fs, m.g, m.polar_inertia or 0.0, *race, complex(z0), complex(v0), m.unbalance_phase, spin, 0.0, t_fail,
+        t_end, max_events, chatter_v, follow_contact)
+    return impacts, status, t_stop, state
+
+
+def machine(**changes):
+    return Machine(**{**reference_machine().as_dict(), **changes})
+
+
+@pytest.mark.parametrize("d", [0.5, 0.9])
+def test_free_fall_from_the_centre_closed_form(d):
+    m = machine(eccentricity=0.0, gravity=G, restitution=d)
+    impacts, status, _t, _s = run(m, 0j, 0j, 0.0, 5.0)
+    t1 = math.sqrt(2.0 * CR / G)
+    v1 = G * t1
+    n = len(impacts)
+    assert status == 1 and n > 20  # impacts accumulate (chatter)
+    k = np.arange(n)
+    # t_n = t1 + sum_{j=1}^{n} 2 d^j v1 / g, the bounces of a ball
+    expected = t1 + 2.0 * v1 / G * d * (1.0 - d**k) / (1.0 - d)
+    assert impacts[:, 0] == pytest.approx(expected, rel=1e-11, abs=1e-13)
+    assert impacts[:, 2] == pytest.approx(v1 * d**k, rel=1e-9, abs=1e-11 * v1)  # location to rounding of f
+    assert np.all(impacts[:, 1] == pytest.approx(-math.pi / 2, abs=1e-12))
+    t_acc = t1 + 2.0 * v1 * d / (G * (1.0 - d))  # the accumulation time
+    last = impacts[-1, 0]
+    assert last < t_acc and t_acc - last == pytest.approx(2.0 * v1 * d**n / (G * (1.0 - d)), rel=1e-6, abs=1e-12)
+    np.testing.assert_allclose(np.diff(impacts[:8, 0]), 2.0 * v1 * d ** np.arange(1, 8) / G, rtol=1e-10)
+
+
+def _mp_impacts(m, spin, count):
+    """The spinning drop without unbalance in mpmath: exact parabolas and the impact law of MODEL.md §7."""
+    mp.mp.dps = 40
+    g, c, mass, d, mu, r = (mp.mpf(x) for x in (m.g, m.clearance, m.mass, m.restitution, m.friction, m.rotor_radius))
+    ip = mp.mpf(m.polar_inertia)
+    x = y = vx = vy = mp.mpf(0)
+    om = mp.mpf(spin)
+    t = mp.mpf(0)
+    out = []
+    on_wall = False
+    for _ in range(count):
+        def f(s):
+            return (x + vx * s) ** 2 + (y + vy * s - g * s * s / 2) ** 2 - c * c
+        # bracket the first root: sample finely, then bisect in mpmath
+        lo = mp.mpf(0) if not on_wall else mp.mpf("1e-30")
+        hi = lo
+        step = mp.mpf("1e-6")
+        while f(hi + step) < 0:
+            hi += step
+        s = mp.findroot(f, (hi, hi + step), solver="anderson")
+        t += s
+        x, y = x + vx * s, y + vy * s - g * s * s / 2
+        vy = vy - g * s
+        nx, ny = x / c, y / c
+        vn = vx * nx + vy * ny
+        vt = -vx * ny + vy * nx
+        vrel = vt + r * om
+        kappa = 1 + mass * r * r / ip
+        pn = (1 + d) * vn
+        qt = -vrel / kappa if abs(vrel) / kappa <= mu * pn else -mp.sign(vrel) * mu * pn
+        vn, vt = -d * vn, vt + qt
+        om_before = om
+        om = om + mass * r * qt / ip
+        vx, vy = vn * nx - vt * ny, vn * ny + vt * nx
+        out.append((t, mp.atan2(y, x), pn * mass, qt * mass, om_before, om))
+        on_wall = True
+    return out
+
+
+def test_spinning_drop_first_impact_by_hand_and_later_ones_against_mpmath():
+    ip = 0.04
+    m = machine(eccentricity=0.0, gravity=G, polar_inertia=ip)
+    spin = 12000 * RPM
+    impacts, _status, _t, _s = run(m, 0j, 0j, spin, 0.2)
+    # first impact, by hand: straight fall to the bottom, v_rel = R Omega > 0 slides forward
+    t1 = math.sqrt(2.0 * CR / G)
+    v1 = G * t1
+    p_n = (1.0 + m.restitution) * m.mass * v1
+    kappa = 1.0 + m.mass * m.rotor_radius**2 / ip
+    p_t = -min(m.friction * p_n, m.mass * m.rotor_radius * spin / kappa)
+    assert impacts[0, 0] == pytest.approx(t1, rel=1e-13)
+    assert impacts[0, 1] == pytest.approx(-math.pi / 2, abs=1e-13)
+    assert impacts[0, 3] == pytest.approx(p_n, rel=1e-12)
+    assert impacts[0, 4] == pytest.approx(p_t, rel=1e-12)
+    assert impacts[0, 6] == pytest.approx(spin + m.rotor_radius * p_t / ip, rel=1e-14)
+    assert impacts[0, 10] == pytest.approx(p_t / m.mass, rel=1e-12)  # +theta at the bottom is +x
+    ref = _mp_impacts(m, spin, 12)
+    for row, (t, ang, pn, pt, _ob, om) in zip(impacts[:12], ref):
+        assert row[0] == pytest.approx(float(t), rel=1e-11)
+        assert row[1] == pytest.approx(float(ang), abs=1e-9)
+        assert row[3] == pytest.approx(float(pn), rel=1e-8)
+        assert row[4] == pytest.approx(float(pt), rel=1e-8)
+        assert row[6] == pytest.approx(float(om), rel=1e-12)
+
+
+def test_paper_machine_through_the_general_model_equals_the_simulator():
+    # a damping where the rotor settles on a persistent impacting orbit (no accumulation of impacts)
+    m = machine(damping=800.0)
+    p = m.parameters()
+    u0, du0 = 0.3 + 0.2j, 0.8 + 0.4j
+    traj = simulate(p, u0, du0, 1500.0, on_chatter="stop")
+    om = m.speed
+    # inertial state Z = U e^{it}, Z' = (U' + i U) e^{it} at t = 0, in metres and seconds (MODEL.md §2)
+    impacts, status, _t, _s = run(m, CR * u0, CR * om * (du0 + 1j * u0), om, 1500.0 / om, t_fail=math.inf)
+    n = len(traj.impacts)
+    assert traj.status == "completed" and status == 0 and n >= 400
+    t_ref = np.asarray(traj.impacts.t)
+    assert len(impacts) == n
+    np.testing.assert_allclose(impacts[:n, 0] * om, t_ref, rtol=1e-12, atol=0)
+
+
+def test_the_levitated_state_is_the_steady_whirl_and_must_fit():
+    m = machine(gravity=G, stiffness_x=6e5, damping_y=2000.0)
+    z, v = levitated_state(m, m.speed)
+    impacts, status, t_stop, state = run(m, z, v, m.speed, 0.05, t_fail=math.inf)
+    # started on its steady state, the levitated rotor whirls without impact and returns to it
+    assert len(impacts) == 0 and status == 0
+    z_end, v_end = levitated_state(Machine(**{**m.as_dict(), "unbalance_phase": m.unbalance_phase + m.speed * t_stop}),
+                                   m.speed)
+    assert complex(state[1], state[2]) == pytest.approx(z_end, abs=1e-12 * CR)
+    with pytest.raises(ParameterError, match="speed"):
+        levitated_state(machine(eccentricity=2e-3), 184.2)
+
+
+def test_drop_result_contract_and_rolling_free_bounds():
+    m = machine(gravity=G, polar_inertia=0.04)
+    r = drop(m, speed=12000 * RPM, t_end=0.5)
+    d = r.to_dict()
+    assert set(d) >= {"machine", "speed_rpm", "status", "message", "impacts", "contact_intervals", "summary"}
+    assert set(d["impacts"][0]) == {"t_s", "angle_rad", "normal_velocity_m_per_s", "normal_impulse_Ns",
+                                    "tangential_impulse_Ns", "spin_rpm_before", "spin_rpm_after", "race_rpm_after"}
+    assert set(d["summary"]) == {"regime", "backward_whirl_onset_s", "max_normal_impulse_Ns", "max_contact_force_N",
+                                 "final_spin_rpm", "energy_dissipated_J", "time_to_rest_s"}
+    assert d["speed_rpm"] == pytest.approx(12000.0, rel=1e-14)
+    spins = [row["spin_rpm_after"] for row in d["impacts"]]
+    assert all(-math.pi < row["angle_rad"] <= math.pi for row in d["impacts"])
+    # friction only slows the spin here (v_rel > 0 at every impact of this drop) and never reverses v_rel
+    assert all(b <= a for a, b in zip([12000.0] + spins, spins))
+    assert d["summary"]["energy_dissipated_J"] > 0.0
+    assert effective_mass_factor(m.mass, m.rotor_radius, 1 / 0.04, m.race_radius, 0.0) > 1.0
+    with pytest.raises(ParameterError, match="t_end"):
+        drop(m, t_end=0.0)
+
+
+def test_the_failure_switch_starts_a_free_fall_from_the_levitated_whirl():
+    m = machine(gravity=G)
+    t_fail = 0.0137
+    r = drop(m, fail_at=t_fail, t_end=0.1)
+    # levitated until t_fail: the steady whirl there (its unbalance phase advanced by Omega t_fail)
+    z_f, v_f = levitated_state(machine(gravity=G, unbalance_phase=m.unbalance_phase + m.speed * t_fail), m.speed)
+    # then gravity and the unbalance alone (K = C = F_s = 0), integrated by hand:
+    # x = x_f + A s + e (cos psi - cos(psi + Om s)), y = y_f + B s + e (sin psi - sin(psi + Om s)) - g s^2 / 2
+    e, om = m.eccentricity, m.speed
+    psi = m.unbalance_phase + om * t_fail
+    a = v_f.real - e * om * math.sin(psi)
+    b = v_f.imag + e * om * math.cos(psi)
+
+    def gap(s):
+        x = z_f.real + a * s + e * (math.cos(psi) - math.cos(psi + om * s))
+        y = z_f.imag + b * s + e * (math.sin(psi) - math.sin(psi + om * s)) - G * s * s / 2
+        return x * x + y * y - CR * CR
+
+    grid = np.linspace(0.0, 0.05, 50001)
+    vals = np.array([gap(s) for s in grid])
+    i = int(np.argmax(vals > 0))
+    s1 = brentq(gap, grid[i - 1], grid[i], xtol=1e-18, rtol=1e-15)
+    assert r.column("t_s")[0] == pytest.approx(t_fail + s1, rel=1e-12)
+    assert r.column("spin_after")[0] == m.speed  # no polar inertia: the speed stays held
+
+
+def test_chatter_into_rolling_contact_at_the_reference_speed_whirls_at_minus_r_over_cr_omega():
+    """Held speed, gravity: the drop ends rolling on a fixed stator with Theta' = -(R/c_r) Omega (-1675 Hz)."""
+    m = machine(gravity=G)
+    r = drop(m, t_end=0.3)
+    last = r.contact_intervals()[-1]
+    assert r.status == "completed" and last["kind"] == "rolling" and last["t_end_s"] == 0.3
+    expected = -(m.rotor_radius / m.clearance) * m.speed / (2 * math.pi)
+    assert last["whirl_frequency_hz"] == pytest.approx(expected, rel=1e-9)
+    assert expected == pytest.approx(-1675.0, abs=0.5)
+    assert r.regime == "backward-whirl" and r.backward_whirl_onset is not None
+
+
+def test_rolling_with_a_race_keeps_the_surfaces_together():
+    m = machine(gravity=G, polar_inertia=0.04, race_inertia=2e-4, race_drag_torque=0.05, race_drag_coefficient=1e-4)
+    r = drop(m, speed=12000 * RPM, t_end=0.2)
+    last = r.contact_intervals()[-1]
+    assert last["kind"] == "rolling"
+    _t, x, y, vx, vy, spin, race = r.final_state
+    theta_dot = (x * vy - y * vx) / (x * x + y * y)
+    v_rel = m.clearance * theta_dot + m.rotor_radius * spin - m.race_radius * race
+    assert abs(v_rel) <= 1e-8 * m.rotor_radius * abs(spin)
+    # the race has been spun up by the rotor: the whirl is (R_b Omega_b - R Omega)/c_r
+    assert race > 0.0
+    assert r.to_dict()["impacts"][-1]["race_rpm_after"] is not None
+
+
+def test_free_fall_accumulates_into_rest_at_the_bottom():
+    m = machine(eccentricity=0.0, gravity=G, restitution=0.5)
+    r = drop(m, speed=1e-9, t_end=0.1)
+    _t, x, y, vx, vy, _spin, _race = r.final_state
+    assert r.status == "completed" and r.contact_intervals()[-1]["t_end_s"] == 0.1
+    # at the bottom, rolling with the held spin 1e-9 rad/s: the whirl -(R/c_r) Omega turns it by at most
+    # (R/c_r) 1e-9 0.1 rad over the run
+    assert y == pytest.approx(-CR, rel=1e-12) and abs(vx) + abs(vy) <= 1e-9
+    assert abs(x) <= CR * (m.rotor_radius / CR) * 1e-9 * 0.1
+
+
+def test_contact_phases_of_the_paper_machine_match_the_simulator():
+    """Chatter into sliding, then rolling: the same phases as today's simulator's (MODEL.md §4).
+
+    The two handle the end of an accumulation differently (the simulator extrapolates the tail from
+    normal velocities 1e-5 c_r Omega; the general kernel drops velocities below 1e-6 c_r Omega), so the
+    times agree to the length of a bounce tail, 2 d v / (N (1 - d)) < 1e-4 here (N of order one).
+    """
+    m = machine(damping=600.0)
+    p = m.parameters()
+    u0, du0 = 0.3 + 0.2j, 0.8 + 0.4j
+    om = m.speed
+    ref = simulate(p, u0, du0, 150.0).to_dict()["contact_intervals"]
+    got = run_general(m, CR * u0, CR * om * (du0 + 1j * u0), om, math.inf, 150.0 / om).contact_intervals()
+    assert [c["kind"] for c in got] == [c["kind"] for c in ref] == ["sliding-forward", "rolling"]
+    for a, b in zip(got, ref):
+        assert a["t_start_s"] * om == pytest.approx(b["t_start"], abs=1e-4)
+        assert a["t_end_s"] * om == pytest.approx(b["t_end"], abs=1e-4)
+    # rolling in the inertial frame: Theta' = -(R/c_r) Omega
+    assert got[1]["whirl_frequency_hz"] * 2 * math.pi / om == pytest.approx(-p.r_ratio, rel=1e-9)
+
+
+def test_forward_rub_of_the_paper_machine_follows_the_simulator():
+    """A plastic impact (d = 0) into a forward rub: the general kernel's sliding phase against the simulator's
+    dense output at the same times (inertial Z = U e^{it})."""
+    m = machine(restitution=0.0)
+    p = m.parameters()
+    om = m.speed
+    u0, du0 = 0.9 + 0j, 0.5j
+    traj = simulate(p, u0, du0, 200.0)
+    assert [c["kind"] for c in traj.to_dict()["contact_intervals"]] == ["sliding-forward"]
+    for t in (100.0, 200.0):
+        r = run_general(m, CR * u0, CR * om * (du0 + 1j * u0), om, math.inf, t / om)
+        assert [c["kind"] for c in r.contact_intervals()] == ["sliding-forward"]
+        z = complex(r.final_state[1], r.final_state[2]) / CR
+        assert z == pytest.approx(complex(traj.Z(np.array([t]))[0]), abs=1e-8)
