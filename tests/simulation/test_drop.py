@@ -12,7 +12,7 @@ from scipy.optimize import brentq
 from rotorcontact import Machine, ParameterError, reference_machine
 from rotorcontact.model.machine_model import effective_mass_factor
 from rotorcontact.simulation.drop import drop_kernel
-from rotorcontact.simulation.drop_run import RPM, drop, levitated_state, run_general
+from rotorcontact.simulation.drop_run import REST_FRACTION, RPM, drop, levitated_state, run_general
 from rotorcontact.simulation.simulator import simulate
 
 CR = 0.7e-3
@@ -168,6 +168,72 @@ def test_drop_result_contract_and_rolling_free_bounds():
         drop(m, t_end=0.0)
 
 
+def _impact_dissipation(m, r, inv_polar):
+    """Energy each impact dissipates, from its impulses alone: (1 - d^2) m v_n^2 / 2 by restitution, and the
+    friction work |P_t| (|v_rel-| + |v_rel+|) / 2, v_rel changing linearly with P_t (kappa P_t / m)."""
+    kappa = effective_mass_factor(m.mass, m.rotor_radius, inv_polar, m.race_radius,
+                                  1.0 / m.race_inertia if m.has_race else 0.0)
+    v_n = r.column("normal_velocity_m_per_s")
+    p_t = r.column("tangential_impulse_Ns")
+    v_rel = r.column("v_rel_before")
+    return (0.5 * (1.0 - m.restitution ** 2) * m.mass * v_n ** 2
+            + np.abs(p_t) * (np.abs(v_rel) + np.abs(v_rel + kappa * p_t / m.mass)) / 2.0)
+
+
+def test_impacts_with_the_speed_held_dissipate_what_their_impulses_do():
+    """The motor's work holding the speed enters the balance: no impact creates energy."""
+    m = machine(gravity=G)
+    r = drop(m, speed=12000 * RPM, t_end=0.05)
+    assert len(r.impacts) >= 3
+    expected = _impact_dissipation(m, r, 0.0)
+    assert np.all(expected > 0.0)
+    # the kernel differences kinetic energies as large as the largest loss: rounding at that scale
+    np.testing.assert_allclose(r.column("energy_lost_J"), expected, rtol=1e-9, atol=1e-12 * expected.max())
+    assert r.energy_dissipated >= r.column("energy_lost_J").sum() > 0.0
+
+
+def _mechanical_energy(m, z, v, spin, race):
+    """m |z'|^2 / 2 + I_p Omega^2 / 2 + I_b Omega_b^2 / 2 + m g y: the energy once the bearing has failed."""
+    return (0.5 * m.mass * abs(v) ** 2 + 0.5 * m.polar_inertia * spin ** 2
+            + 0.5 * (m.race_inertia if m.has_race else 0.0) * race ** 2 + m.mass * m.g * z.imag)
+
+
+@pytest.mark.parametrize("race", [False, True])
+def test_energy_balance_of_a_drop_with_free_spin(race):
+    """After the failure the machine's energy falls by exactly what the touchdown bearing dissipates:
+    impacts, friction in sliding contact and the race's drag (no unbalance, so no work by the motor)."""
+    keys = dict(race_inertia=2e-4, race_drag_torque=0.05, race_drag_coefficient=1e-4) if race else {}
+    m = machine(eccentricity=0.0, gravity=G, polar_inertia=0.04, restitution=0.5, **keys)
+    speed = 3000 * RPM
+    r = drop(m, speed=speed, t_end=0.4)
+    assert len(r.impacts) >= 3 and len(r.contacts) >= 1
+    z0, v0 = levitated_state(m, speed)
+    _t, x, y, vx, vy, spin, race_end, dissipated = r.final_state
+    e0 = _mechanical_energy(m, z0, v0, speed, 0.0)
+    e1 = _mechanical_energy(m, complex(x, y), complex(vx, vy), spin, race_end)
+    assert dissipated == r.energy_dissipated == r.to_dict()["summary"]["energy_dissipated_J"]
+    assert dissipated == pytest.approx(e0 - e1, rel=1e-7)
+    expected = _impact_dissipation(m, r, 1 / 0.04)
+    np.testing.assert_allclose(r.column("energy_lost_J"), expected, rtol=1e-9, atol=1e-12 * e0)
+
+
+def test_a_sliding_rotor_comes_to_rest_and_the_run_stops_there():
+    m = machine(eccentricity=0.0, gravity=G, polar_inertia=0.04, restitution=0.5)
+    speed = 1000 * RPM
+    r = drop(m, speed=speed, t_end=20.0)
+    assert r.status == "at-rest" and r.time_to_rest == r.t_stop < 20.0
+    assert r.to_dict()["summary"]["time_to_rest_s"] == r.t_stop
+    z0, v0 = levitated_state(m, speed)
+    _t, x, y, vx, vy, spin, _race, _d = r.final_state
+    kinetic = 0.5 * m.mass * (vx * vx + vy * vy) + 0.5 * m.polar_inertia * spin * spin
+    start = 0.5 * m.mass * abs(v0) ** 2 + 0.5 * m.polar_inertia * speed ** 2
+    # located where the kinetic energy falls to REST_FRACTION of the start's
+    assert kinetic == pytest.approx(REST_FRACTION * start, rel=1e-3)
+    # a held speed never comes to rest
+    held = drop(machine(eccentricity=0.0, gravity=G, restitution=0.5), speed=speed, t_end=0.3)
+    assert held.status == "completed" and held.time_to_rest is None
+
+
 def test_the_failure_switch_starts_a_free_fall_from_the_levitated_whirl():
     m = machine(gravity=G)
     t_fail = 0.0137
@@ -211,7 +277,7 @@ def test_rolling_with_a_race_keeps_the_surfaces_together():
     r = drop(m, speed=12000 * RPM, t_end=0.2)
     last = r.contact_intervals()[-1]
     assert last["kind"] == "rolling"
-    _t, x, y, vx, vy, spin, race = r.final_state
+    _t, x, y, vx, vy, spin, race = r.final_state[:7]
     theta_dot = (x * vy - y * vx) / (x * x + y * y)
     v_rel = m.clearance * theta_dot + m.rotor_radius * spin - m.race_radius * race
     assert abs(v_rel) <= 1e-8 * m.rotor_radius * abs(spin)
@@ -223,7 +289,7 @@ def test_rolling_with_a_race_keeps_the_surfaces_together():
 def test_free_fall_accumulates_into_rest_at_the_bottom():
     m = machine(eccentricity=0.0, gravity=G, restitution=0.5)
     r = drop(m, speed=1e-9, t_end=0.1)
-    _t, x, y, vx, vy, _spin, _race = r.final_state
+    _t, x, y, vx, vy, _spin, _race = r.final_state[:7]
     assert r.status == "completed" and r.contact_intervals()[-1]["t_end_s"] == 0.1
     # at the bottom, rolling with the held spin 1e-9 rad/s: the whirl -(R/c_r) Omega turns it by at most
     # (R/c_r) 1e-9 0.1 rad over the run

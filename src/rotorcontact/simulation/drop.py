@@ -17,7 +17,7 @@ from numba import njit
 
 from ..model.angles import wrap_angle
 from ..model.machine_model import impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate
-from .general_contact import C_END, C_LIFTOFF, C_STEP_LIMIT, NP, contact_phase, contact_rates
+from .general_contact import C_END, C_LIFTOFF, C_REST, C_STEP_LIMIT, NP, contact_phase, contact_rates
 from .general_flight import flight_state, make_flight, next_impact
 from .roots import CROSSING, ITERATION_LIMIT, NO_CROSSING, STUCK
 from .tables import push_row
@@ -28,7 +28,9 @@ COMPLETED = 0
 CHATTER = 1
 MAX_EVENTS = 2
 FAILED = 3
-STATUS_NAMES = {COMPLETED: "completed", CHATTER: "chatter", MAX_EVENTS: "max-events", FAILED: "failed"}
+AT_REST = 4
+STATUS_NAMES = {COMPLETED: "completed", CHATTER: "chatter", MAX_EVENTS: "max-events", FAILED: "failed",
+                AT_REST: "at-rest"}
 
 #: Columns of the kernel's impact table (SI).
 IMPACT_FIELDS = ("t_s", "angle_rad", "normal_velocity_m_per_s", "normal_impulse_Ns", "tangential_impulse_Ns",
@@ -108,14 +110,17 @@ def _impact(z, v, spin, race, mass, d, mu, radius, inv_polar, race_radius, inv_r
 
 @njit(cache=True)
 def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, polar, race_inertia, race_torque,
-                race_coef, z0, v0, psi0, spin0, race0, t_fail, t_end, max_events, chatter_v, follow_contact=True):
+                race_coef, z0, v0, psi0, spin0, race0, t_fail, t_end, max_events, chatter_v, follow_contact=True,
+                rest_energy=0.0):
     """Run the general machine from (z0, v0) (m, m/s) at t = 0 to t_end.
 
     ``polar`` and ``race_inertia`` are 0 for a held speed and a fixed stator. The speed is held until
     t_fail; from t_fail on K, C, F_s vanish and the speed is free when ``polar`` > 0. A run stops with
     status chatter where impacts accumulate: a normal velocity below ``chatter_v`` (m/s) or a start on the
     wall pressed outwards. With ``follow_contact`` continuous contact follows there
-    (`general_contact`: sliding, rolling, lift-off), else the run stops with status chatter.
+    (`general_contact`: sliding, rolling, lift-off), else the run stops with status chatter. After the
+    failure, with a free speed, a contact phase in which the rotor's kinetic energy (whirl and spin)
+    falls to ``rest_energy`` (J, > 0) ends the run with status at-rest.
 
     Returns
     -------
@@ -123,7 +128,8 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     contacts : (c, 5) array (`CONTACT_FIELDS`)
     status : int
     t_stop : float
-    state : (7,) array: t, x, y, vx, vy, spin, race at the stop (SI)
+    state : (8,) array: t, x, y, vx, vy, spin, race at the stop and the energy the touchdown bearing
+        dissipated (impacts, friction in contact, the race's drag), J
     """
     cr = clearance
     inv_polar = 1.0 / polar if polar > 0.0 else 0.0
@@ -148,6 +154,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     on_boundary = abs(abs(z) - 1.0) <= BOUNDARY_TOL
     status = COMPLETED
     events = 0
+    dissipated = 0.0
     while t < t_end:
         events += 1
         if events > max_events:
@@ -166,7 +173,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             on = 1.0 if levitated else 0.0
             p = _contact_params(mass, cr, ecc, radius, mu, on * kx, on * ky, on * cx, on * cy, by * cr, inv_p,
                                 inv_race, race_torque, race_coef)
-            y = np.array([math.atan2(z.imag, z.real), (z.conjugate() * v).imag, psi, spin, race])
+            y = np.array([math.atan2(z.imag, z.real), (z.conjugate() * v).imag, psi, spin, race, 0.0])
             mode, sgn = _contact_mode(y, p, switched)
             switched = False
             t0 = t
@@ -174,7 +181,8 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                 rolling = mode == 1
                 if rolling:
                     y[1] = rolling_whirl_rate(radius, cr, spin, race_radius, race)
-                code_c, t1, y1, n_max = contact_phase(y, t, t + horizon, p, rolling, sgn)
+                rest = rest_energy if inv_p > 0.0 else 0.0
+                code_c, t1, y1, n_max = contact_phase(y, t, t + horizon, p, rolling, sgn, rest)
                 kind = 1.0 if rolling else (0.0 if sgn > 0.0 else 2.0)
                 if n_ct > 0 and contacts[n_ct - 1, 1] == t0 and contacts[n_ct - 1, 2] == kind and t1 > t0:
                     # the same phase goes on (after the integrator's step budget, or the failure): one interval
@@ -198,6 +206,10 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                 z = e1
                 v = 1j * y1[1] * e1
                 psi, spin, race = y1[2], y1[3], y1[4]
+                dissipated += y1[5]
+                if code_c == C_REST:
+                    status = AT_REST
+                    break
                 if code_c == C_END or code_c == C_STEP_LIMIT:
                     if t >= t_end:
                         break
@@ -236,7 +248,9 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             t = t_fail if levitated and t_fail < t_end else t_end
         psi = psi + spin * s
         if race_inertia > 0.0:
-            race = race_spin(race, s, race_inertia, race_torque, race_coef)
+            race_after = race_spin(race, s, race_inertia, race_torque, race_coef)
+            dissipated += 0.5 * race_inertia * (race * race - race_after * race_after)  # the race's drag
+            race = race_after
         if code == NO_CROSSING:
             on_boundary = abs(abs(z) - 1.0) <= BOUNDARY_TOL
             continue
@@ -247,6 +261,10 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         v_plus, spin_plus, race_plus, v_n, v_rel, p_n, p_t = _impact(
             zs, vs, spin, race, mass, d, mu, radius, inv_p, race_radius, inv_race)
         e_after = kinetic_energy(mass, v_plus, polar if inv_p > 0.0 else 0.0, spin_plus, race_inertia, race_plus)
+        lost = e_before - e_after
+        if inv_p == 0.0:
+            lost -= radius * spin * p_t  # the motor's work holding the speed against the torque impulse R P_t
+        dissipated += lost
         row[0] = t
         row[1] = wrap_angle(math.atan2(z.imag, z.real))
         row[2] = v_n
@@ -259,7 +277,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         row[9] = zs.imag
         row[10] = v_plus.real
         row[11] = v_plus.imag
-        row[12] = e_before - e_after
+        row[12] = lost
         row[13] = v_rel
         impacts, n_imp = push_row(impacts, n_imp, row)
         v = v_plus / cr
@@ -274,5 +292,5 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             w = z.conjugate() * v
             v = z * complex(0.0, w.imag)
             in_contact = True
-    state = np.array([min(t, t_end), z.real * cr, z.imag * cr, v.real * cr, v.imag * cr, spin, race])
+    state = np.array([min(t, t_end), z.real * cr, z.imag * cr, v.real * cr, v.imag * cr, spin, race, dissipated])
     return impacts[:n_imp].copy(), contacts[:n_ct].copy(), status, min(t, t_end), state

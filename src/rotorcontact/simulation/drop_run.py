@@ -26,6 +26,8 @@ RPM = 2.0 * math.pi / 60.0
 #: Normal velocity (in units of sqrt(g c_r), or c_r Omega without gravity) below which impacts are taken to
 #: accumulate into contact.
 CHATTER_VELOCITY = 1e-6
+#: The rotor is at rest once its kinetic energy (whirl and spin) falls to this fraction of that at the start.
+REST_FRACTION = 1e-8
 _COL = {name: i for i, name in enumerate(IMPACT_FIELDS)}
 
 
@@ -74,14 +76,16 @@ class DropResult:
     fail_at, t_end : float
         Failure time and final time, s.
     status : str
-        ``"completed"`` (reached t_end), ``"chatter"`` (impacts accumulate into continuous contact, where
-        the run stops), ``"max-events"`` or ``"failed"``.
+        ``"completed"`` (reached t_end), ``"at-rest"`` (the rotor came to rest, `REST_FRACTION`),
+        ``"chatter"`` (impacts accumulate into continuous contact, where the run stops), ``"max-events"``
+        or ``"failed"``.
     t_stop : float
         Time the run stopped, s.
     impacts : numpy.ndarray
         One row per impact, columns `rotorcontact.simulation.drop.IMPACT_FIELDS` (SI, rad/s).
     final_state : numpy.ndarray
-        t, x, y, vx, vy, spin, race at the stop (SI).
+        t, x, y, vx, vy, spin, race at the stop (SI) and the energy dissipated in the touchdown bearing, J
+        (`DropResult.energy_dissipated`).
     contacts : numpy.ndarray
         One row per contact phase, columns `rotorcontact.simulation.drop.CONTACT_FIELDS` (SI).
     """
@@ -96,6 +100,18 @@ class DropResult:
     final_state: np.ndarray
     contacts: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
 
+    @property
+    def energy_dissipated(self) -> float:
+        """Energy dissipated in the touchdown bearing, J: at impacts (restitution and friction, with the
+        motor's work where the speed is held), by friction in sliding contact and by the race's drag."""
+        return float(self.final_state[7])
+
+    @property
+    def time_to_rest(self) -> float | None:
+        """Time the rotor came to rest (its kinetic energy down to `REST_FRACTION` of that at the start), s;
+        None if it did not within the run."""
+        return self.t_stop if self.status == "at-rest" else None
+
     def column(self, name: str) -> np.ndarray:
         """One column of the impact table by its name in `IMPACT_FIELDS`."""
         return self.impacts[:, _COL[name]]
@@ -106,6 +122,8 @@ class DropResult:
         c = len(self.contacts)
         if self.status == "completed":
             return f"Reached t_end = {self.t_end:g} s after {n} impacts and {c} contact phases."
+        if self.status == "at-rest":
+            return f"The rotor came to rest at t = {self.t_stop:.6g} s after {n} impacts and {c} contact phases."
         if self.status == "chatter":
             return (f"Impacts accumulate into continuous contact at t = {self.t_stop:.6g} s after {n} impacts; "
                     "the run stops there.")
@@ -180,8 +198,8 @@ class DropResult:
                 "max_normal_impulse_Ns": float(p_n.max()) if p_n.size else None,
                 "max_contact_force_N": float(self.contacts[:, 3].max()) if len(self.contacts) else None,
                 "final_spin_rpm": float(self.final_state[5] / RPM),
-                "energy_dissipated_J": float(self.column("energy_lost_J").sum()),
-                "time_to_rest_s": None,
+                "energy_dissipated_J": self.energy_dissipated,
+                "time_to_rest_s": self.time_to_rest,
             },
         }
 
@@ -227,10 +245,12 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
         raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m; allowed: |z0| <= c_r")
     v_scale = math.sqrt(m.g * m.clearance) if m.g > 0.0 else m.clearance * speed
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
+    polar = m.polar_inertia or 0.0
+    rest_energy = REST_FRACTION * 0.5 * (m.mass * abs(v0) ** 2 + polar * speed * speed)
     impacts, contacts, status, t_stop, state = drop_kernel(
         m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
-        m.fs, m.g, m.polar_inertia or 0.0, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
-        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale)
+        m.fs, m.g, polar, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
+        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy)
     return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state,
                       contacts)
 

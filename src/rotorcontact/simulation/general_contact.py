@@ -1,6 +1,7 @@
 """Continuous contact of the general machine on |z| = c_r: sliding and rolling with spin (MODEL.md §7).
 
-State (theta, theta', psi, Omega, Omega_b); the accelerations are `machine_model.contact_accelerations`
+State (theta, theta', psi, Omega, Omega_b, E_d), E_d the energy the touchdown bearing has dissipated
+(friction power -F_t v_rel and the race's drag power, MODEL.md §7); the accelerations are `machine_model.contact_accelerations`
 (the rigid contact law; a compliant law would give its own). Phases are integrated with the
 Dormand-Prince 5(4) scheme of `contact` (tolerance `contact.CONTACT_TOL` relative), and each switch is
 located by bisection on single steps to `contact.EVENT_TOL` in time:
@@ -23,8 +24,8 @@ from .contact import (
     _B1, _B3, _B4, _B5, _B6, _E1, _E3, _E4, _E5, _E6, _E7, CONTACT_TOL, EVENT_TOL, MAX_CONTACT_STEPS,
 )
 
-__all__ = ["contact_phase", "contact_rates", "SLIDING", "ROLLING_MODE", "C_LIFTOFF", "C_END", "C_SWITCH",
-           "C_STEP_LIMIT"]
+__all__ = ["contact_phase", "contact_rates", "rotor_kinetic_energy", "SLIDING", "ROLLING_MODE", "C_LIFTOFF",
+           "C_END", "C_SWITCH", "C_STEP_LIMIT", "C_REST"]
 
 SLIDING = 0
 ROLLING_MODE = 1
@@ -32,12 +33,13 @@ C_END = 0
 C_LIFTOFF = 1
 C_SWITCH = 2
 C_STEP_LIMIT = 3
+C_REST = 4
 NP = 15  # mass, cr, ecc, R, Rb, mu, kx, ky, cx, cy, b_y, inv_polar, inv_race, race_torque, race_coef
 
 
 @njit(cache=True)
 def contact_rates(y, p, rolling, sgn):
-    """(y', n, q, v_rel) of the contact state y = (theta, theta', psi, Omega, Omega_b); ``p`` as `NP`."""
+    """(y', n, q, v_rel) of the contact state y = (theta, theta', psi, Omega, Omega_b, E_d); ``p`` as `NP`."""
     mass, cr, ecc, r, rb, mu = p[0], p[1], p[2], p[3], p[4], p[5]
     th, thd, psi, om, omb = y[0], y[1], y[2], y[3], y[4]
     e = complex(math.cos(th), math.sin(th))
@@ -51,13 +53,16 @@ def contact_rates(y, p, rolling, sgn):
         drag = math.copysign(p[13], omb) + p[14] * omb
     thdd, omd, ombd, n, q = contact_accelerations(w.real, w.imag, psi - th, ecc, cr, thd, mu, sgn, rolling, mass, r,
                                                   p[11], rb, p[12], drag)
-    out = np.empty(5)
+    v_rel = cr * thd + r * om - rb * omb
+    out = np.empty(6)
     out[0] = thd
     out[1] = thdd
     out[2] = om
     out[3] = omd
     out[4] = ombd
-    return out, n, q, cr * thd + r * om - rb * omb
+    # the friction force m q opposes v_rel (0 when rolling); the race's drag torque opposes Omega_b
+    out[5] = -mass * q * v_rel + drag * omb
+    return out, n, q, v_rel
 
 
 @njit(cache=True)
@@ -72,38 +77,51 @@ def _step(y, h, p, rolling, sgn):
     k7 = contact_rates(yn, p, rolling, sgn)[0]
     err_v = h * (_E1 * k1 + _E3 * k3 + _E4 * k4 + _E5 * k5 + _E6 * k6 + _E7 * k7)
     err = 0.0
-    for i in range(5):
+    for i in range(5):  # E_d, a quadrature of the others, is left out of the error control
         scale = CONTACT_TOL * (1e-3 + max(abs(y[i]), abs(yn[i])))
         err = max(err, abs(err_v[i]) / scale)
     return yn, err
 
 
 @njit(cache=True)
-def _events(y, p, rolling, sgn):
-    """Switching functions, positive inside the phase: n, and sgn v_rel (sliding) or mu n - |q| (rolling)."""
-    _r, n, q, v_rel = contact_rates(y, p, rolling, sgn)
-    if rolling:
-        return n, p[5] * n - abs(q)
-    return n, sgn * v_rel
+def rotor_kinetic_energy(y, p):
+    """m (c_r theta')^2 / 2 + I_p Omega^2 / 2 of the contact state, J (the spin's part 0 with the speed held)."""
+    ke = 0.5 * p[0] * (p[1] * y[1]) ** 2
+    if p[11] > 0.0:
+        ke += 0.5 * y[3] * y[3] / p[11]
+    return ke
 
 
 @njit(cache=True)
-def contact_phase(y0, t0, t_end, p, rolling, sgn):
-    """Integrate one contact phase from y0 at t0 until lift-off, a switch, or t_end.
+def _events(y, p, rolling, sgn, rest_energy):
+    """Switching functions, positive inside the phase: n; sgn v_rel (sliding) or mu n - |q| (rolling); and
+    the rotor's kinetic energy above ``rest_energy`` (1 where that is 0: no rest event)."""
+    _r, n, q, v_rel = contact_rates(y, p, rolling, sgn)
+    g3 = rotor_kinetic_energy(y, p) - rest_energy if rest_energy > 0.0 else 1.0
+    if rolling:
+        return n, p[5] * n - abs(q), g3
+    return n, sgn * v_rel, g3
+
+
+@njit(cache=True)
+def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
+    """Integrate one contact phase from y0 at t0 until lift-off, a switch, rest, or t_end.
+
+    ``rest_energy`` > 0: the phase also ends where the rotor's kinetic energy falls to it (`C_REST`).
 
     Returns
     -------
     code : int
-        `C_LIFTOFF`, `C_SWITCH` (end of slip or start of slip), `C_END` or `C_STEP_LIMIT`.
+        `C_LIFTOFF`, `C_SWITCH` (end of slip or start of slip), `C_REST`, `C_END` or `C_STEP_LIMIT`.
     t : float
-    y : (5,) array
+    y : (6,) array
         The state at the end.
     n_max : float
         Largest normal force per unit mass over the accepted steps.
     """
     t = t0
     y = y0.copy()
-    n_max = max(_events(y, p, rolling, sgn)[0], 0.0)
+    n_max = max(_events(y, p, rolling, sgn, rest_energy)[0], 0.0)
     h = 1e-3 / (1.0 + abs(y[1]) + abs(y[3]))
     for _ in range(MAX_CONTACT_STEPS):
         if t >= t_end:
@@ -113,22 +131,23 @@ def contact_phase(y0, t0, t_end, p, rolling, sgn):
         if err > 1.0:
             h *= max(0.2, 0.9 * err ** -0.2)
             continue
-        g1, g2 = _events(yn, p, rolling, sgn)
-        if g1 <= 0.0 or g2 <= 0.0:
+        g1, g2, g3 = _events(yn, p, rolling, sgn, rest_energy)
+        if g1 <= 0.0 or g2 <= 0.0 or g3 <= 0.0:
             lo, hi = 0.0, h
             for _b in range(200):
                 if hi - lo <= EVENT_TOL * (abs(t) + 1e-3):
                     break
                 mid = 0.5 * (lo + hi)
                 ym, _e = _step(y, mid, p, rolling, sgn)
-                a1, a2 = _events(ym, p, rolling, sgn)
-                if a1 <= 0.0 or a2 <= 0.0:
+                a1, a2, a3 = _events(ym, p, rolling, sgn, rest_energy)
+                if a1 <= 0.0 or a2 <= 0.0 or a3 <= 0.0:
                     hi = mid
                 else:
                     lo = mid
             ye, _e = _step(y, hi, p, rolling, sgn)
-            e1, _e2 = _events(ye, p, rolling, sgn)
-            return (C_LIFTOFF if e1 <= 0.0 else C_SWITCH), t + hi, ye, n_max
+            e1, e2, _e3 = _events(ye, p, rolling, sgn, rest_energy)
+            code = C_LIFTOFF if e1 <= 0.0 else (C_SWITCH if e2 <= 0.0 else C_REST)
+            return code, t + hi, ye, n_max
         t += h
         y = yn
         n_max = max(n_max, g1)
