@@ -332,3 +332,49 @@ def test_forward_rub_of_the_paper_machine_follows_the_simulator():
         assert [c["kind"] for c in r.contact_intervals()] == ["sliding-forward"]
         z = complex(r.final_state[1], r.final_state[2]) / CR
         assert z == pytest.approx(complex(traj.Z(np.array([t]))[0]), abs=1e-8)
+
+
+def test_lift_off_where_the_normal_force_vanishes_then_a_ballistic_flight():
+    """Sliding up the wall under gravity (speed held, v_rel > 0 throughout, no unbalance), the rotor lifts off
+    where n = -g sin(theta) + c_r theta'^2 reaches 0 (MODEL.md §7), found here by solve_ivp on the equation
+    c_r theta'' = -g cos(theta) - mu n; then it flies a parabola to its next impact."""
+    from scipy.integrate import solve_ivp
+
+    m = machine(eccentricity=0.0, gravity=G, friction=0.15)
+    mu = m.friction
+    thd0 = 5.0 * math.sqrt(G / CR)
+    r = run_general(m, -1j * CR, thd0 * CR + 0j, m.speed, 0.0, 0.05)
+    first = r.contact_intervals()[0]
+    assert first["kind"] == "sliding-forward" and first["t_start_s"] == 0.0
+
+    def rhs(_t, y):
+        th, thd = y
+        n = -G * math.sin(th) + CR * thd * thd
+        return [thd, (-G * math.cos(th) - mu * n) / CR]
+
+    def normal(_t, y):
+        return -G * math.sin(y[0]) + CR * y[1] * y[1]
+
+    normal.terminal = True
+    normal.direction = -1
+    sol = solve_ivp(rhs, (0.0, 0.05), [-math.pi / 2, thd0], method="DOP853", events=normal, rtol=1e-12,
+                    atol=1e-14, dense_output=True)
+    t_lift = sol.t_events[0][0]
+    th, thd = sol.y_events[0][0]
+    assert math.sin(th) > 0.0  # it lifts off on the upper half, after turning round the wall
+    assert first["t_end_s"] == pytest.approx(t_lift, rel=1e-8)
+    # the flight from there: z = c_r e^{i theta} + i c_r theta' e^{i theta} s - i g s^2 / 2
+    z0 = CR * complex(math.cos(th), math.sin(th))
+    v0 = 1j * CR * thd * complex(math.cos(th), math.sin(th))
+
+    def gap(s):
+        z = z0 + v0 * s - 0.5j * G * s * s
+        return abs(z) ** 2 - CR * CR
+
+    # gap = O(s^3) at lift-off (n = 0): the grid starts past rounding's reach
+    grid = np.linspace(1e-5, 0.05, 20001)
+    vals = np.array([gap(s) for s in grid])
+    assert vals[0] < 0.0
+    i = int(np.argmax(vals > 0))
+    s1 = brentq(gap, grid[i - 1], grid[i], xtol=1e-18, rtol=1e-15)
+    assert r.column("t_s")[0] == pytest.approx(t_lift + s1, rel=1e-7)
