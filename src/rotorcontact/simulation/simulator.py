@@ -132,10 +132,10 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
     flights = np.empty((64, 5))
     contacts = np.empty((16, 5))
     path = np.empty((256, 4))
-    n_imp = 0
-    n_fl = 0
-    n_ct = 0
-    n_path = 0
+    n_imp = np.int64(0)  # not a literal: one specialisation of the helpers it is passed to
+    n_fl = np.int64(0)  # not a literal: one specialisation of the helpers it is passed to
+    n_ct = np.int64(0)  # not a literal: one specialisation of the helpers it is passed to
+    n_path = np.int64(0)  # not a literal: one specialisation of the helpers it is passed to
     row = np.empty(NCOL)
     roll_dot = -(1.0 + r_ratio)
     status = COMPLETED

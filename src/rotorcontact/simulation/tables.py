@@ -1,4 +1,8 @@
-"""Growable row tables for compiled kernels (numba arrays doubled when full)."""
+"""Growable row tables for compiled kernels (numba arrays doubled when full).
+
+Rows are copied element by element: numba's slice assignment compiles its broadcasting checks and their
+error messages, several seconds of a cold start.
+"""
 
 from __future__ import annotations
 
@@ -14,7 +18,9 @@ def grow_rows(table, n):
     if n < table.shape[0]:
         return table
     bigger = np.empty((2 * table.shape[0], table.shape[1]))
-    bigger[:n] = table[:n]
+    for i in range(n):
+        for j in range(table.shape[1]):
+            bigger[i, j] = table[i, j]
     return bigger
 
 
@@ -22,5 +28,6 @@ def grow_rows(table, n):
 def push_row(table, n, row):
     """Append ``row`` as row ``n``; return the (possibly new) table and n + 1."""
     table = grow_rows(table, n)
-    table[n, :] = row
+    for j in range(row.shape[0]):
+        table[n, j] = row[j]
     return table, n + 1
