@@ -142,7 +142,7 @@ def test_contact_accelerations_solve_the_contact_equations(rolling, inv_polar, i
         delta, thetadot = rng.uniform(-math.pi, math.pi), rng.uniform(-500.0, 500.0)
         sgn = rng.choice([-1.0, 1.0])
         drag = rng.uniform(0.0, 0.2)
-        got = contact_accelerations(f_n, f_t, delta, e, CR, thetadot, mu, sgn, rolling, M, R, inv_polar, RB,
+        got = contact_accelerations(f_n, f_t, math.sin(delta), math.cos(delta), e, CR, thetadot, mu, sgn, rolling, M, R, inv_polar, RB,
                                     inv_race, drag)
         a, b = M * R * inv_polar, M * RB * inv_race
         # unknowns: theta'', Omega', Omega_b', n, q
@@ -165,7 +165,7 @@ def test_contact_keeps_the_angular_momentum_balance_without_unbalance():
 
     ip, ib, drag = 0.04, 2e-4, 0.07
     for rolling in (False, True):
-        thetadd, sd, rd, n, q = contact_accelerations(3.0, -4.0, 0.4, 0.0, CR, -300.0, 0.2, 1.0, rolling, M, R,
+        thetadd, sd, rd, n, q = contact_accelerations(3.0, -4.0, math.sin(0.4), math.cos(0.4), 0.0, CR, -300.0, 0.2, 1.0, rolling, M, R,
                                                       1 / ip, RB, 1 / ib, drag)
         rate = M * CR * CR * thetadd + ip * sd + ib * rd
         assert rate == pytest.approx(M * CR * -4.0 - drag, rel=1e-12)

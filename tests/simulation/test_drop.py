@@ -12,7 +12,7 @@ from scipy.optimize import brentq
 from rotorcontact import Machine, ParameterError, reference_machine
 from rotorcontact.model.machine_model import effective_mass_factor
 from rotorcontact.simulation.drop import drop_kernel
-from rotorcontact.simulation.drop_run import REST_FRACTION, RPM, drop, levitated_state, run_general
+from rotorcontact.simulation.drop_run import CHATTER_RELATIVE, REST_FRACTION, RPM, drop, levitated_state, run_general
 from rotorcontact.simulation.simulator import simulate
 
 CR = 0.7e-3
@@ -378,3 +378,16 @@ def test_lift_off_where_the_normal_force_vanishes_then_a_ballistic_flight():
     i = int(np.argmax(vals > 0))
     s1 = brentq(gap, grid[i - 1], grid[i], xtol=1e-18, rtol=1e-15)
     assert r.column("t_s")[0] == pytest.approx(t_lift + s1, rel=1e-7)
+
+
+def test_impacts_of_a_rotor_sliding_round_the_wall_accumulate_into_contact():
+    """At 36,000 rpm the bounces shrink until their normal velocity is 1e-6 of the centre's speed, where the
+    run follows the contact (below that, a flight's |z|^2 - 1 is rounding): hundreds of impacts, not 10^5."""
+    m = machine(gravity=G, polar_inertia=0.04)
+    r = drop(m, speed=36000 * RPM, t_end=0.02)
+    v_n = r.column("normal_velocity_m_per_s")
+    speed = np.abs(r.column("vx_plus") + 1j * r.column("vy_plus"))
+    assert len(r.impacts) < 1000
+    assert v_n[-1] < CHATTER_RELATIVE * 1.01 * speed[-1] and np.all(v_n[:-1] >= CHATTER_RELATIVE * 0.99 * speed[:-1])
+    first = r.contact_intervals()[0]
+    assert first["t_start_s"] == r.column("t_s")[-1] and first["kind"] == "sliding-forward"

@@ -26,6 +26,7 @@ from numba import njit
 from .impact_law import slip_bound, sticks
 
 __all__ = [
+    "rolling_fixed_coefficients",
     "harmonic_response",
     "constant_response",
     "effective_mass_factor",
@@ -170,7 +171,7 @@ def rolling_whirl_rate(radius: float, clearance: float, spin: float, race_radius
 
 
 @njit(cache=True)
-def contact_accelerations(f_n: float, f_t: float, delta: float, ecc: float, clearance: float, thetadot: float,
+def contact_accelerations(f_n: float, f_t: float, sd: float, cd: float, ecc: float, clearance: float, thetadot: float,
                           mu: float, sgn: float, rolling: bool, mass: float, radius: float, inv_polar: float,
                           race_radius: float, inv_race: float, race_drag: float):
     """Accelerations in continuous contact on |z| = c_r of the general machine (MODEL.md §7).
@@ -180,8 +181,8 @@ def contact_accelerations(f_n: float, f_t: float, delta: float, ecc: float, clea
     f_n, f_t : float
         Normal (outward) and tangential components of the external force per unit mass without the
         unbalance's -i e Omega' e^{i psi} term (bearing, static force, gravity, e Omega^2 e^{i psi}).
-    delta : float
-        psi - theta, the unbalance angle relative to the contact point.
+    sd, cd : float
+        sin(delta), cos(delta) of delta = psi - theta, the unbalance angle relative to the contact point.
     ecc, clearance, thetadot : float
         e, c_r and the whirl rate theta'.
     mu, sgn : float
@@ -203,8 +204,6 @@ def contact_accelerations(f_n: float, f_t: float, delta: float, ecc: float, clea
     a = mass * radius * inv_polar  # Omega' = a q
     b = mass * race_radius * inv_race  # Omega_b' = -b q - drag / I_b
     drag = race_drag * inv_race
-    sd = math.sin(delta)
-    cd = math.cos(delta)
     base_n = f_n + clearance * thetadot * thetadot
     if rolling:
         # c theta'' = f_t - e Omega' cos(delta) + q and c theta'' + R Omega' - R_b Omega_b' = 0
@@ -218,3 +217,19 @@ def contact_accelerations(f_n: float, f_t: float, delta: float, ecc: float, clea
     thetadd = (f_t - ecc * spin_dot * cd + q) / clearance
     race_dot = -b * q - drag
     return thetadd, spin_dot, race_dot, n, q
+
+
+@njit(cache=True)
+def rolling_fixed_coefficients(cos_theta: float, sd: float, cd: float, f_y: float, ecc: float, clearance: float,
+                               mass: float, radius: float, inv_polar: float) -> tuple[float, float]:
+    """(P, Q) of rolling on a fixed stator with a free speed under a constant force f_y (per unit mass, +y)
+    and the unbalance: d(theta'^2)/d theta = P + Q theta'^2 (MODEL.md §7, rolling reduced to theta), at
+    cos(theta) and sd, cd = sin(delta), cos(delta), delta = psi - theta.
+
+    With Omega = -(c_r/R) theta', the rolling branch of `contact_accelerations` gives
+    c_r theta'' = K f_t, K = R a / (1 + R a - e a cos(delta)), a = m R / I_p, and
+    f_t = f_y cos(theta) + e (c_r/R)^2 theta'^2 sin(delta).
+    """
+    a = mass * radius * inv_polar
+    k = radius * a / (1.0 + radius * a - ecc * a * cd)
+    return 2.0 * k * f_y * cos_theta / clearance, 2.0 * k * ecc * clearance * sd / (radius * radius)

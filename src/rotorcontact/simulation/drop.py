@@ -19,6 +19,7 @@ from ..model.angles import wrap_angle
 from ..model.machine_model import impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate
 from .general_contact import C_END, C_LIFTOFF, C_REST, C_STEP_LIMIT, NP, contact_phase, contact_rates
 from .general_flight import flight_state, make_flight, next_impact
+from .rolling import fast_rolling_applies, rolling_fixed_phase
 from .roots import CROSSING, ITERATION_LIMIT, NO_CROSSING, STUCK
 from .tables import push_row
 
@@ -111,13 +112,13 @@ def _impact(z, v, spin, race, mass, d, mu, radius, inv_polar, race_radius, inv_r
 @njit(cache=True)
 def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, polar, race_inertia, race_torque,
                 race_coef, z0, v0, psi0, spin0, race0, t_fail, t_end, max_events, chatter_v, follow_contact=True,
-                rest_energy=0.0):
+                rest_energy=0.0, chatter_rel=0.0):
     """Run the general machine from (z0, v0) (m, m/s) at t = 0 to t_end.
 
     ``polar`` and ``race_inertia`` are 0 for a held speed and a fixed stator. The speed is held until
     t_fail; from t_fail on K, C, F_s vanish and the speed is free when ``polar`` > 0. A run stops with
-    status chatter where impacts accumulate: a normal velocity below ``chatter_v`` (m/s) or a start on the
-    wall pressed outwards. With ``follow_contact`` continuous contact follows there
+    status chatter where impacts accumulate: a normal velocity below ``chatter_v`` (m/s) or below
+    ``chatter_rel`` times the centre's speed, or a start on the wall pressed outwards. With ``follow_contact`` continuous contact follows there
     (`general_contact`: sliding, rolling, lift-off), else the run stops with status chatter. After the
     failure, with a free speed, a contact phase in which the rotor's kinetic energy (whirl and spin)
     falls to ``rest_energy`` (J, > 0) ends the run with status at-rest.
@@ -182,7 +183,10 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                 if rolling:
                     y[1] = rolling_whirl_rate(radius, cr, spin, race_radius, race)
                 rest = rest_energy if inv_p > 0.0 else 0.0
-                code_c, t1, y1, n_max = contact_phase(y, t, t + horizon, p, rolling, sgn, rest)
+                if rolling and fast_rolling_applies(p):
+                    code_c, t1, y1, n_max = rolling_fixed_phase(y, t, t + horizon, p, rest)
+                else:
+                    code_c, t1, y1, n_max = contact_phase(y, t, t + horizon, p, rolling, sgn, rest)
                 kind = 1.0 if rolling else (0.0 if sgn > 0.0 else 2.0)
                 if n_ct > 0 and contacts[n_ct - 1, 1] == t0 and contacts[n_ct - 1, 2] == kind and t1 > t0:
                     # the same phase goes on (after the integrator's step budget, or the failure): one interval
@@ -284,7 +288,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         spin = spin_plus
         race = race_plus
         on_boundary = True
-        if v_n < chatter_v:
+        if v_n < chatter_v or v_n < chatter_rel * abs(vs):
             if not follow_contact:
                 status = CHATTER
                 break

@@ -26,6 +26,11 @@ RPM = 2.0 * math.pi / 60.0
 #: Normal velocity (in units of sqrt(g c_r), or c_r Omega without gravity) below which impacts are taken to
 #: accumulate into contact.
 CHATTER_VELOCITY = 1e-6
+#: Normal velocity, relative to the centre's speed, below which impacts are taken to accumulate into contact.
+#: A rotor sliding round the wall at speed v bounces over flights of length ~ v_n c_r / v^2, whose
+#: |z|^2 - 1 ~ (v_n / v)^2 reaches the rounding of |z|^2 at v_n / v ~ 1e-8: the bounces below resolve
+#: nothing but rounding (MODEL.md §7, accumulation).
+CHATTER_RELATIVE = 1e-6
 #: The rotor is at rest once its kinetic energy (whirl and spin) falls to this fraction of that at the start.
 REST_FRACTION = 1e-8
 _COL = {name: i for i, name in enumerate(IMPACT_FIELDS)}
@@ -250,7 +255,7 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     impacts, contacts, status, t_stop, state = drop_kernel(
         m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
         m.fs, m.g, polar, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
-        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy)
+        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy, CHATTER_RELATIVE)
     return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state,
                       contacts)
 

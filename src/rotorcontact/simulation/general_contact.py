@@ -51,7 +51,9 @@ def contact_rates(y, p, rolling, sgn):
     drag = 0.0
     if p[12] > 0.0 and omb != 0.0:
         drag = math.copysign(p[13], omb) + p[14] * omb
-    thdd, omd, ombd, n, q = contact_accelerations(w.real, w.imag, psi - th, ecc, cr, thd, mu, sgn, rolling, mass, r,
+    delta = psi - th
+    thdd, omd, ombd, n, q = contact_accelerations(w.real, w.imag, math.sin(delta), math.cos(delta), ecc, cr, thd, mu,
+                                                  sgn, rolling, mass, r,
                                                   p[11], rb, p[12], drag)
     v_rel = cr * thd + r * om - rb * omb
     out = np.empty(6)
