@@ -32,6 +32,7 @@ SUBCOMMANDS: dict[str, str] = {
     "cascade": "period-doubling cascades in a parameter range, with Feigenbaum's ratios and where they end",
     "codim2": "two-parameter diagram: fold, NSFH/DIB and grazing curves and their intersections",
     "reproduce": "compute the paper's Figures 2-7 and write report.json and report.html",
+    "warmup": "compile the numerical kernels ahead, so that later commands and workers start at once",
 }
 
 
