@@ -148,7 +148,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
         u = u0 / abs(u0)
     flights, n_fl = _push_state(flights, n_fl, t, u, du)
     in_contact = False
-    liftoff = False
+    liftoff = np.bool_(False)  # not a literal: one specialisation of next_crossing
     theta_c = 0.0
     thetadot_c = 0.0
     events = 0
