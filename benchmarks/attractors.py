@@ -26,6 +26,7 @@ import numpy as np
 
 import rotorcontact as rc
 from rotorcontact.studies.attractors import attractors
+from memory import print_peak
 
 
 def main() -> None:
@@ -65,3 +66,4 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+    print_peak()

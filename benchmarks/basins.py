@@ -34,6 +34,7 @@ import numba
 
 import rotorcontact as rc
 from rotorcontact.studies.basins import basins, displacement_grid, shock_grid
+from memory import print_peak
 
 
 def main() -> None:
@@ -77,3 +78,4 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+    print_peak()

@@ -33,6 +33,7 @@ import numpy as np
 
 import rotorcontact as rc
 from rotorcontact.studies.sweep import sweep, sweep_values
+from memory import print_peak
 
 
 def main() -> None:
@@ -77,3 +78,4 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+    print_peak()

@@ -7,6 +7,7 @@ import os
 import signal
 import warnings
 
+import numpy as np
 import pytest
 
 from rotorcontact.errors import ParameterError
@@ -71,3 +72,41 @@ def test_joblib_workers_ignore_ctrl_c_and_end_when_the_study_is_left_by_an_excep
             raise KeyboardInterrupt
     gone, alive = psutil.wait_procs(workers, timeout=30)
     assert not [p for p in alive if p.is_running() and p.status() != psutil.STATUS_ZOMBIE]
+
+
+def test_with_a_store_waves_read_earlier_chunks_from_it_and_memory_keeps_none(tmp_path):
+    """A study with a chunk store holds no results in memory: the sink is a view of the store, from which
+    a later wave reads the chunks of the earlier ones (as a carried sweep does)."""
+    from rotorcontact.studies.execution import ChunkStore, StoredChunks, run_waves
+
+    class Echo:
+        def run(self, tasks):
+            for i, task in enumerate(tasks):
+                yield i, {"value": np.full(2, task.n_items, dtype=float)}
+
+    class Task:
+        def __init__(self, key, n):
+            self.key, self.n_items = key, n
+
+    class Bar:
+        def update(self, _n):
+            pass
+
+    store = ChunkStore(tmp_path / "chunks", {"study": "echo"})
+    sink = StoredChunks(store, ["a", "b"])
+    seen = []
+
+    def waves(sink):
+        yield [Task("a", 3)]
+        seen.append(sink["a"]["value"].tolist())  # the first wave's chunk, read from its file
+        yield [Task("b", 5)]
+
+    assert run_waves(Echo(), waves(sink), store, Bar(), sink) == 2
+    assert seen == [[3.0, 3.0]] and sorted(sink) == ["a", "b"] and len(sink) == 2
+    assert store.load("b")["value"].tolist() == [5.0, 5.0]
+    with pytest.raises(KeyError):
+        sink["c"]
+    # without a store the results stay in the dict
+    plain = {}
+    assert run_waves(Echo(), iter([[Task("c", 1)]]), None, Bar(), plain) == 1
+    assert plain["c"]["value"].tolist() == [1.0, 1.0]

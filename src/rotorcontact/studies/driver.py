@@ -26,7 +26,7 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from .netcdf import check_output_path, read_finished, write_netcdf
-from .execution import ChunkStore, ChunkTask, chunk_folder, make_executor, progress_bar, run_waves
+from .execution import ChunkStore, ChunkTask, StoredChunks, chunk_folder, make_executor, progress_bar, run_waves
 
 __all__ = ["StudyRun", "run_study"]
 
@@ -142,7 +142,8 @@ def run_study(
         store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
         chunk_size = int(store.layout["chunk_size"])
     reused = sum(store.done(k) for k in keys(chunk_size)) if store is not None else 0
-    sink: dict[str, dict[str, np.ndarray]] = {}
+    # results held in memory only without a store; with one, each wave is built from the stored chunks
+    sink = {} if store is None else StoredChunks(store, keys(chunk_size))
     with make_executor(n_jobs, scheduler, processes=processes) as executor, \
             progress_bar(n_items, desc, progress) as bar:
         computed = run_waves(executor, waves(chunk_size, sink), store, bar, sink)

@@ -45,6 +45,7 @@ import threading
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from collections.abc import Mapping, MutableMapping
 from typing import Any, Iterable, Iterator
 
 import numpy as np
@@ -53,7 +54,7 @@ from .batch import BatchSettings, run_lanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
 
-__all__ = ["ChunkTask", "ChunkStore", "available_cores", "local_workers", "make_executor", "progress_bar", "run_task",
+__all__ = ["ChunkTask", "ChunkStore", "StoredChunks", "available_cores", "local_workers", "make_executor", "progress_bar", "run_task",
            "study_digest", "write_netcdf", "read_finished"]
 
 STORE_FORMAT = 2
@@ -618,24 +619,48 @@ def progress_bar(total: int, desc: str, enabled: bool, unit: str = "sim"):
                 mininterval=0.5, smoothing=0.1)
 
 
+class StoredChunks(Mapping):
+    """The finished chunks of a `ChunkStore` as a read-only mapping, read from their files when asked for.
+
+    The sink of `run_waves` where a study has a store: its results are on disk, and memory holds only
+    those a wave is being built from.
+    """
+
+    def __init__(self, store: ChunkStore, keys: Iterable[str] = ()) -> None:
+        self.store = store
+        self._keys = list(keys)
+
+    def __getitem__(self, key: str) -> dict[str, np.ndarray]:
+        if not self.store.done(key):
+            raise KeyError(key)
+        return self.store.load(key)
+
+    def __iter__(self):
+        return (k for k in self._keys if self.store.done(k))
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+
 def run_waves(
     executor: _Executor,
     waves: Iterable[list[ChunkTask]],
     store: ChunkStore | None,
     bar,
-    sink: dict[str, dict[str, np.ndarray]],
+    sink: MutableMapping[str, dict[str, np.ndarray]] | StoredChunks,
 ) -> int:
-    """Run waves of chunks, skipping finished ones; results go to ``store`` (if any) and ``sink``.
+    """Run waves of chunks, skipping finished ones; results go to ``store``, else to ``sink``.
 
     ``waves`` may be a generator that builds each wave from ``sink`` (the
-    chunks of the previous waves). Returns the number of chunks computed.
+    chunks of the previous waves): a dict without a store, a `StoredChunks`
+    view of the store with one, so that a study's results are held in memory
+    once at most. Returns the number of chunks computed.
     """
     computed = 0
     for wave in waves:
         todo = []
         for task in wave:
             if store is not None and store.done(task.key):
-                sink[task.key] = store.load(task.key)
                 bar.update(task.n_items)
             else:
                 todo.append(task)
@@ -643,7 +668,8 @@ def run_waves(
             task = todo[index]
             if store is not None:
                 store.save(task.key, result)
-            sink[task.key] = result
+            else:
+                sink[task.key] = result
             computed += 1
             bar.update(task.n_items)
     return computed
