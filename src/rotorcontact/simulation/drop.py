@@ -118,8 +118,9 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     ``polar`` and ``race_inertia`` are 0 for a held speed and a fixed stator. The speed is held until
     t_fail; from t_fail on K, C, F_s vanish and the speed is free when ``polar`` > 0. A run stops with
     status chatter where impacts accumulate: a normal velocity below ``chatter_v`` (m/s) or below
-    ``chatter_rel`` times the centre's speed, or a start on the wall pressed outwards. With ``follow_contact`` continuous contact follows there
-    (`general_contact`: sliding, rolling, lift-off), else the run stops with status chatter. After the
+    ``chatter_rel`` times the centre's speed, or a start on the wall pressed outwards. With
+    ``follow_contact`` continuous contact follows there (`general_contact`: sliding, rolling, lift-off;
+    `rolling`: rolling on a fixed stator with a free speed), else the run stops with status chatter. After the
     failure, with a free speed, a contact phase in which the rotor's kinetic energy (whirl and spin)
     falls to ``rest_energy`` (J, > 0) ends the run with status at-rest.
 
