@@ -223,3 +223,23 @@ def test_compliant_machine_file_with_units(tmp_path):
     assert m.needs_general_model
     rigid = load_machine("reference")
     assert rigid.contact is None and not rigid.compliant and rigid.as_dict() == reference_machine().as_dict()
+
+
+def test_force_history_of_an_elastic_impact_is_hertz():
+    # the undamped Hertz impact in closed form: t(delta) = int_0^delta dx / sqrt(v0^2 - 2 K_c x^(n+1)/((n+1) m))
+    v0, n = 0.1, 1.5
+    m = machine(eccentricity=0.0, friction=0.0, restitution=1.0, contact="compliant", contact_stiffness=KC)
+    t_wall = m.clearance / v0
+    dmax, fmax, duration = _hertz(m.mass, v0, KC, n)
+    mp.mp.dps = 20
+    deltas = np.linspace(0.1, 0.95, 6) * dmax
+    elapsed = [float(mp.quad(lambda x: 1 / mp.sqrt(v0**2 - 2 * KC * x ** (n + 1) / ((n + 1) * m.mass)), [0, dl]))
+               for dl in deltas]
+    from rotorcontact.simulation.drop_run import contact_force_history
+
+    times = np.concatenate((t_wall + np.array(elapsed), [t_wall * 0.5, t_wall + duration * 1.01]))
+    forces = contact_force_history(m, m.speed, 0.0, times, start=(0j, complex(v0, 0.0)))
+    np.testing.assert_allclose(forces[:6], KC * deltas**n, rtol=1e-7)
+    assert forces[6] == 0.0 and forces[7] == 0.0
+    with pytest.raises(ParameterError, match="contact = None"):
+        contact_force_history(machine(), 184.2, 0.0, [0.1])

@@ -14,12 +14,14 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
-from ..model.machine_model import constant_response, harmonic_response, restitution_damping, unbalance_amplitudes
+from ..model.machine_model import (
+    compliant_normal_force, constant_response, harmonic_response, restitution_damping, unbalance_amplitudes,
+)
 from ..model.params import Machine, check_range
 from ..model.validation import check_int
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
-__all__ = ["DropResult", "drop", "run_general", "levitated_state", "RPM"]
+__all__ = ["DropResult", "drop", "run_general", "levitated_state", "contact_force_history", "RPM"]
 
 #: rad/s per rpm.
 RPM = 2.0 * math.pi / 60.0
@@ -265,7 +267,7 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     m = machine
     if not abs(z0) <= m.clearance * (1.0 + 1e-12):
         raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m; allowed: |z0| <= c_r")
-    v_scale = math.sqrt(m.g * m.clearance) if m.g > 0.0 else m.clearance * speed
+    v_scale = _velocity_scale(m, speed)
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
     polar = m.polar_inertia or 0.0
     rest_energy = REST_FRACTION * 0.5 * (m.mass * abs(v0) ** 2 + polar * speed * speed)
@@ -281,3 +283,44 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
                       contacts)
 
 
+
+
+def _velocity_scale(machine: Machine, speed: float) -> float:
+    """sqrt(g c_r) with gravity, else c_r Omega, m/s: the scale of the chatter and damping floors."""
+    return math.sqrt(machine.g * machine.clearance) if machine.g > 0.0 else machine.clearance * speed
+
+
+def contact_force_history(machine: Machine, speed: float, fail_at: float, times,
+                          start: tuple[complex, complex] | None = None) -> np.ndarray:
+    """The compliant normal force F_n (N) of a drop (`drop`) at each of ``times`` (s, > 0), 0 out of contact;
+    ``start`` = (z0, v0) in m and m/s runs `run_general` from there instead of the levitated state.
+
+    Each value comes from the drop run to that time (the integration up to it is the same as in the
+    whole run: only its last step is cut short) and the law of MODEL.md §8 with the damping of the episode
+    in progress.
+
+    Raises
+    ------
+    ParameterError
+        For a machine without the compliant law.
+    """
+    if not machine.compliant:
+        raise ParameterError(f"contact = {machine.contact!r}; a force history needs contact = 'compliant'")
+    chi = restitution_damping(machine.restitution, machine.exponent)
+    floor = DAMPING_VELOCITY_FRACTION * _velocity_scale(machine, speed)
+    out = []
+    for t in np.asarray(times, dtype=float):
+        if start is None:
+            r = drop(machine, speed, fail_at, float(t))
+        else:
+            r = run_general(machine, start[0], start[1], speed, fail_at, float(t))
+        x, y, vx, vy = r.final_state[1:5]
+        dist = math.hypot(x, y)
+        if not len(r.impacts) or dist <= machine.clearance:
+            out.append(0.0)
+            continue
+        v0 = r.impacts[-1, _COL["normal_velocity_m_per_s"]]
+        f, _el = compliant_normal_force(dist - machine.clearance, (x * vx + y * vy) / dist,
+                                        machine.contact_stiffness, machine.exponent, chi / max(v0, floor))
+        out.append(f)
+    return np.array(out)
