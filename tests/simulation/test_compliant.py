@@ -128,19 +128,27 @@ def test_rigid_limit_converges_at_the_rate_of_the_contact_duration():
     assert np.all(diffs[:, 0] < diffs[:, 3])
 
 
-def _energy(m, state, speed_free=True):
-    """m |v|^2/2 + I_p Omega^2/2 + m g y + the elastic energy K_c delta^(n+1)/(n+1) of a penetration."""
-    x, y, vx, vy, spin = state[1:6]
+def _energy(m, state):
+    """m |v|^2/2 + I_p Omega^2/2 + I_b Omega_b^2/2 + m g y + the elastic energy K_c delta^(n+1)/(n+1)."""
+    x, y, vx, vy, spin, race = state[1:7]
     delta = max(math.hypot(x, y) - m.clearance, 0.0)
     elastic = m.contact_stiffness * delta ** (m.exponent + 1.0) / (m.exponent + 1.0)
-    return 0.5 * m.mass * (vx * vx + vy * vy) + 0.5 * m.polar_inertia * spin**2 + m.mass * m.g * y + elastic
+    race_energy = 0.5 * m.race_inertia * race**2 if m.has_race else 0.0
+    return (0.5 * m.mass * (vx * vx + vy * vy) + 0.5 * m.polar_inertia * spin**2 + race_energy + m.mass * m.g * y
+            + elastic)
 
 
-@pytest.mark.parametrize("t_end", [0.02, 0.0421])
-def test_dissipated_energy_is_the_fall_of_the_mechanical_energy(t_end):
-    r = _drop_from_centre(1e10, t_end=t_end)
+RACE = dict(race_inertia=2e-4, race_drag_torque=0.1, race_drag_coefficient=1e-4)
+
+
+@pytest.mark.parametrize("t_end, race", [(0.02, {}), (0.0421, {}), (0.0421, RACE), (0.3, RACE)])
+def test_dissipated_energy_is_the_fall_of_the_mechanical_energy(t_end, race):
+    # with a race: friction spins it up, its drag (static torque held at rest, and viscous) dissipates
+    r = _drop_from_centre(1e10, t_end=t_end, **race)
     m = r.machine
-    start = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 3000 * RPM])
+    if race:
+        assert r.final_state[6] != 0.0
+    start = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 3000 * RPM, 0.0])
     lost = _energy(m, start) - _energy(m, r.final_state)
     assert r.energy_dissipated > 0.0
     assert r.energy_dissipated == pytest.approx(lost, rel=1e-8)
@@ -150,7 +158,7 @@ def test_elastic_frictionless_drop_conserves_energy():
     r = _drop_from_centre(1e10, t_end=0.0421, restitution=1.0, friction=0.0)
     m = r.machine
     assert len(r.impacts) >= 2
-    start = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 3000 * RPM])
+    start = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 3000 * RPM, 0.0])
     assert r.energy_dissipated == 0.0
     assert _energy(m, r.final_state) == pytest.approx(_energy(m, start), abs=1e-10 * m.mass * 9.81 * m.clearance)
 
