@@ -194,9 +194,10 @@ def test_compliant_drop_contract():
     rows = out["impacts"]
     assert len(rows) == len(r.impacts) >= 5
     for row, raw in zip(rows, r.impacts):
-        for name in COMPLIANT_FIELDS:
+        for name in COMPLIANT_FIELDS[:-1]:
             value = raw[COL[name]]
             assert row[name] == (float(value) if math.isfinite(value) else None)
+        assert row["kind"] == ("sliding-forward", "rolling", "sliding-backward")[int(raw[COL["kind"]])]
     # every finished episode has a rebound; the peak force is K_c delta^n at most (the damping part adds
     # while penetrating, so it may exceed K_c delta_max^n, never the force at the deepest point by much)
     assert all(row["rebound_ratio"] is not None for row in rows[:-1])
@@ -251,3 +252,38 @@ def test_force_history_of_an_elastic_impact_is_hertz():
     assert forces[6] == 0.0 and forces[7] == 0.0
     with pytest.raises(ParameterError, match="contact = None"):
         contact_force_history(machine(), 184.2, 0.0, [0.1])
+
+
+@pytest.mark.parametrize("spin, kind", [(0.125, 1.0), (100.0, 0.0), (-100.0, 2.0)])
+def test_episode_kind_and_coulomb_impulse(spin, kind):
+    # a radial impact at 0.1 m/s with the speed held: v_rel = R Omega. Sliding throughout, the friction
+    # impulse is exactly -mu sgn(v_rel) P_n; a slow spin is stopped early (the rigid law would stick:
+    # R |Omega| < mu (1 + d) v0) and the surfaces roll for most of the episode
+    m = machine(eccentricity=0.0, contact="compliant", contact_stiffness=KC)
+    v0 = 0.1
+    r = run_general(m, 0j, complex(v0, 0.0), spin, 0.0, m.clearance / v0 + 5e-3)
+    row = r.impacts[0]
+    assert row[COL["kind"]] == kind
+    p_n, p_t = row[COL["normal_impulse_Ns"]], row[COL["tangential_impulse_Ns"]]
+    if kind != 1.0:
+        assert p_t == pytest.approx(-m.friction * math.copysign(p_n, spin), rel=1e-12)
+    else:
+        assert m.rotor_radius * spin < m.friction * (1.0 + m.restitution) * v0
+        assert abs(p_t) < m.friction * p_n
+        assert r.to_dict()["impacts"][0]["kind"] == "rolling"
+
+
+@pytest.mark.parametrize("d", [0.5, 0.95])
+def test_a_bouncing_rotor_settles_in_one_lasting_episode_at_the_static_penetration(d):
+    # no spin: the bounces die out and the last episode lasts to the end, at m g = K_c delta^n
+    m = machine(eccentricity=0.0, gravity=9.81, restitution=d, contact="compliant", contact_stiffness=KC)
+    r = run_general(m, 0j, 0j, 0.0, 0.0, 1.0)
+    assert r.status == "completed" and len(r.impacts) >= 2
+    last = r.impacts[-1]
+    assert last[COL["t_s"]] + last[COL["duration_s"]] == pytest.approx(1.0, rel=1e-14)
+    assert math.isnan(last[COL["rebound_ratio"]]) and r.to_dict()["impacts"][-1]["rebound_ratio"] is None
+    x, y = r.final_state[1:3]
+    assert x == pytest.approx(0.0, abs=1e-15) and y < 0.0
+    static = (m.mass * 9.81 / KC) ** (1.0 / 1.5)
+    assert math.hypot(x, y) - m.clearance == pytest.approx(static, rel=1e-6)
+    assert np.all(np.diff(r.column("t_s")) > 0.0) and np.all(r.impacts[:-1, COL["rebound_ratio"]] > 0.0)

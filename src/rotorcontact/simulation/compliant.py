@@ -221,11 +221,21 @@ def _events(y, p, rolling, sgn, rdir, rest_energy):
 
 
 @njit(cache=True)
-def compliant_episode(y0, t0, t_end, p, f_max, d_max, rest_energy=0.0):
+def _mode_index(rolling, sgn):
+    """0 sliding forward, 1 rolling, 2 sliding backward: the kinds of `drop.CONTACT_KINDS`."""
+    if rolling:
+        return 1
+    return 0 if sgn > 0.0 else 2
+
+
+@njit(cache=True)
+def compliant_episode(y0, t0, t_end, p, f_max, d_max, modes, rest_energy=0.0):
     """Integrate a compliant contact episode from y0 at t0 until the surfaces part (delta back to 0), rest,
     or t_end, sliding and rolling as friction allows.
 
     ``f_max``, ``d_max``: the largest normal force (N) and penetration (m) so far in the episode, updated.
+    ``modes``: (3,) array of the time spent sliding forward (v_rel > 0), rolling and sliding backward, s,
+    added to in place.
     ``rest_energy`` > 0: the episode also ends where the rotor's kinetic energy (whirl and spin) falls to it.
 
     Returns
@@ -236,8 +246,6 @@ def compliant_episode(y0, t0, t_end, p, f_max, d_max, rest_energy=0.0):
     y : (NY,) array
         The state at the end.
     f_max, d_max : float
-    rolled : float
-        Time spent rolling, s.
     """
     t = t0
     y = y0.copy()
@@ -246,12 +254,11 @@ def compliant_episode(y0, t0, t_end, p, f_max, d_max, rest_energy=0.0):
     _r, fn, dfn, delta, vn, _v, _f = episode_rates(y, p, rolling, sgn, rdir)
     f_max = max(f_max, fn)
     d_max = max(d_max, delta)
-    rolled = 0.0
     # a first step from the penetration rate, or from the scales of the motion at a graze
     h = 1e-3 * p[1] / (p[19] + abs(vn))
     for _ in range(MAX_CONTACT_STEPS):
         if t >= t_end:
-            return E_HORIZON, t_end, y, f_max, d_max, rolled
+            return E_HORIZON, t_end, y, f_max, d_max
         h = min(h, t_end - t)
         yn, err = _step(y, h, p, rolling, sgn, rdir)
         if err > 1.0 or not math.isfinite(err):
@@ -270,25 +277,23 @@ def compliant_episode(y0, t0, t_end, p, f_max, d_max, rest_energy=0.0):
             _re, fe, _dfe, de, _ve, _vre, _fte = episode_rates(ye, p, rolling, sgn, rdir)
             f_max = max(f_max, fe)
             d_max = max(d_max, de)
-            if rolling:
-                rolled += hi
+            modes[_mode_index(rolling, sgn)] += hi
             t += hi
             y = ye
             if e1 <= 0.0:
-                return E_SEPARATED, t, y, f_max, d_max, rolled
+                return E_SEPARATED, t, y, f_max, d_max
             if e3 <= 0.0:
-                return E_REST, t, y, f_max, d_max, rolled
+                return E_REST, t, y, f_max, d_max
             # a switch of the friction (sliding, rolling) or of the race (turning, held)
             rdir = race_mode(y, p, e4 <= 0.0, rolling)
             rolling, sgn = friction_mode(y, p, e2 <= 0.0 or rolling, rdir)
             _r, fn, dfn, delta, vn, _v, _f = episode_rates(y, p, rolling, sgn, rdir)
             continue
-        if rolling:
-            rolled += h
+        modes[_mode_index(rolling, sgn)] += h
         t += h
         y = yn
         fn, dfn, delta, vn = fn1, dfn1, delta1, vn1
         f_max = max(f_max, fn)
         d_max = max(d_max, delta)
         h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
-    return E_STEP_LIMIT, t, y, f_max, d_max, rolled
+    return E_STEP_LIMIT, t, y, f_max, d_max

@@ -38,9 +38,9 @@ STATUS_NAMES = {COMPLETED: "completed", CHATTER: "chatter", MAX_EVENTS: "max-eve
 #: Columns of the kernel's impact table (SI).
 IMPACT_FIELDS = ("t_s", "angle_rad", "normal_velocity_m_per_s", "normal_impulse_Ns", "tangential_impulse_Ns",
                  "spin_before", "spin_after", "race_after", "x_m", "y_m", "vx_plus", "vy_plus",
-                 "energy_lost_J", "v_rel_before", "duration_s", "max_force_N", "max_penetration_m", "rebound_ratio")
-#: The columns only a compliant contact episode fills (nan for a rigid impact).
-COMPLIANT_FIELDS = ("duration_s", "max_force_N", "max_penetration_m", "rebound_ratio")
+                 "energy_lost_J", "v_rel_before", "duration_s", "max_force_N", "max_penetration_m", "rebound_ratio", "kind")
+#: The columns only a compliant contact episode fills (nan for a rigid impact); kind as in `CONTACT_KINDS`.
+COMPLIANT_FIELDS = ("duration_s", "max_force_N", "max_penetration_m", "rebound_ratio", "kind")
 NCOL = len(IMPACT_FIELDS)
 BOUNDARY_TOL = 1e-12
 #: Columns of the kernel's contact table (SI): kind 0 sliding forward, 1 rolling, 2 sliding backward.
@@ -134,8 +134,9 @@ def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky,
     """A compliant contact episode from the impact point zs (m) with velocity vs (m/s) at t (MODEL.md §8),
     through the bearing's failure, until the surfaces part, the rotor rests or t_end.
 
-    The damping D = chi / max(v_n, v_floor) is fixed at the start. Returns (code, t, y, f_max, d_max, calls)
-    with y the `compliant.NY` state at the end and ``calls`` the integrator calls (at most ``max_steps``).
+    The damping D = chi / max(v_n, v_floor) is fixed at the start. Returns (code, t, y, f_max, d_max, kind,
+    calls) with y the `compliant.NY` state at the end, ``kind`` the friction mode (`CONTACT_KINDS`) the
+    episode spent most of its time in and ``calls`` the integrator calls (at most ``max_steps``).
     """
     y = np.zeros(NY)
     y[0] = zs.real
@@ -149,6 +150,7 @@ def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky,
     v_scale = abs(vs) + 1e3 * v_floor  # the error control's velocity scale: the impact's and the machine's
     f_max = 0.0
     d_max = 0.0
+    modes = np.zeros(3)
     code = E_SEPARATED
     calls = 0
     while t < t_end and calls < max_steps:
@@ -163,10 +165,10 @@ def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky,
                                 race_coef, stiffness, exponent, damp, tol, v_scale)
             stop = t_end
             rest = rest_energy if inv_polar > 0.0 else 0.0
-        code, t, y, f_max, d_max, _rolled = compliant_episode(y, t, stop, q, f_max, d_max, rest)
+        code, t, y, f_max, d_max = compliant_episode(y, t, stop, q, f_max, d_max, modes, rest)
         if code == E_SEPARATED or code == E_REST:
             break
-    return code, t, y, f_max, d_max, calls
+    return code, t, y, f_max, d_max, float(np.argmax(modes)), calls
 
 
 @njit(cache=True)
@@ -336,7 +338,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         if compliant:
             w = z.conjugate() * vs
             t0 = t
-            code_e, t, y_e, f_max, d_max, calls = _episode(
+            code_e, t, y_e, f_max, d_max, kind, calls = _episode(
                 t, zs, vs, psi, spin, race, max(w.real, 0.0), mass, cr, ecc, radius, mu, kx, ky, cx, cy, fs, g,
                 inv_polar, inv_race, race_torque, race_coef, t_fail, t_end, contact_stiffness, contact_exponent,
                 contact_chi, contact_v_floor, contact_tol, rest_energy, max(max_events - events, 1))
@@ -364,6 +366,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             # normal velocity out over in; nan while the episode goes on at the stop
             row[17] = -(n_end.conjugate() * v_end).real / w.real if code_e == E_SEPARATED and w.real > 0.0 \
                 else math.nan
+            row[18] = kind
             impacts, n_imp = push_row(impacts, n_imp, row)
             dissipated += y_e[7]
             z = n_end if code_e == E_SEPARATED else z_end / cr

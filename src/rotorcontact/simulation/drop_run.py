@@ -200,9 +200,10 @@ class DropResult:
         ]
         if self.machine.compliant:
             for row, r in zip(rows, self.impacts):
-                for name in COMPLIANT_FIELDS:
+                for name in COMPLIANT_FIELDS[:-1]:
                     value = float(r[_COL[name]])
                     row[name] = value if math.isfinite(value) else None  # an episode still going at the stop
+                row["kind"] = CONTACT_KINDS[int(r[_COL["kind"]])]
         p_n = self.column("normal_impulse_Ns")
         forces = [float(self.contacts[:, 3].max())] if len(self.contacts) else []
         if self.machine.compliant and len(self.impacts):
