@@ -119,11 +119,7 @@ def _episode_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_r
     q = np.empty(NQ)
     q[:15] = _contact_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque,
                              race_coef)
-    q[15] = stiffness
-    q[16] = exponent
-    q[17] = damp
-    q[18] = tol
-    q[19] = v_scale
+    q[15:] = np.array([stiffness, exponent, damp, tol, v_scale])  # the slots of `compliant.NQ`
     return q
 
 
@@ -138,14 +134,8 @@ def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky,
     calls) with y the `compliant.NY` state at the end, ``kind`` the friction mode (`CONTACT_KINDS`) the
     episode spent most of its time in and ``calls`` the integrator calls (at most ``max_steps``).
     """
-    y = np.zeros(NY)
-    y[0] = zs.real
-    y[1] = zs.imag
-    y[2] = vs.real
-    y[3] = vs.imag
-    y[4] = psi
-    y[5] = spin
-    y[6] = race
+    y = np.zeros(NY)  # E_d, P_n, P_t start at 0
+    y[:7] = np.array([zs.real, zs.imag, vs.real, vs.imag, psi, spin, race])
     damp = chi / max(v_n, v_floor)
     v_scale = abs(vs) + 1e3 * v_floor  # the error control's velocity scale: the impact's and the machine's
     f_max = 0.0
