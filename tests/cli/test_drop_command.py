@@ -82,3 +82,27 @@ def test_drop_map_json_figure_and_netcdf(cli, machine_file, tmp_path):
     assert (out / "drop_map.nc").is_file() and (out / "drop_map.png").stat().st_size > 0
     code, _out, err = cli.run("drop-map", machine_file, "--speed", "3000rpm", "--out", str(out))
     assert code == 2 and "--speed" in err and len(err.strip().splitlines()) == 1
+
+
+def test_drop_with_a_compliant_bearing_matches_the_python_api(cli, tmp_path):
+    path = tmp_path / "c.toml"
+    path.write_text(GENERAL + 'contact = "compliant"\ncontact_stiffness = "1e10 N/m**1.5"\n')
+    data = cli.json("drop", str(path), "--speed", "12000rpm", "--t-end", "0.05s")
+    m = Machine(**{**reference_machine().as_dict(), "speed": 1759 * RPM, "gravity": 9.81, "polar_inertia": 0.04,
+                   "contact": "compliant", "contact_stiffness": 1e10})
+    api = drop(m, 12000 * RPM, 0.0, 0.05).to_dict()
+    assert data["machine"]["contact"] == "compliant"
+    assert data["impacts"] == api["impacts"] and data["summary"] == api["summary"]
+    first = data["impacts"][0]
+    assert {"duration_s", "max_force_N", "max_penetration_m", "rebound_ratio"} <= set(first)
+    assert first["max_force_N"] > 0.0 and 0.0 < first["rebound_ratio"] < 2.0
+    code, out, err = cli.run("drop", str(path), "--speed", "12000rpm", "--t-end", "0.05s",
+                             "--plot", str(tmp_path / "c.png"))
+    assert code == 0 and "regime:" in out and (tmp_path / "c.png").stat().st_size > 0
+
+
+def test_drop_refuses_a_compliant_bearing_without_stiffness(cli, tmp_path):
+    path = tmp_path / "c.toml"
+    path.write_text(GENERAL + 'contact = "compliant"\n')
+    code, out, err = cli.run("drop", str(path))
+    assert code == 2 and "contact_stiffness" in err and "Traceback" not in err

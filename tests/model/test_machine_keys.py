@@ -35,7 +35,8 @@ def test_absent_keys_keep_the_paper_machine():
     # the dict of an existing machine is what it was: the ten fields of MODEL.md §1
     assert set(m.as_dict()) == set(Machine.units()) - {
         "stiffness_x", "stiffness_y", "damping_x", "damping_y", "gravity", "static_force", "polar_inertia",
-        "race_inertia", "race_drag_torque", "race_drag_coefficient"}
+        "race_inertia", "race_drag_torque", "race_drag_coefficient", "contact", "contact_stiffness",
+        "contact_exponent"}
 
 
 def test_general_keys_in_si_with_units(tmp_path):

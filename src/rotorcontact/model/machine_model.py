@@ -21,6 +21,8 @@ from __future__ import annotations
 import cmath
 import math
 
+from functools import lru_cache
+
 from numba import njit
 
 from .impact_law import slip_bound, sticks
@@ -38,6 +40,9 @@ __all__ = [
     "angular_momentum",
     "rolling_whirl_rate",
     "contact_accelerations",
+    "compliant_normal_force",
+    "hertz_rebound",
+    "restitution_damping",
 ]
 
 
@@ -233,3 +238,67 @@ def rolling_fixed_coefficients(cos_theta: float, sd: float, cd: float, f_y: floa
     a = mass * radius * inv_polar
     k = radius * a / (1.0 + radius * a - ecc * a * cd)
     return 2.0 * k * f_y * cos_theta / clearance, 2.0 * k * ecc * clearance * sd / (radius * radius)
+
+
+@njit(cache=True)
+def compliant_normal_force(delta: float, delta_dot: float, stiffness: float, exponent: float,
+                           damping: float) -> tuple[float, float]:
+    """(F_n, F_el) of the compliant law F_n = max(0, K_c delta^n (1 + D delta')) (MODEL.md §8), N.
+
+    F_el = K_c delta^n is its elastic part; both are 0 out of contact (delta <= 0). F_n never pulls: where
+    1 + D delta' < 0 (fast separation) it is 0 and the surfaces part while delta > 0.
+    """
+    if delta <= 0.0:
+        return 0.0, 0.0
+    f_el = stiffness * delta ** exponent
+    return max(0.0, f_el * (1.0 + damping * delta_dot)), f_el
+
+
+def hertz_rebound(chi: float, exponent: float, rtol: float = 1e-12) -> float:
+    """Rebound ratio of an isolated impact under F_n = max(0, K_c delta^n (1 + chi delta'/v_0)) (MODEL.md §8).
+
+    In the units delta = L u, t = (L/v_0) tau with L = (m v_0^2/K_c)^(1/(n+1)) the impact obeys
+    u'' = -u^n max(0, 1 + chi u'), u(0) = 0, u'(0) = 1, with no other parameter: the rebound -u' at the
+    return to u = 0 depends on chi and n only (not on m, K_c or v_0). Integrated by scipy's DOP853.
+    """
+    from scipy.integrate import solve_ivp
+
+    def rates(_t, y):
+        u = max(y[0], 0.0)
+        return (y[1], -u ** exponent * max(0.0, 1.0 + chi * y[1]))
+
+    def back(_t, y):
+        return y[0]
+
+    back.terminal = True
+    back.direction = -1.0
+    # the free return takes tau = 2 u_max, u_max = (n + 1)^(1/(n+1)) at chi = 0; damping lengthens it
+    # at most to the overdamped creep at u' = -1/chi
+    span = 100.0 * (1.0 + chi) ** 2
+    sol = solve_ivp(rates, (0.0, span), (0.0, 1.0), method="DOP853", rtol=rtol, atol=rtol * 1e-3, events=back)
+    if sol.t_events[0].size == 0:
+        raise RuntimeError(f"the impact with chi = {chi!r} did not end within tau = {span!r}")
+    return float(-sol.y_events[0][0][1])
+
+
+@lru_cache(maxsize=64)
+def restitution_damping(restitution: float, exponent: float) -> float:
+    """chi(d, n) with D = chi / v_0: the Hunt-Crossley damping whose isolated impact rebounds with d (MODEL.md §8).
+
+    Solved for chi by Brent's method on `hertz_rebound` (to 1e-13 in chi), so the rebound ratio is d at
+    every impact speed, mass and stiffness, not only near d = 1. The rebound falls from 1 at chi = 0 to
+    about 1/chi as chi grows (the overdamped creep at u' = -1/chi), so chi lies in [0, 2/d + 2].
+
+    Raises
+    ------
+    ValueError
+        For d outside (0, 1] (d = 0 needs infinite damping).
+    """
+    from scipy.optimize import brentq
+
+    if not 0.0 < restitution <= 1.0:
+        raise ValueError(f"restitution = {restitution!r}; allowed: (0, 1] for a compliant contact")
+    if restitution == 1.0:
+        return 0.0
+    return float(brentq(lambda chi: hertz_rebound(chi, exponent) - restitution, 0.0, 2.0 / restitution + 2.0,
+                        xtol=1e-13, rtol=1e-13))

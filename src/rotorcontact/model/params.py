@@ -34,6 +34,7 @@ __all__ = [
     "MAX_VELOCITY",
     "OPTIONAL_MACHINE_KEYS",
     "RACE_KEYS",
+    "CONTACT_LAWS",
 ]
 
 #: Largest magnitude of a dimensionless parameter (|gamma|, omega, rho, mu, |phi|, r_ratio).
@@ -249,16 +250,30 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "race_inertia": dict(low=0.0, low_open=True, unit="kg m^2"),
     "race_drag_torque": dict(low=0.0, unit="N m"),
     "race_drag_coefficient": dict(low=0.0, unit="N m s"),
+    # the compliant contact law (MODEL.md §8); absent: the rigid impact law
+    "contact": dict(unit=""),
+    "contact_stiffness": dict(low=0.0, low_open=True, unit="N/m^n"),
+    "contact_exponent": dict(low=0.0, low_open=True, high=10.0, unit="1"),
 }
+#: The contact laws of the key ``contact`` (MODEL.md §7: rigid, §8: compliant).
+CONTACT_LAWS = ("rigid", "compliant")
 
 #: Keys of the general machine (MODEL.md §7), optional in machine files; absent, each keeps the meaning of
 #: the paper's machine (isotropic bearing, no gravity, speed held, fixed stator).
 OPTIONAL_MACHINE_KEYS = (
     "stiffness_x", "stiffness_y", "damping_x", "damping_y", "gravity", "static_force", "polar_inertia",
-    "race_inertia", "race_drag_torque", "race_drag_coefficient",
+    "race_inertia", "race_drag_torque", "race_drag_coefficient", "contact", "contact_stiffness", "contact_exponent",
 )
 #: The race keys, given all three or none.
 RACE_KEYS = ("race_inertia", "race_drag_torque", "race_drag_coefficient")
+
+
+def _si_unit(name: str, exponent: Any = None) -> str:
+    """The SI unit of a machine key for pint; K_c is in N/m^n (n = ``exponent``, 1.5 when absent or invalid)."""
+    if name != "contact_stiffness":
+        return _MACHINE_RULES[name]["unit"]
+    n = exponent if isinstance(exponent, (int, float)) and not isinstance(exponent, bool) else 1.5
+    return f"N/m**{float(n)!r}"
 
 
 def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
@@ -269,6 +284,8 @@ def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
     ParameterError
         For an unknown unit, units of the wrong dimension, or a malformed value.
     """
+    if name == "contact":
+        return raw  # a word, checked by `Machine`
     if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
         raise ParameterError(
             f"{source}: {name} = {raw!r} is not a number; a finite real number in {unit}, "
@@ -328,6 +345,14 @@ class Machine:
         constant drag torque in N m and the viscous drag coefficient in N m s
         (>= 0) of its own rolling bearing. All three or none (None: the stator
         does not turn).
+    contact : str or None
+        The contact law: ``"rigid"`` (None: the impact law of MODEL.md §7) or
+        ``"compliant"`` (MODEL.md §8), which needs ``contact_stiffness`` and a
+        restitution > 0.
+    contact_stiffness : float or None
+        K_c of the compliant law F_n = K_c delta^n (1 + D delta'), N/m^n, > 0.
+    contact_exponent : float or None
+        n of the compliant law, in (0, 10] (None: 1.5, Hertz).
 
     The optional fields describe the general machine of MODEL.md §7; a
     machine without them is the paper's machine of MODEL.md §1.
@@ -353,15 +378,21 @@ class Machine:
     race_inertia: float | None = None
     race_drag_torque: float | None = None
     race_drag_coefficient: float | None = None
+    contact: str | None = None
+    contact_stiffness: float | None = None
+    contact_exponent: float | None = None
 
     def __post_init__(self) -> None:
+        self._check_contact()
         for f in fields(self):
+            if f.name == "contact":
+                continue
             rule = {k: v for k, v in _MACHINE_RULES[f.name].items() if k != "unit"}
             value = getattr(self, f.name)
             if value is None and f.name in OPTIONAL_MACHINE_KEYS:
                 continue
             if isinstance(value, str):  # a quantity with units, as in machine files: "12000 rpm"
-                value = to_si(f.name, value, _MACHINE_RULES[f.name]["unit"], source="Machine")
+                value = to_si(f.name, value, self._unit(f.name), source="Machine")
             object.__setattr__(self, f.name, check_range(f.name, value, **rule))
         given = [key for key in RACE_KEYS if getattr(self, key) is not None]
         if given and len(given) < len(RACE_KEYS):
@@ -375,6 +406,44 @@ class Machine:
                 f"race_inertia = {self.race_inertia!r} with polar_inertia = None; a turning race needs the "
                 "rotor's polar_inertia (kg m^2): with the speed held the race would spin up without bound"
             )
+        self._check_compliant()
+
+    def _unit(self, name: str) -> str:
+        """The SI unit a string value of ``name`` is converted to (N/m^n with this machine's n for K_c)."""
+        return _si_unit(name, self.contact_exponent)
+
+    def _check_contact(self) -> None:
+        law = self.contact
+        if law is not None and law not in CONTACT_LAWS:
+            raise ParameterError(f"contact = {law!r} is not a contact law; allowed: {', '.join(CONTACT_LAWS)}")
+
+    def _check_compliant(self) -> None:
+        if self.contact == "compliant":
+            if self.contact_stiffness is None:
+                raise ParameterError(
+                    "contact_stiffness = None with contact = 'compliant'; the compliant law needs K_c in N/m^n (> 0)"
+                )
+            if self.restitution == 0.0:
+                raise ParameterError(
+                    "restitution = 0.0 with contact = 'compliant'; allowed: (0, 1] (a compliant contact that "
+                    "keeps no rebound needs infinite damping)"
+                )
+        elif self.contact_stiffness is not None or self.contact_exponent is not None:
+            given = "contact_stiffness" if self.contact_stiffness is not None else "contact_exponent"
+            raise ParameterError(
+                f"{given} = {getattr(self, given)!r} with contact = {self.contact!r}; it applies to "
+                "contact = 'compliant' only"
+            )
+
+    @property
+    def compliant(self) -> bool:
+        """The compliant contact law of MODEL.md §8 (``contact = "compliant"``)."""
+        return self.contact == "compliant"
+
+    @property
+    def exponent(self) -> float:
+        """n of the compliant law (default 1.5)."""
+        return 1.5 if self.contact_exponent is None else self.contact_exponent
 
     @staticmethod
     def units() -> dict[str, str]:
@@ -432,7 +501,7 @@ class Machine:
         """The machine is not the paper's machine of MODEL.md §1: it needs the model of MODEL.md §7."""
         return (
             self.kx != self.ky or self.cx != self.cy or self.g != 0.0 or self.fs != 0.0
-            or self.free_speed or self.has_race
+            or self.free_speed or self.has_race or self.compliant
         )
 
     def parameters(self) -> Parameters:
@@ -478,8 +547,9 @@ class Machine:
         """Newton seconds per unit of dimensionless impulse per unit mass (m c_r Omega)."""
         return self.mass * self.clearance * self.speed
 
-    def as_dict(self) -> dict[str, float]:
-        """The machine as a plain dict of SI floats; optional fields that are absent are left out."""
+    def as_dict(self) -> dict[str, Any]:
+        """The machine as a plain dict of SI floats (``contact``: a word); optional fields that are absent are
+        left out."""
         return {k: v for k, v in asdict(self).items() if v is not None}
 
     @classmethod
@@ -508,7 +578,10 @@ class Machine:
             raise ParameterError(
                 f"{source}: missing key {missing[0]!r}; required keys: {', '.join(required)}"
             )
-        values = {key: to_si(key, data[key], _MACHINE_RULES[key]["unit"], source) for key in data}
+        exponent = data.get("contact_exponent")
+        if isinstance(exponent, str):
+            exponent = to_si("contact_exponent", exponent, "1", source)
+        values = {key: to_si(key, data[key], _si_unit(key, exponent), source) for key in data}
         try:
             return cls(**values)
         except ParameterError as exc:

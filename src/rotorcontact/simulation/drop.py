@@ -4,8 +4,9 @@ Data flows one way: machine -> per-axis exact flight (`general_flight.make_fligh
 impact location (`general_flight.next_impact`) -> impact law with spin and effective mass
 (`rotorcontact.model.machine_model.impact_with_spin`) -> table of impacts. The magnetic bearing fails at
 t_fail: the flight in progress is cut there and the next one has K = C = F_s = 0 and, with a polar
-inertia, a free speed. The rigid impact law sits behind one call, `_impact`, where another contact law
-can plug in.
+inertia, a free speed. The rigid impact law sits behind one call, `_impact`; with a contact stiffness the
+compliant law of MODEL.md §8 replaces it: each impact starts a contact episode (`_episode`,
+`compliant.compliant_episode`) integrated until the surfaces part.
 """
 
 from __future__ import annotations
@@ -16,14 +17,15 @@ import numpy as np
 from numba import njit
 
 from ..model.angles import wrap_angle
-from ..model.machine_model import impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate
+from ..model.machine_model import impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate, surface_velocity
+from .compliant import E_REST, E_SEPARATED, NQ, NY, compliant_episode
 from .general_contact import C_END, C_LIFTOFF, C_REST, C_STEP_LIMIT, NP, contact_phase, contact_rates
 from .general_flight import flight_state, make_flight, next_impact
 from .rolling import fast_rolling_applies, rolling_fixed_phase
 from .roots import CROSSING, ITERATION_LIMIT, NO_CROSSING, STUCK
 from .tables import push_row
 
-__all__ = ["drop_kernel", "IMPACT_FIELDS", "CONTACT_FIELDS", "CONTACT_KINDS", "STATUS_NAMES"]
+__all__ = ["drop_kernel", "IMPACT_FIELDS", "COMPLIANT_FIELDS", "CONTACT_FIELDS", "CONTACT_KINDS", "STATUS_NAMES"]
 
 COMPLETED = 0
 CHATTER = 1
@@ -36,7 +38,9 @@ STATUS_NAMES = {COMPLETED: "completed", CHATTER: "chatter", MAX_EVENTS: "max-eve
 #: Columns of the kernel's impact table (SI).
 IMPACT_FIELDS = ("t_s", "angle_rad", "normal_velocity_m_per_s", "normal_impulse_Ns", "tangential_impulse_Ns",
                  "spin_before", "spin_after", "race_after", "x_m", "y_m", "vx_plus", "vy_plus",
-                 "energy_lost_J", "v_rel_before")
+                 "energy_lost_J", "v_rel_before", "duration_s", "max_force_N", "max_penetration_m", "rebound_ratio", "kind")
+#: The columns only a compliant contact episode fills (nan for a rigid impact); kind as in `CONTACT_KINDS`.
+COMPLIANT_FIELDS = ("duration_s", "max_force_N", "max_penetration_m", "rebound_ratio", "kind")
 NCOL = len(IMPACT_FIELDS)
 BOUNDARY_TOL = 1e-12
 #: Columns of the kernel's contact table (SI): kind 0 sliding forward, 1 rolling, 2 sliding backward.
@@ -110,9 +114,58 @@ def _impact(z, v, spin, race, mass, d, mu, radius, inv_polar, race_radius, inv_r
 
 
 @njit(cache=True)
+def _episode_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque, race_coef,
+                    stiffness, exponent, damp, tol, v_scale):
+    q = np.empty(NQ)
+    q[:15] = _contact_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque,
+                             race_coef)
+    q[15:] = np.array([stiffness, exponent, damp, tol, v_scale])  # the slots of `compliant.NQ`
+    return q
+
+
+@njit(cache=True)
+def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky, cx, cy, fs, g, inv_polar, inv_race,
+             race_torque, race_coef, t_fail, t_end, stiffness, exponent, chi, v_floor, tol,
+             rest_energy, max_steps):
+    """A compliant contact episode from the impact point zs (m) with velocity vs (m/s) at t (MODEL.md §8),
+    through the bearing's failure, until the surfaces part, the rotor rests or t_end.
+
+    The damping D = chi / max(v_n, v_floor) is fixed at the start. Returns (code, t, y, f_max, d_max, kind,
+    calls) with y the `compliant.NY` state at the end, ``kind`` the friction mode (`CONTACT_KINDS`) the
+    episode spent most of its time in and ``calls`` the integrator calls (at most ``max_steps``).
+    """
+    y = np.zeros(NY)  # E_d, P_n, P_t start at 0
+    y[:7] = np.array([zs.real, zs.imag, vs.real, vs.imag, psi, spin, race])
+    damp = chi / max(v_n, v_floor)
+    v_scale = abs(vs) + 1e3 * v_floor  # the error control's velocity scale: the impact's and the machine's
+    f_max = 0.0
+    d_max = 0.0
+    modes = np.zeros(3)
+    code = E_SEPARATED
+    calls = 0
+    while t < t_end and calls < max_steps:
+        calls += 1
+        if t < t_fail:
+            q = _episode_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, fs / mass - g, 0.0, inv_race,
+                                race_torque, race_coef, stiffness, exponent, damp, tol, v_scale)
+            stop = min(t_fail, t_end)
+            rest = 0.0
+        else:
+            q = _episode_params(mass, cr, ecc, radius, mu, 0.0, 0.0, 0.0, 0.0, -g, inv_polar, inv_race, race_torque,
+                                race_coef, stiffness, exponent, damp, tol, v_scale)
+            stop = t_end
+            rest = rest_energy if inv_polar > 0.0 else 0.0
+        code, t, y, f_max, d_max = compliant_episode(y, t, stop, q, f_max, d_max, modes, rest)
+        if code == E_SEPARATED or code == E_REST:
+            break
+    return code, t, y, f_max, d_max, float(np.argmax(modes)), calls
+
+
+@njit(cache=True)
 def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, polar, race_inertia, race_torque,
                 race_coef, z0, v0, psi0, spin0, race0, t_fail, t_end, max_events, chatter_v, follow_contact=True,
-                rest_energy=0.0, chatter_rel=0.0):
+                rest_energy=0.0, chatter_rel=0.0, contact_stiffness=0.0, contact_exponent=1.5, contact_chi=0.0,
+                contact_v_floor=0.0, contact_tol=1e-10):
     """Run the general machine from (z0, v0) (m, m/s) at t = 0 to t_end.
 
     ``polar`` and ``race_inertia`` are 0 for a held speed and a fixed stator. The speed is held until
@@ -123,6 +176,11 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     `rolling`: rolling on a fixed stator with a free speed), else the run stops with status chatter. After the
     failure, with a free speed, a contact phase in which the rotor's kinetic energy (whirl and spin)
     falls to ``rest_energy`` (J, > 0) ends the run with status at-rest.
+
+    ``contact_stiffness`` > 0 selects the compliant law of MODEL.md §8 (K_c in N/m^n, n =
+    ``contact_exponent``, D = ``contact_chi`` / max(v_n, ``contact_v_floor``), relative tolerance
+    ``contact_tol``): each impact becomes a contact episode, a
+    row of the impact table with its `COMPLIANT_FIELDS`, and impacts never accumulate into rigid contact.
 
     Returns
     -------
@@ -142,6 +200,8 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     crow = np.empty(5)
     n_ct = 0
     row = np.empty(NCOL)
+    row[14:] = math.nan
+    compliant = contact_stiffness > 0.0
     n_imp = 0
     in_contact = False
     liftoff = False
@@ -234,6 +294,10 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         if code == ITERATION_LIMIT:
             status = FAILED
             break
+        if code == STUCK and compliant:
+            # pressed outwards on the wall: an episode starts at once
+            code = CROSSING
+            s = 0.0
         if code == STUCK:
             if not follow_contact:
                 status = CHATTER
@@ -262,6 +326,51 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         z = z / abs(z)
         zs = z * cr
         vs = v * cr
+        if compliant:
+            w = z.conjugate() * vs
+            t0 = t
+            code_e, t, y_e, f_max, d_max, kind, calls = _episode(
+                t, zs, vs, psi, spin, race, max(w.real, 0.0), mass, cr, ecc, radius, mu, kx, ky, cx, cy, fs, g,
+                inv_polar, inv_race, race_torque, race_coef, t_fail, t_end, contact_stiffness, contact_exponent,
+                contact_chi, contact_v_floor, contact_tol, rest_energy, max(max_events - events, 1))
+            events += calls - 1
+            z_end = complex(y_e[0], y_e[1])
+            v_end = complex(y_e[2], y_e[3])
+            n_end = z_end / abs(z_end)
+            row[0] = t0
+            row[1] = wrap_angle(math.atan2(z.imag, z.real))
+            row[2] = w.real
+            row[3] = y_e[8]
+            row[4] = y_e[9]
+            row[5] = spin
+            row[6] = y_e[5]
+            row[7] = y_e[6]
+            row[8] = zs.real
+            row[9] = zs.imag
+            row[10] = v_end.real
+            row[11] = v_end.imag
+            row[12] = y_e[7]
+            row[13] = surface_velocity(w.imag, radius, spin, race_radius, race)
+            row[14] = t - t0
+            row[15] = f_max
+            row[16] = d_max
+            # normal velocity out over in; nan while the episode goes on at the stop
+            row[17] = -(n_end.conjugate() * v_end).real / w.real if code_e == E_SEPARATED and w.real > 0.0 \
+                else math.nan
+            row[18] = kind
+            impacts, n_imp = push_row(impacts, n_imp, row)
+            dissipated += y_e[7]
+            z = n_end if code_e == E_SEPARATED else z_end / cr
+            v = v_end / cr
+            psi, spin, race = y_e[4], y_e[5], y_e[6]
+            on_boundary = True
+            if code_e == E_REST:
+                status = AT_REST
+                break
+            if code_e != E_SEPARATED and t < t_end:
+                status = MAX_EVENTS
+                break
+            continue
         e_before = kinetic_energy(mass, vs, polar if inv_p > 0.0 else 0.0, spin, race_inertia, race)
         v_plus, spin_plus, race_plus, v_n, v_rel, p_n, p_t = _impact(
             zs, vs, spin, race, mass, d, mu, radius, inv_p, race_radius, inv_race)

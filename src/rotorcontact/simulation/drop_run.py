@@ -14,12 +14,14 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
-from ..model.machine_model import constant_response, harmonic_response, unbalance_amplitudes
+from ..model.machine_model import (
+    compliant_normal_force, constant_response, harmonic_response, restitution_damping, unbalance_amplitudes,
+)
 from ..model.params import Machine, check_range
 from ..model.validation import check_int
-from .drop import CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
+from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
-__all__ = ["DropResult", "drop", "run_general", "levitated_state", "RPM"]
+__all__ = ["DropResult", "drop", "run_general", "levitated_state", "contact_force_history", "RPM"]
 
 #: rad/s per rpm.
 RPM = 2.0 * math.pi / 60.0
@@ -33,6 +35,11 @@ CHATTER_VELOCITY = 1e-6
 CHATTER_RELATIVE = 1e-6
 #: The rotor is at rest once its kinetic energy (whirl and spin) falls to this fraction of that at the start.
 REST_FRACTION = 1e-8
+#: The compliant law's damping D = chi / v_0 takes v_0 no smaller than this fraction of the velocity scale:
+#: episodes that start slower rebound less damped than d (MODEL.md §8).
+DAMPING_VELOCITY_FRACTION = 1e-3
+#: Relative tolerance of the compliant contact episodes (MODEL.md §8).
+EPISODE_TOL = 1e-10
 _COL = {name: i for i, name in enumerate(IMPACT_FIELDS)}
 
 
@@ -87,7 +94,9 @@ class DropResult:
     t_stop : float
         Time the run stopped, s.
     impacts : numpy.ndarray
-        One row per impact, columns `rotorcontact.simulation.drop.IMPACT_FIELDS` (SI, rad/s).
+        One row per impact, columns `rotorcontact.simulation.drop.IMPACT_FIELDS` (SI, rad/s); with the
+        compliant law one row per contact episode, whose `rotorcontact.simulation.drop.COMPLIANT_FIELDS`
+        (nan for rigid impacts) give its duration, peak force, peak penetration and rebound ratio.
     final_state : numpy.ndarray
         t, x, y, vx, vy, spin, race at the stop (SI) and the energy dissipated in the touchdown bearing, J
         (`DropResult.energy_dissipated`).
@@ -189,7 +198,16 @@ class DropResult:
             }
             for r in self.impacts
         ]
+        if self.machine.compliant:
+            for row, r in zip(rows, self.impacts):
+                for name in COMPLIANT_FIELDS[:-1]:
+                    value = float(r[_COL[name]])
+                    row[name] = value if math.isfinite(value) else None  # an episode still going at the stop
+                row["kind"] = CONTACT_KINDS[int(r[_COL["kind"]])]
         p_n = self.column("normal_impulse_Ns")
+        forces = [float(self.contacts[:, 3].max())] if len(self.contacts) else []
+        if self.machine.compliant and len(self.impacts):
+            forces.append(float(self.column("max_force_N").max()))
         return {
             "machine": self.machine.as_dict(),
             "speed_rpm": self.speed / RPM,
@@ -201,7 +219,7 @@ class DropResult:
                 "regime": self.regime,
                 "backward_whirl_onset_s": self.backward_whirl_onset,
                 "max_normal_impulse_Ns": float(p_n.max()) if p_n.size else None,
-                "max_contact_force_N": float(self.contacts[:, 3].max()) if len(self.contacts) else None,
+                "max_contact_force_N": max(forces) if forces else None,
                 "final_spin_rpm": float(self.final_state[5] / RPM),
                 "energy_dissipated_J": self.energy_dissipated,
                 "time_to_rest_s": self.time_to_rest,
@@ -239,24 +257,71 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
 
 
 def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_at: float, t_end: float, *,
-                max_events: int = 1_000_000) -> DropResult:
+                max_events: int = 1_000_000, tol: float = EPISODE_TOL) -> DropResult:
     """Run the general machine from (z0, z0') (m, m/s) at spin ``speed`` (rad/s), failing at ``fail_at``.
 
     ``fail_at = inf``: the magnetic bearing holds throughout (``rotorcontact simulate --machine``).
-    The unbalance angle starts at ``machine.unbalance_phase``; the race starts at rest.
+    The unbalance angle starts at ``machine.unbalance_phase``; the race starts at rest. ``tol``: the
+    relative tolerance of compliant contact episodes (MODEL.md §8), in [1e-14, 1e-3].
     """
+    tol = check_range("tol", tol, low=1e-14, high=1e-3)
     m = machine
     if not abs(z0) <= m.clearance * (1.0 + 1e-12):
         raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m; allowed: |z0| <= c_r")
-    v_scale = math.sqrt(m.g * m.clearance) if m.g > 0.0 else m.clearance * speed
+    v_scale = _velocity_scale(m, speed)
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
     polar = m.polar_inertia or 0.0
     rest_energy = REST_FRACTION * 0.5 * (m.mass * abs(v0) ** 2 + polar * speed * speed)
+    # the compliant law's K_c, n, chi, the floor of v_0 in D and tolerance; K_c = 0: the rigid law
+    compliant = (float(m.contact_stiffness or 0.0), m.exponent,
+                 restitution_damping(m.restitution, m.exponent) if m.compliant else 0.0,
+                 DAMPING_VELOCITY_FRACTION * v_scale, tol)
     impacts, contacts, status, t_stop, state = drop_kernel(
         m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
         m.fs, m.g, polar, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
-        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy, CHATTER_RELATIVE)
+        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy, CHATTER_RELATIVE, *compliant)
     return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state,
                       contacts)
 
 
+
+
+def _velocity_scale(machine: Machine, speed: float) -> float:
+    """sqrt(g c_r) with gravity, else c_r Omega, m/s: the scale of the chatter and damping floors."""
+    return math.sqrt(machine.g * machine.clearance) if machine.g > 0.0 else machine.clearance * speed
+
+
+def contact_force_history(machine: Machine, speed: float, fail_at: float, times,
+                          start: tuple[complex, complex] | None = None) -> np.ndarray:
+    """The compliant normal force F_n (N) of a drop (`drop`) at each of ``times`` (s, > 0), 0 out of contact;
+    ``start`` = (z0, v0) in m and m/s runs `run_general` from there instead of the levitated state.
+
+    Each value comes from the drop run to that time (the integration up to it is the same as in the
+    whole run: only its last step is cut short) and the law of MODEL.md §8 with the damping of the episode
+    in progress.
+
+    Raises
+    ------
+    ParameterError
+        For a machine without the compliant law.
+    """
+    if not machine.compliant:
+        raise ParameterError(f"contact = {machine.contact!r}; a force history needs contact = 'compliant'")
+    chi = restitution_damping(machine.restitution, machine.exponent)
+    floor = DAMPING_VELOCITY_FRACTION * _velocity_scale(machine, speed)
+    out = []
+    for t in np.asarray(times, dtype=float):
+        if start is None:
+            r = drop(machine, speed, fail_at, float(t))
+        else:
+            r = run_general(machine, start[0], start[1], speed, fail_at, float(t))
+        x, y, vx, vy = r.final_state[1:5]
+        dist = math.hypot(x, y)
+        if not len(r.impacts) or dist <= machine.clearance:
+            out.append(0.0)
+            continue
+        v0 = r.impacts[-1, _COL["normal_velocity_m_per_s"]]
+        f, _el = compliant_normal_force(dist - machine.clearance, (x * vx + y * vy) / dist,
+                                        machine.contact_stiffness, machine.exponent, chi / max(v0, floor))
+        out.append(f)
+    return np.array(out)

@@ -98,7 +98,7 @@ def parameter_attrs(params: Parameters, skip: str | None = None, machine: Machin
     if machine is not None:
         units = machine.units()
         for name, value in machine.as_dict().items():
-            attrs[f"machine_{name}"] = float(value)
+            attrs[f"machine_{name}"] = value if isinstance(value, str) else float(value)
             attrs[f"machine_{name}_units"] = units[name]
     return attrs
 
