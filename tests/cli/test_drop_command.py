@@ -106,3 +106,18 @@ def test_drop_refuses_a_compliant_bearing_without_stiffness(cli, tmp_path):
     path.write_text(GENERAL + 'contact = "compliant"\n')
     code, out, err = cli.run("drop", str(path))
     assert code == 2 and "contact_stiffness" in err and "Traceback" not in err
+
+
+def test_drop_to_rest_reports_the_time_and_stops_there(cli, tmp_path):
+    path = tmp_path / "rest.toml"
+    path.write_text(GENERAL.replace("eccentricity = 0.3e-3", "eccentricity = 0.0")
+                    .replace("restitution = 0.95", "restitution = 0.5")
+                    + "race_inertia = 2e-4\nrace_drag_torque = 0.0\nrace_drag_coefficient = 0.05\n")
+    data = cli.json("drop", str(path), "--speed", "1000rpm", "--t-end", "20s")
+    summary = data["summary"]
+    assert data["status"] == "at-rest" and "came to rest" in data["message"]
+    assert 0.0 < summary["time_to_rest_s"] < 20.0
+    assert data["contact_intervals"][-1]["t_end_s"] == summary["time_to_rest_s"]
+    # all the spin had and the fall to the bottom, dissipated (to the rest energy and the race's own)
+    start = 0.5 * 0.04 * (1000 * RPM) ** 2 + 50.0 * 9.81 * 0.7e-3
+    assert summary["energy_dissipated_J"] == pytest.approx(start, rel=1e-6)

@@ -19,7 +19,7 @@ from numba import njit
 from ..model.angles import wrap_angle
 from ..model.machine_model import impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate, surface_velocity
 from .compliant import E_REST, E_SEPARATED, NQ, NY, compliant_episode
-from .general_contact import C_END, C_LIFTOFF, C_REST, C_STEP_LIMIT, NP, contact_phase, contact_rates
+from .general_contact import C_END, C_LIFTOFF, C_RACE, C_REST, C_STEP_LIMIT, NP, contact_phase, contact_rates
 from .general_flight import flight_state, make_flight, next_impact
 from .rolling import fast_rolling_applies, rolling_fixed_phase
 from .roots import CROSSING, ITERATION_LIMIT, NO_CROSSING, STUCK
@@ -47,6 +47,10 @@ BOUNDARY_TOL = 1e-12
 CONTACT_FIELDS = ("t_start_s", "t_end_s", "kind", "max_normal_force_N", "whirl_rate_rad_per_s")
 CONTACT_KINDS = ("sliding-forward", "rolling", "sliding-backward")
 MAX_STALLS = 50
+#: Contact phases in a row that use the integrator's whole step budget (`contact.MAX_CONTACT_STEPS`) to
+#: advance less than CRAWL_TIME (1 + t) s end the run as failed: the integrator cannot go on there.
+MAX_CRAWLS = 2
+CRAWL_TIME = 1e-6
 VREL_TOL = 1e-12  # |v_rel| below this times the surface speeds: the surfaces roll
 
 
@@ -174,8 +178,9 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     ``chatter_rel`` times the centre's speed, or a start on the wall pressed outwards. With
     ``follow_contact`` continuous contact follows there (`general_contact`: sliding, rolling, lift-off;
     `rolling`: rolling on a fixed stator with a free speed), else the run stops with status chatter. After the
-    failure, with a free speed, a contact phase in which the rotor's kinetic energy (whirl and spin)
-    falls to ``rest_energy`` (J, > 0) ends the run with status at-rest.
+    failure, with a free speed, a contact phase in which the rotor's energy above rest (kinetic, and
+    potential above the bottom: `general_contact.rotor_energy_above_rest`) falls to ``rest_energy``
+    (J, > 0) ends the run with status at-rest.
 
     ``contact_stiffness`` > 0 selects the compliant law of MODEL.md §8 (K_c in N/m^n, n =
     ``contact_exponent``, D = ``contact_chi`` / max(v_n, ``contact_v_floor``), relative tolerance
@@ -207,6 +212,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     liftoff = False
     switched = False
     stalls = 0
+    crawls = 0
     t = 0.0
     z = z0 / cr
     v = v0 / cr
@@ -233,9 +239,25 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             inv_p = inv_polar
         if in_contact:
             on = 1.0 if levitated else 0.0
-            p = _contact_params(mass, cr, ecc, radius, mu, on * kx, on * ky, on * cx, on * cy, by * cr, inv_p,
-                                inv_race, race_torque, race_coef)
             y = np.array([math.atan2(z.imag, z.real), (z.conjugate() * v).imag, psi, spin, race, 0.0])
+            # a race at rest is held by its bearing's static friction while the contact's torque m R_b |q|
+            # stays within T_b (then the stator is fixed); otherwise it turns the way of that torque
+            inv_race_c = inv_race
+            torque_c = race_torque
+            if inv_race > 0.0 and race_torque > 0.0:
+                if race != 0.0:
+                    torque_c = math.copysign(race_torque, race)
+                else:
+                    p = _contact_params(mass, cr, ecc, radius, mu, on * kx, on * ky, on * cx, on * cy, by * cr,
+                                        inv_p, 0.0, race_torque, race_coef)
+                    mode, sgn = _contact_mode(y, p, switched)
+                    q_held = contact_rates(y, p, mode == 1, sgn)[2]
+                    if mass * race_radius * abs(q_held) <= race_torque:
+                        inv_race_c = 0.0
+                    else:
+                        torque_c = -math.copysign(race_torque, q_held)
+            p = _contact_params(mass, cr, ecc, radius, mu, on * kx, on * ky, on * cx, on * cy, by * cr, inv_p,
+                                inv_race_c, torque_c, race_coef)
             mode, sgn = _contact_mode(y, p, switched)
             switched = False
             t0 = t
@@ -263,7 +285,9 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                     crow[4] = (y1[0] - y[0]) / (t1 - t0)
                     contacts, n_ct = push_row(contacts, n_ct, crow)
                 stalls = stalls + 1 if t1 == t0 else 0
-                if stalls > MAX_STALLS:
+                # a phase that spends the integrator's whole step budget on next to no time is crawling
+                crawls = crawls + 1 if code_c == C_STEP_LIMIT and t1 - t0 < CRAWL_TIME * (1.0 + t0) else 0
+                if stalls > MAX_STALLS or crawls > MAX_CRAWLS:
                     status = FAILED
                     break
                 t = t1
@@ -275,6 +299,12 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                 if code_c == C_REST:
                     status = AT_REST
                     break
+                if code_c == C_RACE:
+                    # the race stops (then its bearing holds it, or it turns back), or its bearing slips
+                    if inv_race_c > 0.0:
+                        race = 0.0
+                    switched = rolling
+                    continue
                 if code_c == C_END or code_c == C_STEP_LIMIT:
                     if t >= t_end:
                         break

@@ -33,7 +33,8 @@ CHATTER_VELOCITY = 1e-6
 #: |z|^2 - 1 ~ (v_n / v)^2 reaches the rounding of |z|^2 at v_n / v ~ 1e-8: the bounces below resolve
 #: nothing but rounding (MODEL.md §7, accumulation).
 CHATTER_RELATIVE = 1e-6
-#: The rotor is at rest once its kinetic energy (whirl and spin) falls to this fraction of that at the start.
+#: The rotor is at rest once its energy above rest (kinetic energy of whirl and spin, and potential energy above
+#: the bottom of the wall) falls to this fraction of its kinetic energy at the start.
 REST_FRACTION = 1e-8
 #: The compliant law's damping D = chi / v_0 takes v_0 no smaller than this fraction of the velocity scale:
 #: episodes that start slower rebound less damped than d (MODEL.md §8).
@@ -122,8 +123,8 @@ class DropResult:
 
     @property
     def time_to_rest(self) -> float | None:
-        """Time the rotor came to rest (its kinetic energy down to `REST_FRACTION` of that at the start), s;
-        None if it did not within the run."""
+        """Time the rotor came to rest (its energy above rest down to `REST_FRACTION` of its kinetic energy at
+        the start), s; None if it did not within the run."""
         return self.t_stop if self.status == "at-rest" else None
 
     def column(self, name: str) -> np.ndarray:

@@ -8,7 +8,10 @@ located by bisection on single steps to `contact.EVENT_TOL` in time:
 
 * sliding ends where v_rel = c_r theta' + R Omega - R_b Omega_b reaches 0 (then rolling if the friction it
   needs, |q| <= mu n, is available, else sliding the other way) or at lift-off (n = 0);
-* rolling ends where |q| reaches mu n (slip) or at lift-off.
+* rolling ends where |q| reaches mu n (slip) or at lift-off;
+* a race whose bearing has a constant drag torque T_b stops where Omega_b reaches 0, and is then held
+  while the contact's torque m R_b |q| stays within T_b (static friction: the phase is that of a fixed
+  stator), or turns back; a held race turns again where m R_b |q| reaches T_b.
 """
 
 from __future__ import annotations
@@ -24,8 +27,8 @@ from .contact import (
     _B1, _B3, _B4, _B5, _B6, _E1, _E3, _E4, _E5, _E6, _E7, CONTACT_TOL, EVENT_TOL, MAX_CONTACT_STEPS,
 )
 
-__all__ = ["contact_phase", "contact_rates", "rotor_kinetic_energy", "SLIDING", "ROLLING_MODE", "C_LIFTOFF",
-           "C_END", "C_SWITCH", "C_STEP_LIMIT", "C_REST"]
+__all__ = ["contact_phase", "contact_rates", "rotor_energy_above_rest", "SLIDING", "ROLLING_MODE", "C_LIFTOFF",
+           "C_END", "C_SWITCH", "C_STEP_LIMIT", "C_REST", "C_RACE"]
 
 SLIDING = 0
 ROLLING_MODE = 1
@@ -34,7 +37,11 @@ C_LIFTOFF = 1
 C_SWITCH = 2
 C_STEP_LIMIT = 3
 C_REST = 4
-NP = 15  # mass, cr, ecc, R, Rb, mu, kx, ky, cx, cy, b_y, inv_polar, inv_race, race_torque, race_coef
+C_RACE = 5
+# mass, cr, ecc, R, Rb, mu, kx, ky, cx, cy, b_y, inv_polar, inv_race, race_torque, race_coef. A race with a
+# constant drag torque T_b: race_torque = +-T_b while it turns, signed as its turn (the drag's sign at
+# Omega_b = 0, where a phase may start it), and inv_race = 0, race_torque = T_b while its bearing holds it.
+NP = 15
 
 
 @njit(cache=True)
@@ -49,8 +56,9 @@ def contact_rates(y, p, rolling, sgn):
     f += ecc * om * om * complex(math.cos(psi), math.sin(psi))
     w = e.conjugate() * f
     drag = 0.0
-    if p[12] > 0.0 and omb != 0.0:
-        drag = math.copysign(p[13], omb) + p[14] * omb
+    if p[12] > 0.0:
+        way = (1.0 if omb > 0.0 else -1.0) if omb != 0.0 else (1.0 if p[13] > 0.0 else -1.0)
+        drag = way * abs(p[13]) + p[14] * omb
     delta = psi - th
     thdd, omd, ombd, n, q = contact_accelerations(w.real, w.imag, math.sin(delta), math.cos(delta), ecc, cr, thd, mu,
                                                   sgn, rolling, mass, r,
@@ -78,43 +86,62 @@ def _step(y, h, p, rolling, sgn):
     yn = y + h * (_B1 * k1 + _B3 * k3 + _B4 * k4 + _B5 * k5 + _B6 * k6)
     k7 = contact_rates(yn, p, rolling, sgn)[0]
     err_v = h * (_E1 * k1 + _E3 * k3 + _E4 * k4 + _E5 * k5 + _E6 * k6 + _E7 * k7)
+    # the rates are measured against the fastest surface speed of the state (c_r theta', R Omega, R_b
+    # Omega_b): a rate passing through 0 (a race stopping) keeps the tolerance of the motion it is part of
+    speed = max(abs(p[1] * y[1]), abs(p[3] * y[3]), abs(p[4] * y[4]))
+    floor = (1e-3, speed / p[1], 1e-3, speed / p[3], speed / p[4])
     err = 0.0
     for i in range(5):  # E_d, a quadrature of the others, is left out of the error control
-        scale = CONTACT_TOL * (1e-3 + max(abs(y[i]), abs(yn[i])))
+        scale = CONTACT_TOL * max(1e-3 + max(abs(y[i]), abs(yn[i])), floor[i])
         err = max(err, abs(err_v[i]) / scale)
     return yn, err
 
 
 @njit(cache=True)
-def rotor_kinetic_energy(y, p):
-    """m (c_r theta')^2 / 2 + I_p Omega^2 / 2 of the contact state, J (the spin's part 0 with the speed held)."""
-    ke = 0.5 * p[0] * (p[1] * y[1]) ** 2
+def rotor_energy_above_rest(y, p):
+    """m (c_r theta')^2 / 2 + I_p Omega^2 / 2 plus the potential of the constant force m f_y above its
+    lowest point on the wall, m c_r (|f_y| - f_y sin(theta)), J (the spin's part 0 with the speed held).
+
+    Zero only for a rotor at rest at the bottom: a rotor rolling to and fro passes through zero kinetic
+    energy at each turning point, but not through zero of this.
+    """
+    energy = 0.5 * p[0] * (p[1] * y[1]) ** 2 + p[0] * p[1] * (abs(p[10]) - p[10] * math.sin(y[0]))
     if p[11] > 0.0:
-        ke += 0.5 * y[3] * y[3] / p[11]
-    return ke
+        energy += 0.5 * y[3] * y[3] / p[11]
+    return energy
 
 
 @njit(cache=True)
 def _events(y, p, rolling, sgn, rest_energy):
-    """Switching functions, positive inside the phase: n; sgn v_rel (sliding) or mu n - |q| (rolling); and
-    the rotor's kinetic energy above ``rest_energy`` (1 where that is 0: no rest event)."""
+    """Switching functions, positive inside the phase: n; sgn v_rel (sliding) or mu n - |q| (rolling); the
+    rotor's energy above rest (`rotor_energy_above_rest`) above ``rest_energy`` (1 where that is 0: no
+    rest event); and, for a race with a constant drag torque T_b, its turn (it stops at Omega_b = 0) or,
+    held by its bearing, T_b - m R_b |q| (it slips beyond)."""
     _r, n, q, v_rel = contact_rates(y, p, rolling, sgn)
-    g3 = rotor_kinetic_energy(y, p) - rest_energy if rest_energy > 0.0 else 1.0
+    g3 = rotor_energy_above_rest(y, p) - rest_energy if rest_energy > 0.0 else 1.0
+    g4 = 1.0
+    if p[13] != 0.0:
+        if p[12] > 0.0:
+            g4 = y[4] if p[13] > 0.0 else -y[4]
+        else:
+            g4 = p[13] - p[0] * p[4] * abs(q)
     if rolling:
-        return n, p[5] * n - abs(q), g3
-    return n, sgn * v_rel, g3
+        return n, p[5] * n - abs(q), g3, g4
+    return n, sgn * v_rel, g3, g4
 
 
 @njit(cache=True)
 def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
     """Integrate one contact phase from y0 at t0 until lift-off, a switch, rest, or t_end.
 
-    ``rest_energy`` > 0: the phase also ends where the rotor's kinetic energy falls to it (`C_REST`).
+    ``rest_energy`` > 0: the phase also ends where the rotor's energy above rest (`rotor_energy_above_rest`)
+    falls to it (`C_REST`).
 
     Returns
     -------
     code : int
-        `C_LIFTOFF`, `C_SWITCH` (end of slip or start of slip), `C_REST`, `C_END` or `C_STEP_LIMIT`.
+        `C_LIFTOFF`, `C_SWITCH` (end of slip or start of slip), `C_REST`, `C_RACE` (the race stops, or its
+        bearing lets it slip), `C_END` or `C_STEP_LIMIT`.
     t : float
     y : (6,) array
         The state at the end.
@@ -133,22 +160,22 @@ def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
         if err > 1.0:
             h *= max(0.2, 0.9 * err ** -0.2)
             continue
-        g1, g2, g3 = _events(yn, p, rolling, sgn, rest_energy)
-        if g1 <= 0.0 or g2 <= 0.0 or g3 <= 0.0:
+        g1, g2, g3, g4 = _events(yn, p, rolling, sgn, rest_energy)
+        if g1 <= 0.0 or g2 <= 0.0 or g3 <= 0.0 or g4 <= 0.0:
             lo, hi = 0.0, h
             for _b in range(200):
                 if hi - lo <= EVENT_TOL * (abs(t) + 1e-3):
                     break
                 mid = 0.5 * (lo + hi)
                 ym, _e = _step(y, mid, p, rolling, sgn)
-                a1, a2, a3 = _events(ym, p, rolling, sgn, rest_energy)
-                if a1 <= 0.0 or a2 <= 0.0 or a3 <= 0.0:
+                a1, a2, a3, a4 = _events(ym, p, rolling, sgn, rest_energy)
+                if a1 <= 0.0 or a2 <= 0.0 or a3 <= 0.0 or a4 <= 0.0:
                     hi = mid
                 else:
                     lo = mid
             ye, _e = _step(y, hi, p, rolling, sgn)
-            e1, e2, _e3 = _events(ye, p, rolling, sgn, rest_energy)
-            code = C_LIFTOFF if e1 <= 0.0 else (C_SWITCH if e2 <= 0.0 else C_REST)
+            e1, e2, e3, _e4 = _events(ye, p, rolling, sgn, rest_energy)
+            code = C_LIFTOFF if e1 <= 0.0 else (C_SWITCH if e2 <= 0.0 else (C_REST if e3 <= 0.0 else C_RACE))
             return code, t + hi, ye, n_max
         t += h
         y = yn

@@ -64,9 +64,10 @@ def _reduced(angle: float) -> float:
 
 @njit(cache=True)
 def fast_rolling_applies(p) -> bool:
-    """Rolling of parameters ``p`` (`general_contact.NP`) reduces to theta: free speed, fixed stator, no
-    bearing stiffness or damping."""
-    return p[11] > 0.0 and p[12] == 0.0 and p[6] == 0.0 and p[7] == 0.0 and p[8] == 0.0 and p[9] == 0.0
+    """Rolling of parameters ``p`` (`general_contact.NP`) reduces to theta: free speed, fixed stator (no race,
+    not even one held by its bearing, which could let it slip), no bearing stiffness or damping."""
+    return (p[11] > 0.0 and p[12] == 0.0 and p[13] == 0.0 and p[6] == 0.0 and p[7] == 0.0 and p[8] == 0.0
+            and p[9] == 0.0)
 
 
 @njit(cache=True)
