@@ -121,9 +121,9 @@ def _impact(z, v, spin, race, mass, d, mu, radius, inv_polar, race_radius, inv_r
 def _episode_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque, race_coef,
                     stiffness, exponent, damp, tol, v_scale):
     q = np.empty(NQ)
-    q[:15] = _contact_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque,
+    q[:NP] = _contact_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque,
                              race_coef)
-    q[15:] = np.array([stiffness, exponent, damp, tol, v_scale])  # the slots of `compliant.NQ`
+    q[NP:] = np.array([stiffness, exponent, damp, tol, v_scale])  # the slots of `compliant.NQ`
     return q
 
 
@@ -244,6 +244,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             # stays within T_b (then the stator is fixed); otherwise it turns the way of that torque
             inv_race_c = inv_race
             torque_c = race_torque
+            held = False
             if inv_race > 0.0 and race_torque > 0.0:
                 if race != 0.0:
                     torque_c = math.copysign(race_torque, race)
@@ -254,11 +255,13 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                     q_held = contact_rates(y, p, mode == 1, sgn)[2]
                     if mass * race_radius * abs(q_held) <= race_torque:
                         inv_race_c = 0.0
+                        held = True  # p, mode and sgn are those of the held race
                     else:
                         torque_c = -math.copysign(race_torque, q_held)
-            p = _contact_params(mass, cr, ecc, radius, mu, on * kx, on * ky, on * cx, on * cy, by * cr, inv_p,
-                                inv_race_c, torque_c, race_coef)
-            mode, sgn = _contact_mode(y, p, switched)
+            if not held:
+                p = _contact_params(mass, cr, ecc, radius, mu, on * kx, on * ky, on * cx, on * cy, by * cr, inv_p,
+                                    inv_race_c, torque_c, race_coef)
+                mode, sgn = _contact_mode(y, p, switched)
             switched = False
             t0 = t
             if mode >= 0:
