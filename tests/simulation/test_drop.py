@@ -156,7 +156,7 @@ def test_drop_result_contract_and_rolling_free_bounds():
     assert set(d["impacts"][0]) == {"t_s", "angle_rad", "normal_velocity_m_per_s", "normal_impulse_Ns",
                                     "tangential_impulse_Ns", "spin_rpm_before", "spin_rpm_after", "race_rpm_after"}
     assert set(d["summary"]) == {"regime", "backward_whirl_onset_s", "max_normal_impulse_Ns", "max_contact_force_N",
-                                 "final_spin_rpm", "energy_dissipated_J", "time_to_rest_s"}
+                                 "final_spin_rpm", "energy_dissipated_J", "time_to_rest_s", "stator_final"}
     assert d["speed_rpm"] == pytest.approx(12000.0, rel=1e-14)
     spins = [row["spin_rpm_after"] for row in d["impacts"]]
     assert all(-math.pi < row["angle_rad"] <= math.pi for row in d["impacts"])
@@ -208,7 +208,7 @@ def test_energy_balance_of_a_drop_with_free_spin(race):
     r = drop(m, speed=speed, t_end=0.4)
     assert len(r.impacts) >= 3 and len(r.contacts) >= 1
     z0, v0 = levitated_state(m, speed)
-    _t, x, y, vx, vy, spin, race_end, dissipated = r.final_state
+    _t, x, y, vx, vy, spin, race_end, dissipated = r.final_state[:8]
     e0 = _mechanical_energy(m, z0, v0, speed, 0.0)
     e1 = _mechanical_energy(m, complex(x, y), complex(vx, vy), spin, race_end)
     assert dissipated == r.energy_dissipated == r.to_dict()["summary"]["energy_dissipated_J"]
@@ -227,7 +227,7 @@ def test_a_rotor_rolling_on_a_race_comes_to_rest_and_the_run_stops_there():
     assert r.status == "at-rest" and r.time_to_rest == r.t_stop < 20.0
     assert r.to_dict()["summary"]["time_to_rest_s"] == r.t_stop
     z0, v0 = levitated_state(m, speed)
-    _t, x, y, vx, vy, spin, race, _d = r.final_state
+    _t, x, y, vx, vy, spin, race, _d = r.final_state[:8]
     above = (0.5 * m.mass * (vx * vx + vy * vy) + 0.5 * m.polar_inertia * spin * spin
              + m.mass * G * (y + m.clearance))
     start = 0.5 * m.mass * abs(v0) ** 2 + 0.5 * m.polar_inertia * speed ** 2

@@ -9,7 +9,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from rotorcontact.simulation.general_flight import flight_state, make_flight, next_impact
+from rotorcontact.simulation.general_flight import NO_STATOR, flight_state, make_flight, next_impact
 from rotorcontact.simulation.roots import CROSSING, NO_CROSSING
 
 M, CR = 50.0, 0.7e-3
@@ -76,10 +76,10 @@ def _graze_flight(scale, kind):
 @pytest.mark.parametrize("eps", [1e-6, 1e-9])
 def test_near_tangent_flights_above_and_below_the_wall(kind, eps):
     above, spin, t_peak = _graze_flight(1.0 + eps, kind)
-    code, s = next_impact(above, spin, 1.5 * t_peak, False)
+    code, s = next_impact(above, spin, 1.5 * t_peak, False, False, NO_STATOR)
     assert code == CROSSING and s <= t_peak * (1 + 1e-9)
     z, _v = flight_state(above, spin, s)
     assert abs(abs(z) - 1.0) <= 1e-13
     below, spin, t_peak = _graze_flight(1.0 - eps, kind)
-    code, s = next_impact(below, spin, 1.5 * t_peak, False)
+    code, s = next_impact(below, spin, 1.5 * t_peak, False, False, NO_STATOR)
     assert code == NO_CROSSING and s == 1.5 * t_peak

@@ -254,6 +254,16 @@ def compliant_normal_force(delta: float, delta_dot: float, stiffness: float, exp
     return max(0.0, f_el * (1.0 + damping * delta_dot)), f_el
 
 
+@njit(cache=True)
+def elastic_impact_duration(mass: float, v0: float, stiffness: float, exponent: float) -> float:
+    """Duration of an isolated elastic impact (d = 1) at normal velocity v0 under F_n = K_c delta^n, s:
+    T_c = 2 (delta_max/v0) B(1/(n+1), 1/2)/(n+1), delta_max = ((n+1) m v0^2/(2 K_c))^(1/(n+1)) (MODEL.md §8)."""
+    a = 1.0 / (exponent + 1.0)
+    d_max = ((exponent + 1.0) * mass * v0 * v0 / (2.0 * stiffness)) ** a
+    beta = math.gamma(a) * math.sqrt(math.pi) / math.gamma(a + 0.5)
+    return 2.0 * d_max / v0 * beta * a
+
+
 def hertz_rebound(chi: float, exponent: float, rtol: float = 1e-12) -> float:
     """Rebound ratio of an isolated impact under F_n = max(0, K_c delta^n (1 + chi delta'/v_0)) (MODEL.md §8).
 

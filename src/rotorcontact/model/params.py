@@ -254,6 +254,14 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "contact": dict(unit=""),
     "contact_stiffness": dict(low=0.0, low_open=True, unit="N/m^n"),
     "contact_exponent": dict(low=0.0, low_open=True, high=10.0, unit="1"),
+    # the stator on springs of the compliant law (MODEL.md §8); absent: a fixed stator
+    "stator_mass": dict(low=0.0, low_open=True, unit="kg"),
+    "stator_stiffness": dict(low=0.0, low_open=True, unit="N/m"),
+    "stator_stiffness_x": dict(low=0.0, low_open=True, unit="N/m"),
+    "stator_stiffness_y": dict(low=0.0, low_open=True, unit="N/m"),
+    "stator_damping": dict(low=0.0, unit="N s/m"),
+    "stator_damping_x": dict(low=0.0, unit="N s/m"),
+    "stator_damping_y": dict(low=0.0, unit="N s/m"),
 }
 #: The contact laws of the key ``contact`` (MODEL.md §7: rigid, §8: compliant).
 CONTACT_LAWS = ("rigid", "compliant")
@@ -263,7 +271,12 @@ CONTACT_LAWS = ("rigid", "compliant")
 OPTIONAL_MACHINE_KEYS = (
     "stiffness_x", "stiffness_y", "damping_x", "damping_y", "gravity", "static_force", "polar_inertia",
     "race_inertia", "race_drag_torque", "race_drag_coefficient", "contact", "contact_stiffness", "contact_exponent",
+    "stator_mass", "stator_stiffness", "stator_stiffness_x", "stator_stiffness_y", "stator_damping",
+    "stator_damping_x", "stator_damping_y",
 )
+#: The keys of the stator on springs (MODEL.md §8), given with ``stator_mass`` only.
+STATOR_KEYS = ("stator_mass", "stator_stiffness", "stator_stiffness_x", "stator_stiffness_y", "stator_damping",
+               "stator_damping_x", "stator_damping_y")
 #: The race keys, given all three or none.
 RACE_KEYS = ("race_inertia", "race_drag_torque", "race_drag_coefficient")
 
@@ -353,6 +366,15 @@ class Machine:
         K_c of the compliant law F_n = K_c delta^n (1 + D delta'), N/m^n, > 0.
     contact_exponent : float or None
         n of the compliant law, in (0, 10] (None: 1.5, Hertz).
+    stator_mass : float or None
+        Mass m_s of the touchdown bearing on its support springs, kg (> 0;
+        None: a fixed stator). With the compliant law only.
+    stator_stiffness, stator_stiffness_x, stator_stiffness_y : float or None
+        Stiffness of the stator's support, N/m (> 0): per axis, each falling back
+        to ``stator_stiffness``; both axes need a value when ``stator_mass`` is given.
+    stator_damping, stator_damping_x, stator_damping_y : float or None
+        Damping of the stator's support, N s/m (>= 0; None: 0), per axis as the
+        stiffness.
 
     The optional fields describe the general machine of MODEL.md §7; a
     machine without them is the paper's machine of MODEL.md §1.
@@ -381,6 +403,13 @@ class Machine:
     contact: str | None = None
     contact_stiffness: float | None = None
     contact_exponent: float | None = None
+    stator_mass: float | None = None
+    stator_stiffness: float | None = None
+    stator_stiffness_x: float | None = None
+    stator_stiffness_y: float | None = None
+    stator_damping: float | None = None
+    stator_damping_x: float | None = None
+    stator_damping_y: float | None = None
 
     def __post_init__(self) -> None:
         self._check_contact()
@@ -407,6 +436,7 @@ class Machine:
                 "rotor's polar_inertia (kg m^2): with the speed held the race would spin up without bound"
             )
         self._check_compliant()
+        self._check_stator()
 
     def _unit(self, name: str) -> str:
         """The SI unit a string value of ``name`` is converted to (N/m^n with this machine's n for K_c)."""
@@ -434,6 +464,42 @@ class Machine:
                 f"{given} = {getattr(self, given)!r} with contact = {self.contact!r}; it applies to "
                 "contact = 'compliant' only"
             )
+
+    def _check_stator(self) -> None:
+        given = [key for key in STATOR_KEYS if getattr(self, key) is not None]
+        if not given:
+            return
+        if self.stator_mass is None:
+            raise ParameterError(
+                f"{given[0]} = {getattr(self, given[0])!r} with stator_mass = None; the stator's support keys need "
+                "the stator_mass (kg, > 0) of a stator on springs"
+            )
+        if not self.compliant:
+            raise ParameterError(
+                f"stator_mass = {self.stator_mass!r} with contact = {self.contact!r}; a stator on springs needs "
+                "contact = 'compliant'"
+            )
+        for axis in "xy":
+            if getattr(self, f"stator_stiffness_{axis}") is None and self.stator_stiffness is None:
+                raise ParameterError(
+                    f"stator_stiffness_{axis} = None with stator_stiffness = None; a stator on springs needs its "
+                    "support's stiffness (N/m, > 0): give stator_stiffness or both stator_stiffness_x and _y"
+                )
+
+    @property
+    def has_stator(self) -> bool:
+        """The touchdown bearing moves on its support springs (``stator_mass`` given, MODEL.md §8)."""
+        return self.stator_mass is not None
+
+    def stator_support(self) -> tuple[float, float, float, float]:
+        """(k_sx, k_sy, c_sx, c_sy) of the stator's support, N/m and N s/m (zeros for a fixed stator)."""
+        if not self.has_stator:
+            return 0.0, 0.0, 0.0, 0.0
+        k = self.stator_stiffness
+        c = 0.0 if self.stator_damping is None else self.stator_damping
+        pick = (lambda value, default: default if value is None else value)
+        return (pick(self.stator_stiffness_x, k), pick(self.stator_stiffness_y, k),
+                pick(self.stator_damping_x, c), pick(self.stator_damping_y, c))
 
     @property
     def compliant(self) -> bool:

@@ -3,9 +3,11 @@
 An episode starts where the rigid kernel would impact (|z| = c_r, outward normal velocity v_0) and follows
 the penetrating motion with the forces of the flight (bearing, static force, gravity, unbalance) and the
 contact forces F_n = max(0, K_c delta^n (1 + D delta')), D = chi / v_0, and Coulomb friction: sliding,
-F_t = -mu F_n sgn(v_rel), or rolling, v_rel = 0 held by the F_t it needs while |F_t| <= mu F_n. The state
-is (x, y, x', y', psi, Omega, Omega_b, E_d, P_n, P_t) in SI: E_d the energy dissipated, P_n and P_t the
-integrals of F_n and F_t. It is integrated with the Dormand-Prince 5(4) scheme of `contact` (relative
+F_t = -mu F_n sgn(v_rel), or rolling, v_rel = 0 held by the F_t it needs while |F_t| <= mu F_n. A stator on
+springs moves under the reaction of these forces and its support; the gap and the surface velocities are
+relative to it. The state is (x, y, x', y', psi, Omega, Omega_b, E_d, P_n, P_t, Theta, x_s, y_s, x_s', y_s')
+in SI: E_d the energy dissipated, P_n and P_t the integrals of F_n and F_t, Theta the angle of z - z_s
+followed continuously (the whirl), z_s the stator's centre (0 for a fixed stator). It is integrated with the Dormand-Prince 5(4) scheme of `contact` (relative
 tolerance ``tol``); its end (delta back to 0), the switches between sliding and rolling (v_rel = 0,
 |F_t| = mu F_n), the rotor at rest and the maxima of delta and F_n are located by bisection on single
 steps to `contact.EVENT_TOL` in time.
@@ -31,9 +33,10 @@ E_SEPARATED = 1
 E_STEP_LIMIT = 3
 E_REST = 4
 #: mass, cr, ecc, R, Rb, mu, kx, ky, cx, cy, b_y (m/s^2), inv_polar, inv_race, race_torque, race_coef,
-#: K_c, n, D, tol, v_scale (the velocity scale of the error control, m/s)
-NQ = 20
-NY = 10
+#: K_c, n, D, tol, v_scale (the velocity scale of the error control, m/s),
+#: 1/m_s (0: a fixed stator), k_sx, k_sy, c_sx, c_sy (the stator's support)
+NQ = 25
+NY = 15
 MAX_BISECTIONS = 200
 
 
@@ -47,12 +50,15 @@ def episode_rates(y, p, rolling, sgn, rdir):
     """
     mass, cr, ecc, r, rb, mu = p[0], p[1], p[2], p[3], p[4], p[5]
     x, yy, vx, vy, psi, om, omb = y[0], y[1], y[2], y[3], y[4], y[5], y[6]
-    dist = math.hypot(x, yy)
-    nx = x / dist
-    ny = yy / dist
+    inv_ms = p[20]
+    xs, ys, vxs, vys = y[11], y[12], y[13], y[14]
+    # the rotor relative to the stator's centre (MODEL.md §8)
+    dist = math.hypot(x - xs, yy - ys)
+    nx = (x - xs) / dist
+    ny = (yy - ys) / dist
     delta = dist - cr
-    vn = vx * nx + vy * ny
-    vt = vy * nx - vx * ny
+    vn = (vx - vxs) * nx + (vy - vys) * ny
+    vt = (vy - vys) * nx - (vx - vxs) * ny
     kc, expo, damp = p[15], p[16], p[17]
     fn, fel = compliant_normal_force(delta, vn, kc, expo, damp)
     v_rel = surface_velocity(vt, r, om, rb, omb)
@@ -64,12 +70,15 @@ def episode_rates(y, p, rolling, sgn, rdir):
     # the external force per unit mass without the contact and the unbalance's Omega' term
     fx = -(p[6] * x + p[8] * vx) / mass + ecc * om2 * cp
     fy = -(p[7] * yy + p[9] * vy) / mass + p[10] + ecc * om2 * sp
+    # the stator's support force per unit of its mass
+    fxs = -(p[21] * xs + p[23] * vxs) * inv_ms
+    fys = -(p[22] * ys + p[24] * vys) * inv_ms
     if rolling:
-        # v_rel' = f_t - e Omega' cos(psi - theta) - v_t v_n / r + F_t/m + R Omega' - R_b Omega_b' = 0 with
-        # Omega' = R F_t / I_p, Omega_b' = -(R_b F_t + drag) / I_b (MODEL.md §8)
-        f_t = fy * nx - fx * ny
+        # v_rel' = f_t - f_st - e Omega' cos(psi - theta) - v_t v_n / r + F_t (1/m + 1/m_s) + R Omega'
+        # - R_b Omega_b' = 0 with Omega' = R F_t / I_p, Omega_b' = -(R_b F_t + drag) / I_b (MODEL.md §8)
+        f_t = (fy - fys) * nx - (fx - fxs) * ny
         cd = cp * nx + sp * ny
-        den = 1.0 / mass + (r * r - ecc * r * cd) * p[11] + rb * rb * inv_race
+        den = 1.0 / mass + inv_ms + (r * r - ecc * r * cd) * p[11] + rb * rb * inv_race
         ft = -(f_t - vt * vn / dist + rb * drag * inv_race) / den
     else:
         ft = -mu * fn * sgn
@@ -78,6 +87,9 @@ def episode_rates(y, p, rolling, sgn, rdir):
     # m z'' = -K z - C z' + i m b_y + m e (Omega^2 - i Omega') e^{i psi} - F_n n + F_t i n (MODEL.md §7, §8)
     ax = fx + ecc * omd * sp + (-fn * nx - ft * ny) / mass
     ay = fy - ecc * omd * cp + (-fn * ny + ft * nx) / mass
+    # m_s z_s'' = -K_s z_s - C_s z_s' + F_n n - F_t i n: the reaction of the contact
+    axs = fxs + (fn * nx + ft * ny) * inv_ms
+    ays = fys + (fn * ny - ft * nx) * inv_ms
     out = np.empty(NY)
     out[0] = vx
     out[1] = vy
@@ -86,13 +98,19 @@ def episode_rates(y, p, rolling, sgn, rdir):
     out[4] = om
     out[5] = omd
     out[6] = ombd
-    # dissipation: the damping part F_n - F_el of the normal force against delta', friction, the race's drag
-    out[7] = (fn - fel) * vn - ft * v_rel + drag * omb
+    # dissipation: the damping part F_n - F_el of the normal force against delta', friction, the race's drag,
+    # the stator's support damping
+    out[7] = (fn - fel) * vn - ft * v_rel + drag * omb + p[23] * vxs * vxs + p[24] * vys * vys
     out[8] = fn
     out[9] = ft
+    out[10] = vt / dist
+    out[11] = vxs
+    out[12] = vys
+    out[13] = axs
+    out[14] = ays
     dfn = 0.0
     if fn > 0.0:
-        an = ax * nx + ay * ny + vt * vt / dist  # delta''
+        an = (ax - axs) * nx + (ay - ays) * ny + vt * vt / dist  # delta''
         dfn = expo * kc * delta ** (expo - 1.0) * vn * (1.0 + damp * vn) + fel * damp * an
     return out, fn, dfn, delta, vn, v_rel, ft
 
@@ -114,10 +132,12 @@ def _step(y, h, p, rolling, sgn, rdir):
     k7 = _rates(yn, p, rolling, sgn, rdir)
     err_v = h * (_E1 * k1 + _E3 * k3 + _E4 * k4 + _E5 * k5 + _E6 * k6 + _E7 * k7)
     err = 0.0
-    for i in range(7):  # E_d, P_n, P_t, quadratures of the others, are left out of the error control
-        if i < 2:
+    for i in range(NY):
+        if 7 <= i <= 10:
+            continue  # E_d, P_n, P_t, Theta: quadratures of the others, left out of the error control
+        if i < 2 or 11 <= i <= 12:
             floor = p[1]
-        elif i < 4:
+        elif i < 4 or i >= 13:
             floor = p[19]
         else:
             floor = 1.0
@@ -131,6 +151,8 @@ def _kinetic(y, p):
     ke = 0.5 * p[0] * (y[2] * y[2] + y[3] * y[3])
     if p[11] > 0.0:
         ke += 0.5 * y[5] * y[5] / p[11]
+    if p[20] > 0.0:
+        ke += 0.5 * (y[13] * y[13] + y[14] * y[14]) / p[20]
     return ke
 
 
@@ -265,9 +287,11 @@ def compliant_episode(y0, t0, t_end, p, f_max, d_max, modes, rest_energy=0.0):
             h *= max(0.2, 0.9 * err ** -0.2) if math.isfinite(err) else 0.2
             continue
         _r1, fn1, dfn1, delta1, vn1, _v1, _f1 = episode_rates(yn, p, rolling, sgn, rdir)
-        if vn > 0.0 and vn1 <= 0.0:
+        # a maximum of delta (of F_n) within the step is located where it can exceed the largest so far: the
+        # rate falls through the step, so the maximum is at most delta + h delta' (F_n + h F_n') (twice for safety)
+        if vn > 0.0 and vn1 <= 0.0 and delta + 2.0 * h * vn > d_max:
             d_max = max(d_max, _peak(y, h, p, rolling, sgn, rdir, 0, t)[1])
-        if dfn > 0.0 and dfn1 <= 0.0 and fn1 > 0.0 and max(fn, fn1) >= 0.5 * f_max:
+        if dfn > 0.0 and dfn1 <= 0.0 and fn1 > 0.0 and fn + 2.0 * h * dfn > f_max:
             f_max = max(f_max, _peak(y, h, p, rolling, sgn, rdir, 1, t)[0])
         g1, g2, g3, g4 = _events(yn, p, rolling, sgn, rdir, rest_energy)
         if g1 <= 0.0 or g2 <= 0.0 or g3 <= 0.0 or g4 <= 0.0:

@@ -17,10 +17,12 @@ import numpy as np
 from numba import njit
 
 from ..model.angles import wrap_angle
-from ..model.machine_model import impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate, surface_velocity
+from ..model.machine_model import (
+    elastic_impact_duration, impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate, surface_velocity,
+)
 from .compliant import E_REST, E_SEPARATED, NQ, NY, compliant_episode
 from .general_contact import C_END, C_LIFTOFF, C_RACE, C_REST, C_STEP_LIMIT, NP, contact_phase, contact_rates
-from .general_flight import flight_state, make_flight, next_impact
+from .general_flight import flight_state, make_flight, make_stator_flight, next_impact
 from .rolling import fast_rolling_applies, rolling_fixed_phase
 from .roots import CROSSING, ITERATION_LIMIT, NO_CROSSING, STUCK
 from .tables import push_row
@@ -52,6 +54,10 @@ MAX_STALLS = 50
 MAX_CRAWLS = 2
 CRAWL_TIME = 1e-6
 VREL_TOL = 1e-12  # |v_rel| below this times the surface speeds: the surfaces roll
+#: A compliant episode lasting longer than this many times the elastic impact at its start speed
+#: (`machine_model.elastic_impact_duration`) is lasting contact (a rub, rolling, a rotor settled on the
+#: bearing): it is also a row of the contact table.
+LASTING_CONTACT = 10.0
 
 
 @njit(cache=True)
@@ -119,20 +125,24 @@ def _impact(z, v, spin, race, mass, d, mu, radius, inv_polar, race_radius, inv_r
 
 @njit(cache=True)
 def _episode_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque, race_coef,
-                    stiffness, exponent, damp, tol, v_scale):
+                    stiffness, exponent, damp, tol, v_scale, stator):
     q = np.empty(NQ)
     q[:NP] = _contact_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, b_y, inv_p, inv_race, race_torque,
                              race_coef)
-    q[NP:] = np.array([stiffness, exponent, damp, tol, v_scale])  # the slots of `compliant.NQ`
+    q[NP:NP + 5] = np.array([stiffness, exponent, damp, tol, v_scale])  # the slots of `compliant.NQ`
+    q[NP + 5:] = stator
     return q
 
 
 @njit(cache=True)
 def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky, cx, cy, fs, g, inv_polar, inv_race,
              race_torque, race_coef, t_fail, t_end, stiffness, exponent, chi, v_floor, tol,
-             rest_energy, max_steps):
+             rest_energy, max_steps, stator, zb, vb):
     """A compliant contact episode from the impact point zs (m) with velocity vs (m/s) at t (MODEL.md §8),
     through the bearing's failure, until the surfaces part, the rotor rests or t_end.
+
+    ``stator``: (1/m_s, k_sx, k_sy, c_sx, c_sy) of a stator on springs at zb (m) with velocity vb (m/s), zeros
+    for a fixed stator.
 
     The damping D = chi / max(v_n, v_floor) is fixed at the start. Returns (code, t, y, f_max, d_max, kind,
     calls) with y the `compliant.NY` state at the end, ``kind`` the friction mode (`CONTACT_KINDS`) the
@@ -140,6 +150,8 @@ def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky,
     """
     y = np.zeros(NY)  # E_d, P_n, P_t start at 0
     y[:7] = np.array([zs.real, zs.imag, vs.real, vs.imag, psi, spin, race])
+    y[10] = math.atan2(zs.imag - zb.imag, zs.real - zb.real)
+    y[11:] = np.array([zb.real, zb.imag, vb.real, vb.imag])
     damp = chi / max(v_n, v_floor)
     v_scale = abs(vs) + 1e3 * v_floor  # the error control's velocity scale: the impact's and the machine's
     f_max = 0.0
@@ -151,12 +163,12 @@ def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky,
         calls += 1
         if t < t_fail:
             q = _episode_params(mass, cr, ecc, radius, mu, kx, ky, cx, cy, fs / mass - g, 0.0, inv_race,
-                                race_torque, race_coef, stiffness, exponent, damp, tol, v_scale)
+                                race_torque, race_coef, stiffness, exponent, damp, tol, v_scale, stator)
             stop = min(t_fail, t_end)
             rest = 0.0
         else:
             q = _episode_params(mass, cr, ecc, radius, mu, 0.0, 0.0, 0.0, 0.0, -g, inv_polar, inv_race, race_torque,
-                                race_coef, stiffness, exponent, damp, tol, v_scale)
+                                race_coef, stiffness, exponent, damp, tol, v_scale, stator)
             stop = t_end
             rest = rest_energy if inv_polar > 0.0 else 0.0
         code, t, y, f_max, d_max = compliant_episode(y, t, stop, q, f_max, d_max, modes, rest)
@@ -166,10 +178,18 @@ def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky,
 
 
 @njit(cache=True)
+def _stator_energy(zb, vb, cr, mass, kx, ky):
+    """Kinetic and spring energy of the stator on springs at zb, vb (clearances, clearances/s), J."""
+    return 0.5 * cr * cr * (mass * (vb.real * vb.real + vb.imag * vb.imag) + kx * zb.real * zb.real
+                            + ky * zb.imag * zb.imag)
+
+
+@njit(cache=True)
 def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, polar, race_inertia, race_torque,
                 race_coef, z0, v0, psi0, spin0, race0, t_fail, t_end, max_events, chatter_v, follow_contact=True,
                 rest_energy=0.0, chatter_rel=0.0, contact_stiffness=0.0, contact_exponent=1.5, contact_chi=0.0,
-                contact_v_floor=0.0, contact_tol=1e-10):
+                contact_v_floor=0.0, contact_tol=1e-10, stator_mass=0.0, stator_kx=0.0, stator_ky=0.0,
+                stator_cx=0.0, stator_cy=0.0, stator_z0=0j, stator_v0=0j):
     """Run the general machine from (z0, v0) (m, m/s) at t = 0 to t_end.
 
     ``polar`` and ``race_inertia`` are 0 for a held speed and a fixed stator. The speed is held until
@@ -186,6 +206,10 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     ``contact_exponent``, D = ``contact_chi`` / max(v_n, ``contact_v_floor``), relative tolerance
     ``contact_tol``): each impact becomes a contact episode, a
     row of the impact table with its `COMPLIANT_FIELDS`, and impacts never accumulate into rigid contact.
+    An episode that lasts (`LASTING_CONTACT`) is a row of the contact table too, with its mean whirl rate.
+    ``stator_mass`` > 0 (with the compliant law only) puts the stator on springs (N/m) and dampers (N s/m)
+    per axis: it starts at ``stator_z0`` (m) with velocity ``stator_v0`` (m/s), flies freely on its support between episodes, and the gap is
+    measured from it (MODEL.md §8).
 
     Returns
     -------
@@ -193,8 +217,9 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     contacts : (c, 5) array (`CONTACT_FIELDS`)
     status : int
     t_stop : float
-    state : (8,) array: t, x, y, vx, vy, spin, race at the stop and the energy the touchdown bearing
-        dissipated (impacts, friction in contact, the race's drag), J
+    state : (12,) array: t, x, y, vx, vy, spin, race at the stop, the energy the touchdown bearing
+        dissipated (impacts, friction in contact, the race's drag, the stator's support damping), J, and the
+        stator's x, y, vx, vy
     """
     cr = clearance
     inv_polar = 1.0 / polar if polar > 0.0 else 0.0
@@ -207,6 +232,12 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     row = np.empty(NCOL)
     row[14:] = math.nan
     compliant = contact_stiffness > 0.0
+    moving_stator = compliant and stator_mass > 0.0
+    inv_ms = 1.0 / stator_mass if moving_stator else 0.0
+    stator_p = np.array([inv_ms, stator_kx, stator_ky, stator_cx, stator_cy]) if moving_stator else np.zeros(5)
+    stator = np.zeros((0, 10))
+    zb = stator_z0 / cr if moving_stator else 0j  # the stator's centre and velocity, clearances and clearances/s
+    vb = stator_v0 / cr if moving_stator else 0j
     n_imp = 0
     in_contact = False
     liftoff = False
@@ -219,7 +250,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     psi = psi0
     spin = spin0
     race = race0
-    on_boundary = abs(abs(z) - 1.0) <= BOUNDARY_TOL
+    on_boundary = abs(abs(z - zb) - 1.0) <= BOUNDARY_TOL
     status = COMPLETED
     events = 0
     dissipated = 0.0
@@ -322,7 +353,15 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             on_boundary = True
             continue
         flight = make_flight(z, v, spin, psi, gx, w2x, gy, w2y, by, ecc / cr)
-        code, s = next_impact(flight, spin, horizon, on_boundary, liftoff)
+        if moving_stator:
+            stator = make_stator_flight(zb, vb, stator_cx * inv_ms, stator_kx * inv_ms, stator_cy * inv_ms,
+                                        stator_ky * inv_ms)
+        # a compliant run may start in contact (a penetration): its episode starts at once
+        penetrated = compliant and abs(z - zb) > 1.0 + BOUNDARY_TOL
+        if penetrated:
+            code, s = CROSSING, 0.0
+        else:
+            code, s = next_impact(flight, spin, horizon, on_boundary, liftoff, stator)
         liftoff = False
         if code == ITERATION_LIMIT:
             status = FAILED
@@ -344,6 +383,11 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             in_contact = True
             continue
         z, v = flight_state(flight, spin, s)
+        if moving_stator:
+            e_stator = _stator_energy(zb, vb, cr, stator_mass, stator_kx, stator_ky)
+            zb, vb = flight_state(stator, 0.0, s)
+            if stator_cx > 0.0 or stator_cy > 0.0:  # its support's damping (>= 0 but for rounding)
+                dissipated += max(0.0, e_stator - _stator_energy(zb, vb, cr, stator_mass, stator_kx, stator_ky))
         if code == CROSSING:
             t = t + s
         else:  # the flight reached its horizon: the failure (exactly at t_fail) or the end
@@ -354,24 +398,29 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             dissipated += 0.5 * race_inertia * (race * race - race_after * race_after)  # the race's drag
             race = race_after
         if code == NO_CROSSING:
-            on_boundary = abs(abs(z) - 1.0) <= BOUNDARY_TOL
+            on_boundary = abs(abs(z - zb) - 1.0) <= BOUNDARY_TOL
             continue
-        z = z / abs(z)
+        normal = (z - zb) / abs(z - zb)
+        if not penetrated:
+            z = zb + normal
         zs = z * cr
         vs = v * cr
         if compliant:
-            w = z.conjugate() * vs
+            w = normal.conjugate() * (vs - vb * cr)  # the velocity relative to the stator
             t0 = t
             code_e, t, y_e, f_max, d_max, kind, calls = _episode(
                 t, zs, vs, psi, spin, race, max(w.real, 0.0), mass, cr, ecc, radius, mu, kx, ky, cx, cy, fs, g,
                 inv_polar, inv_race, race_torque, race_coef, t_fail, t_end, contact_stiffness, contact_exponent,
-                contact_chi, contact_v_floor, contact_tol, rest_energy, max(max_events - events, 1))
+                contact_chi, contact_v_floor, contact_tol, rest_energy, max(max_events - events, 1), stator_p,
+                zb * cr, vb * cr)
             events += calls - 1
             z_end = complex(y_e[0], y_e[1])
             v_end = complex(y_e[2], y_e[3])
-            n_end = z_end / abs(z_end)
+            zb_end = complex(y_e[11], y_e[12])
+            vb_end = complex(y_e[13], y_e[14])
+            n_end = (z_end - zb_end) / abs(z_end - zb_end)
             row[0] = t0
-            row[1] = wrap_angle(math.atan2(z.imag, z.real))
+            row[1] = wrap_angle(math.atan2(normal.imag, normal.real))
             row[2] = w.real
             row[3] = y_e[8]
             row[4] = y_e[9]
@@ -388,12 +437,22 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             row[15] = f_max
             row[16] = d_max
             # normal velocity out over in; nan while the episode goes on at the stop
-            row[17] = -(n_end.conjugate() * v_end).real / w.real if code_e == E_SEPARATED and w.real > 0.0 \
-                else math.nan
+            row[17] = -(n_end.conjugate() * (v_end - vb_end)).real / w.real \
+                if code_e == E_SEPARATED and w.real > 0.0 else math.nan
             row[18] = kind
             impacts, n_imp = push_row(impacts, n_imp, row)
+            if t - t0 > LASTING_CONTACT * elastic_impact_duration(mass, max(w.real, contact_v_floor),
+                                                                  contact_stiffness, contact_exponent):
+                crow[0] = t0
+                crow[1] = t
+                crow[2] = kind
+                crow[3] = f_max
+                crow[4] = (y_e[10] - math.atan2(normal.imag, normal.real)) / (t - t0)
+                contacts, n_ct = push_row(contacts, n_ct, crow)
             dissipated += y_e[7]
-            z = n_end if code_e == E_SEPARATED else z_end / cr
+            zb = zb_end / cr
+            vb = vb_end / cr
+            z = zb + n_end if code_e == E_SEPARATED else z_end / cr
             v = v_end / cr
             psi, spin, race = y_e[4], y_e[5], y_e[6]
             on_boundary = True
@@ -439,5 +498,6 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             w = z.conjugate() * v
             v = z * complex(0.0, w.imag)
             in_contact = True
-    state = np.array([min(t, t_end), z.real * cr, z.imag * cr, v.real * cr, v.imag * cr, spin, race, dissipated])
+    state = np.array([min(t, t_end), z.real * cr, z.imag * cr, v.real * cr, v.imag * cr, spin, race, dissipated,
+                      zb.real * cr, zb.imag * cr, vb.real * cr, vb.imag * cr])
     return impacts[:n_imp].copy(), contacts[:n_ct].copy(), status, min(t, t_end), state

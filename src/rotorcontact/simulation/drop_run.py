@@ -99,10 +99,12 @@ class DropResult:
         compliant law one row per contact episode, whose `rotorcontact.simulation.drop.COMPLIANT_FIELDS`
         (nan for rigid impacts) give its duration, peak force, peak penetration and rebound ratio.
     final_state : numpy.ndarray
-        t, x, y, vx, vy, spin, race at the stop (SI) and the energy dissipated in the touchdown bearing, J
-        (`DropResult.energy_dissipated`).
+        t, x, y, vx, vy, spin, race at the stop (SI), the energy dissipated in the touchdown bearing, J
+        (`DropResult.energy_dissipated`), and the stator's x, y, vx, vy (SI; zeros for a fixed stator).
     contacts : numpy.ndarray
-        One row per contact phase, columns `rotorcontact.simulation.drop.CONTACT_FIELDS` (SI).
+        One row per contact phase, columns `rotorcontact.simulation.drop.CONTACT_FIELDS` (SI); with the
+        compliant law one row per episode that lasts (`rotorcontact.simulation.drop.LASTING_CONTACT`), the
+        friction mode it spent most of its time in as its kind.
     """
 
     machine: Machine
@@ -118,7 +120,8 @@ class DropResult:
     @property
     def energy_dissipated(self) -> float:
         """Energy dissipated in the touchdown bearing, J: at impacts (restitution and friction, with the
-        motor's work where the speed is held), by friction in sliding contact and by the race's drag."""
+        motor's work where the speed is held), by friction in sliding contact, by the race's drag and by the
+        damping of a stator's support."""
         return float(self.final_state[7])
 
     @property
@@ -183,6 +186,13 @@ class DropResult:
                  "max_normal_force_N": float(r[3]), "whirl_frequency_hz": float(r[4] / (2.0 * math.pi))}
                 for r in self.contacts]
 
+    def stator_final(self) -> dict[str, float] | None:
+        """The stator's position (m) and velocity (m/s) at the stop, for a stator on springs; None otherwise."""
+        if not self.machine.has_stator:
+            return None
+        x, y, vx, vy = (float(a) for a in self.final_state[8:12])
+        return {"x_m": x, "y_m": y, "vx_m_per_s": vx, "vy_m_per_s": vy}
+
     def to_dict(self) -> dict[str, Any]:
         """The ``rotorcontact drop --json`` contract (README)."""
         race = self.machine.has_race
@@ -224,6 +234,7 @@ class DropResult:
                 "final_spin_rpm": float(self.final_state[5] / RPM),
                 "energy_dissipated_J": self.energy_dissipated,
                 "time_to_rest_s": self.time_to_rest,
+                "stator_final": self.stator_final(),
             },
         }
 
@@ -258,17 +269,24 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
 
 
 def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_at: float, t_end: float, *,
-                max_events: int = 1_000_000, tol: float = EPISODE_TOL) -> DropResult:
+                max_events: int = 1_000_000, tol: float = EPISODE_TOL,
+                stator_start: tuple[complex, complex] = (0j, 0j)) -> DropResult:
     """Run the general machine from (z0, z0') (m, m/s) at spin ``speed`` (rad/s), failing at ``fail_at``.
 
     ``fail_at = inf``: the magnetic bearing holds throughout (``rotorcontact simulate --machine``).
-    The unbalance angle starts at ``machine.unbalance_phase``; the race starts at rest. ``tol``: the
-    relative tolerance of compliant contact episodes (MODEL.md §8), in [1e-14, 1e-3].
+    The unbalance angle starts at ``machine.unbalance_phase``; the race starts at rest. With the compliant
+    law the rotor may start in contact (|z0 - z_s| > c_r): an episode starts at once. ``tol``: the
+    relative tolerance of compliant contact episodes (MODEL.md §8), in [1e-14, 1e-3]. ``stator_start``: the
+    position (m) and velocity (m/s) of a stator on springs at the start (default: at rest at its centre).
     """
     tol = check_range("tol", tol, low=1e-14, high=1e-3)
     m = machine
-    if not abs(z0) <= m.clearance * (1.0 + 1e-12):
-        raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m; allowed: |z0| <= c_r")
+    zb0, vb0 = (complex(a) for a in stator_start)
+    if (zb0 != 0.0 or vb0 != 0.0) and not m.has_stator:
+        raise ParameterError(f"stator_start = {stator_start!r} for a fixed stator; allowed: (0, 0) without stator_mass")
+    if not abs(z0 - zb0) <= m.clearance * (1.0 + 1e-12) and not m.compliant:
+        raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m round the stator's centre "
+                             f"{zb0!r} m; allowed: |z0 - z_s| <= c_r (beyond it: in contact, compliant law only)")
     v_scale = _velocity_scale(m, speed)
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
     polar = m.polar_inertia or 0.0
@@ -280,7 +298,8 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     impacts, contacts, status, t_stop, state = drop_kernel(
         m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
         m.fs, m.g, polar, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
-        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy, CHATTER_RELATIVE, *compliant)
+        fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy, CHATTER_RELATIVE, *compliant,
+        float(m.stator_mass or 0.0), *m.stator_support(), zb0, vb0)
     return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state,
                       contacts)
 
@@ -316,7 +335,8 @@ def contact_force_history(machine: Machine, speed: float, fail_at: float, times,
             r = drop(machine, speed, fail_at, float(t))
         else:
             r = run_general(machine, start[0], start[1], speed, fail_at, float(t))
-        x, y, vx, vy = r.final_state[1:5]
+        # the rotor relative to the stator's centre (at 0 for a fixed stator)
+        x, y, vx, vy = r.final_state[1:5] - r.final_state[8:12]
         dist = math.hypot(x, y)
         if not len(r.impacts) or dist <= machine.clearance:
             out.append(0.0)
