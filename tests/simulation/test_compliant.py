@@ -287,3 +287,27 @@ def test_a_bouncing_rotor_settles_in_one_lasting_episode_at_the_static_penetrati
     static = (m.mass * 9.81 / KC) ** (1.0 / 1.5)
     assert math.hypot(x, y) - m.clearance == pytest.approx(static, rel=1e-6)
     assert np.all(np.diff(r.column("t_s")) > 0.0) and np.all(r.impacts[:-1, COL["rebound_ratio"]] > 0.0)
+    # the lasting episode, and it alone, is a contact interval: no whirl without spin
+    (interval,) = r.contact_intervals()
+    assert interval["t_start_s"] == last[COL["t_s"]] and interval["t_end_s"] == 1.0
+    assert interval["max_normal_force_N"] == last[COL["max_force_N"]] >= m.mass * 9.81
+    assert abs(interval["whirl_frequency_hz"]) < 1e-6
+    assert r.regime == "contact"
+
+
+def test_a_drop_ends_in_a_lasting_rolling_episode_listed_as_backward_whirl():
+    m = machine(gravity=9.81, polar_inertia=0.04, contact="compliant", contact_stiffness=KC)
+    speed = 12000 * RPM
+    r = drop(m, speed, 0.0, 0.2)
+    last = r.impacts[-1]
+    assert len(r.impacts) >= 3 and last[COL["kind"]] == 1.0
+    (interval,) = r.contact_intervals()
+    assert interval["kind"] == "rolling" and interval["t_start_s"] == last[COL["t_s"]]
+    assert interval["t_end_s"] == 0.2 and interval["max_normal_force_N"] == last[COL["max_force_N"]]
+    # rolling on a fixed stator whirls backward at R Omega / (c_r + delta) with delta within [0, delta_max]
+    whirl = -2.0 * math.pi * interval["whirl_frequency_hz"]
+    spin_end = r.final_state[5]
+    assert m.rotor_radius * spin_end / (m.clearance + last[COL["max_penetration_m"]]) <= whirl
+    assert whirl <= m.rotor_radius * last[COL["spin_before"]] / m.clearance
+    assert r.regime == "backward-whirl" and r.backward_whirl_onset <= interval["t_start_s"]
+    assert r.to_dict()["contact_intervals"] == r.contact_intervals()

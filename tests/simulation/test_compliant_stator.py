@@ -1,6 +1,6 @@
 """The compliant law with a stator on springs (MODEL.md §8): the coupled equations against solve_ivp, the
-guaranteed impact search against a moving stator, the energy balance, and dry whip against the steady whirl
-of the linear rotor-stator system."""
+guaranteed impact search against a moving stator, the energy balance and the reduced mass of an impact
+(dry whip: tests/analysis/test_dry_whip.py)."""
 
 from __future__ import annotations
 
@@ -26,81 +26,6 @@ STATOR = dict(stator_mass=20.0, stator_stiffness=4e6, stator_damping=400.0)
 def machine(**changes):
     base = {**reference_machine().as_dict(), "contact": "compliant", "contact_stiffness": KC, **STATOR}
     return Machine(**{**base, **changes})
-
-
-# ---- dry whip: the steady backward whirl of rotor and stator in sliding contact --------------------------------
-#
-# With the bearing failed (K = C = 0), no unbalance and the speed held, a circular whirl z = r e^{i w t},
-# z_s = zeta e^{i w t} in contact obeys, with A = -m w^2, B = k_s - m_s w^2 + i c_s w:
-#   A r = (-F_n + i F_t) nu,   B zeta = (F_n - i F_t) nu,   nu = (r - zeta)/|r - zeta|,
-# so zeta = -A r / B, -F_n + i F_t = G rho with G = A B/(A + B), rho = |r - zeta| = c_r + delta.
-# Sliding forward (F_t = -mu F_n) needs Im G = mu Re G: an equation for w alone, whose root near the coupled
-# natural frequency sqrt(k_s/(m + m_s)) is the whip; K_c delta^n = -Re G rho then fixes the amplitude.
-
-def _dynamic_stiffness(m: Machine, w: float):
-    a = -m.mass * w * w
-    b = m.stator_stiffness - m.stator_mass * w * w + 1j * m.stator_damping * w
-    return a * b / (a + b), a, b
-
-
-def _whip_frequency(m: Machine) -> tuple[float, float]:
-    """(the whip's whirl rate w, the coupled natural frequency sqrt(k_s/(m + m_s))), rad/s."""
-    mu = m.friction
-    g = (lambda w: _dynamic_stiffness(m, w))
-    coupled = math.sqrt(m.stator_stiffness / (m.mass + m.stator_mass))
-    def whip(w):
-        return g(w)[0].imag - mu * g(w)[0].real
-
-    # the root nearest below the coupled frequency, bracketed on a grid that closes in on the pole
-    grid = -coupled * (1.0 - np.geomspace(1e-9, 0.5, 400))
-    signs = np.sign([whip(w) for w in grid])
-    i = int(np.flatnonzero(signs[1:] != signs[:-1])[0])
-    return brentq(whip, grid[i], grid[i + 1], xtol=1e-14, rtol=1e-15), coupled
-
-
-def _whip(m: Machine):
-    """The steady whip: (w, r, zeta, F_n, the coupled natural frequency)."""
-    w, coupled = _whip_frequency(m)
-    gw, a, b = _dynamic_stiffness(m, w)
-    delta = brentq(lambda d: m.contact_stiffness * d**m.exponent + gw.real * (m.clearance + d), 0.0, m.clearance,
-                   xtol=1e-22, rtol=1e-15)
-    rho = m.clearance + delta
-    r = rho * abs(b / (a + b))
-    zeta = -a * r / b
-    return w, r, zeta, -gw.real * rho, coupled
-
-
-@pytest.mark.parametrize("damping", [400.0, 200.0])
-def test_dry_whip_is_the_steady_whirl_of_the_coupled_rotor_stator_system(damping):
-    m = machine(eccentricity=0.0, friction=0.2, stator_damping=damping)
-    speed = 100.0  # R Omega far above the whirl's surface speed: the contact slides forward throughout
-    w, r, zeta, force, coupled = _whip(m)
-    t_end = 0.2  # 11 whirl periods
-    res = run_general(m, complex(r), 1j * w * r, speed, 0.0, t_end, stator_start=(zeta, 1j * w * zeta))
-    assert res.status == "completed" and len(res.impacts) == 1
-    turn = np.exp(1j * w * t_end)
-    z = complex(*res.final_state[1:3])
-    v = complex(*res.final_state[3:5])
-    zs = complex(*res.final_state[8:10])
-    assert abs(z - r * turn) <= 1e-8 * r
-    assert abs(v - 1j * w * r * turn) <= 1e-8 * abs(w) * r
-    assert abs(zs - zeta * turn) <= 1e-8 * abs(zeta)
-    (interval,) = res.contact_intervals()
-    assert interval["kind"] == "sliding-forward" and interval["t_end_s"] == t_end
-    assert interval["whirl_frequency_hz"] == pytest.approx(w / (2.0 * math.pi), rel=1e-9)
-    assert interval["max_normal_force_N"] == pytest.approx(force, rel=1e-8)
-    # the whirl is backward, at the coupled natural frequency less a damping shift, not at the rolling rate
-    assert w < 0.0 and abs(w) < coupled
-    rolling = m.rotor_radius * speed / (m.clearance + (force / m.contact_stiffness) ** (1.0 / m.exponent))
-    assert rolling > 10.0 * coupled
-
-
-def test_dry_whip_frequency_tends_to_the_coupled_natural_frequency():
-    # the shift below sqrt(k_s/(m + m_s)) vanishes with the stator's damping
-    shifts = [1.0 - abs(w) / coupled
-              for w, coupled in (_whip_frequency(machine(friction=0.2, stator_damping=c)) for c in (400.0, 100.0, 25.0))]
-    assert 0.0 < shifts[2] < shifts[1] < shifts[0] < 0.07
-    assert shifts[2] < 0.01
 
 
 # ---- an episode against a stator on springs, against solve_ivp -------------------------------------------------
@@ -173,6 +98,20 @@ def test_an_episode_against_a_moving_stator_matches_solve_ivp():
     np.testing.assert_allclose(res.final_state[8:10], after.y[4:6, -1], rtol=0, atol=1e-7 * m.clearance)
     np.testing.assert_allclose(res.final_state[10:12], after.y[6:8, -1], rtol=1e-7)
     np.testing.assert_allclose(res.final_state[1:3], after.y[0:2, -1], rtol=0, atol=1e-7 * m.clearance)
+
+
+@pytest.mark.parametrize("d", [0.3, 0.6, 0.95])
+def test_an_impact_on_a_free_stator_rebounds_with_the_restitution_at_the_reduced_mass(d):
+    # a support too soft to act within the episode: the relative motion is the isolated impact with the
+    # reduced mass m m_s / (m + m_s), and chi(d, n) does not depend on the mass
+    m = machine(eccentricity=0.0, friction=0.0, restitution=d, stator_stiffness=1e-6, stator_damping=0.0)
+    v0 = 0.3
+    r = run_general(m, 0j, complex(v0, 0.0), m.speed, 0.0, m.clearance / v0 + 3e-3)
+    row = r.impacts[0]
+    reduced = m.mass * m.stator_mass / (m.mass + m.stator_mass)
+    assert row[COL["rebound_ratio"]] == pytest.approx(d, rel=1e-8)
+    assert row[COL["normal_impulse_Ns"]] == pytest.approx((1.0 + d) * reduced * v0, rel=1e-8)
+    assert row[COL["energy_lost_J"]] == pytest.approx((1.0 - d * d) * reduced * v0 * v0 / 2.0, rel=1e-7)
 
 
 # ---- energy ---------------------------------------------------------------------------------------------------

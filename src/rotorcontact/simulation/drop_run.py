@@ -153,7 +153,9 @@ class DropResult:
     def backward_whirl_onset(self) -> float | None:
         """Onset of backward whirl, s: the start of the first contact phase whose mean whirl rate is against
         the spin, or the first impact after which every impact leaves the centre whirling against the spin
-        (at least two impacts), whichever is earlier; None if neither."""
+        (at least two impacts), whichever is earlier; None if neither, or without spin."""
+        if self.speed == 0.0:
+            return None  # no spin: no whirl against it
         onsets = []
         direction = 1.0 if self.speed > 0.0 else -1.0
         backward = np.flatnonzero(self.contacts[:, 4] * direction < 0.0) if len(self.contacts) else []

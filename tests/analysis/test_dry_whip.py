@@ -1,0 +1,93 @@
+"""The steady dry whip (MODEL.md §8) against the equations of motion of each body and against the simulator."""
+
+from __future__ import annotations
+
+import cmath
+import math
+
+import pytest
+
+from rotorcontact import Machine, ParameterError, reference_machine
+from rotorcontact.analysis.dry_whip import steady_dry_whip
+from rotorcontact.simulation.drop_run import run_general
+
+KC = 1e10  # N/m^1.5
+STATOR = dict(stator_mass=20.0, stator_stiffness=4e6, stator_damping=400.0)
+
+
+def machine(**changes):
+    base = {**reference_machine().as_dict(), "contact": "compliant", "contact_stiffness": KC, "eccentricity": 0.0,
+            "friction": 0.2, "speed": 100.0, **STATOR}
+    return Machine(**{**base, **changes})
+
+
+@pytest.mark.parametrize("failed", [True, False])
+@pytest.mark.parametrize("damping", [400.0, 100.0])
+def test_the_whip_satisfies_each_body_s_equation_of_motion(failed, damping):
+    # written out from Newton's law for the circular whirl, not from G = A B / (A + B)
+    m = machine(stator_damping=damping, damping=50.0)  # a whip exists on a lightly damped live bearing
+    whip = steady_dry_whip(m, bearing_failed=failed)
+    w, r, zeta = whip.whirl_rate, whip.rotor_orbit, whip.stator_orbit
+    k, c = (0.0, 0.0) if failed else (m.stiffness, m.damping)
+    gap = r - zeta
+    n = gap / abs(gap)
+    contact = (-whip.normal_force + 1j * whip.friction_force) * n  # on the rotor
+    scale = whip.normal_force
+    assert abs(-m.mass * w * w * r - (-(k + 1j * c * w) * r + contact)) <= 1e-10 * scale
+    support = -(m.stator_stiffness + 1j * m.stator_damping * w) * zeta
+    assert abs(-m.stator_mass * w * w * zeta - (support - contact)) <= 1e-10 * scale
+    assert abs(gap) == pytest.approx(m.clearance + whip.penetration, rel=1e-14)
+    assert whip.normal_force == pytest.approx(KC * whip.penetration**1.5, rel=1e-12)
+    assert whip.friction_force == -m.friction * whip.normal_force
+    assert whip.slip_velocity == pytest.approx(m.rotor_radius * m.speed + w * abs(gap), rel=1e-14)
+    coupled = math.sqrt((k + m.stator_stiffness) / (m.mass + m.stator_mass))
+    assert whip.coupled_frequency == pytest.approx(coupled, rel=1e-15)
+    assert -coupled < w < 0.0
+
+
+def test_the_whip_tends_to_the_coupled_natural_frequency_as_the_support_damping_vanishes():
+    # (the orbit grows as the damping falls: a faster spin keeps the contact sliding)
+    whips = [steady_dry_whip(machine(stator_damping=c, speed=1e4)) for c in (400.0, 100.0, 25.0, 5.0)]
+    shifts = [1.0 + whip.whirl_rate / whip.coupled_frequency for whip in whips]
+    assert 0.0 < shifts[3] < shifts[2] < shifts[1] < shifts[0] < 0.07
+    assert shifts[3] < 1e-3
+
+
+@pytest.mark.parametrize("damping, failed", [(400.0, True), (200.0, True), (400.0, False)])
+def test_the_simulator_started_on_the_whip_stays_on_it(damping, failed):
+    m = machine(stator_damping=damping, damping=50.0)
+    whip = steady_dry_whip(m, bearing_failed=failed)
+    z, v, zs, vs = whip.state(0.0)
+    t_end = 0.2  # 7 whirl periods
+    res = run_general(m, z, v, m.speed, 0.0 if failed else math.inf, t_end, stator_start=(zs, vs))
+    assert res.status == "completed" and len(res.impacts) == 1
+    z1, v1, zs1, _vs1 = whip.state(t_end)
+    r = abs(whip.rotor_orbit)
+    assert abs(complex(*res.final_state[1:3]) - z1) <= 1e-8 * r
+    assert abs(complex(*res.final_state[3:5]) - v1) <= 1e-8 * abs(whip.whirl_rate) * r
+    assert abs(complex(*res.final_state[8:10]) - zs1) <= 1e-8 * abs(whip.stator_orbit)
+    (interval,) = res.contact_intervals()
+    assert interval["kind"] == "sliding-forward" and interval["t_end_s"] == t_end
+    assert interval["whirl_frequency_hz"] == pytest.approx(whip.whirl_frequency_hz, rel=1e-9)
+    assert interval["max_normal_force_N"] == pytest.approx(whip.normal_force, rel=1e-8)
+    # the whirl follows the coupled system, far below the rolling rate R Omega / rho of dry whirl
+    rolling = m.rotor_radius * m.speed / (m.clearance + whip.penetration)
+    assert rolling > 10.0 * abs(whip.whirl_rate)
+    assert cmath.phase(complex(*res.final_state[8:10]) / complex(*res.final_state[1:3])) == pytest.approx(
+        cmath.phase(whip.stator_orbit / whip.rotor_orbit), abs=1e-8)
+
+
+@pytest.mark.parametrize("changes,match", [
+    (dict(stator_mass=None, stator_stiffness=None, stator_damping=None), "stator_mass = None"),
+    (dict(friction=0.0), "friction = 0.0"),
+    (dict(stator_stiffness_x=3e6), "isotropic support"),
+    (dict(speed=0.5), "speed = 0.5"),
+])
+def test_bad_machines_are_refused(changes, match):
+    with pytest.raises(ParameterError, match=match):
+        steady_dry_whip(machine(**changes))
+
+
+def test_a_live_anisotropic_bearing_is_refused():
+    with pytest.raises(ParameterError, match="anisotropic bearing"):
+        steady_dry_whip(machine(stiffness_x=1e6), bearing_failed=False)
