@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -30,6 +31,10 @@ class DryWhip:
 
     Attributes
     ----------
+    machine : Machine
+        The machine, at its speed.
+    bearing_failed : bool
+        Whether the magnetic bearing has failed (k = c = 0) or acts.
     whirl_rate : float
         w, rad/s (negative: backward, against a positive spin).
     coupled_frequency : float
@@ -44,6 +49,8 @@ class DryWhip:
         v_rel = R Omega + w rho at the machine's speed, m/s (> 0: the contact slides forward, as assumed).
     """
 
+    machine: Machine
+    bearing_failed: bool
     whirl_rate: float
     coupled_frequency: float
     rotor_orbit: complex
@@ -57,6 +64,24 @@ class DryWhip:
     def whirl_frequency_hz(self) -> float:
         """w / 2 pi, Hz."""
         return self.whirl_rate / (2.0 * math.pi)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``rotorcontact dry-whip --json`` contract (README)."""
+        return {
+            "machine": self.machine.as_dict(),
+            "speed_rpm": self.machine.speed * 30.0 / math.pi,
+            "bearing": "failed" if self.bearing_failed else "acting",
+            "whirl_rate_rad_per_s": self.whirl_rate,
+            "whirl_frequency_hz": self.whirl_frequency_hz,
+            "coupled_frequency_hz": self.coupled_frequency / (2.0 * math.pi),
+            "rotor_orbit_m": abs(self.rotor_orbit),
+            "stator_orbit_m": abs(self.stator_orbit),
+            "stator_phase_rad": math.atan2(self.stator_orbit.imag, self.stator_orbit.real),
+            "normal_force_N": self.normal_force,
+            "friction_force_N": self.friction_force,
+            "penetration_m": self.penetration,
+            "slip_velocity_m_per_s": self.slip_velocity,
+        }
 
     def state(self, t: float) -> tuple[complex, complex, complex, complex]:
         """(z, z', z_s, z_s') at time t (s), m and m/s."""
@@ -125,8 +150,8 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
     changes = np.flatnonzero(signs[1:] * signs[:-1] < 0.0)
     if changes.size == 0:
         raise ParameterError(
-            f"no steady dry whip within half of the coupled frequency {coupled:.6g} rad/s for friction = {mu!r} "
-            f"and stator_damping = {cs!r}"
+            f"no steady dry whip within half of the coupled frequency {coupled:.6g} rad/s for friction = {mu!r}"
+            f", stator_damping = {cs!r} and a bearing damping of {c!r}: none with this damping"
         )
     i = int(changes[0])
     w = brentq(residual, grid[i], grid[i + 1], xtol=1e-15 * coupled, rtol=4.0 * np.finfo(float).eps)
@@ -156,5 +181,5 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
             f"{-w * rho / machine.rotor_radius if machine.rotor_radius > 0.0 else math.inf:.6g} rad/s"
         )
     force = -g.real * rho
-    return DryWhip(whirl_rate=w, coupled_frequency=coupled, rotor_orbit=complex(r), stator_orbit=-a * r / b,
+    return DryWhip(machine=machine, bearing_failed=bearing_failed, whirl_rate=w, coupled_frequency=coupled, rotor_orbit=complex(r), stator_orbit=-a * r / b,
                    normal_force=force, friction_force=-mu * force, penetration=delta, slip_velocity=slip)

@@ -20,6 +20,7 @@ SUBCOMMANDS: dict[str, str] = {
     "simulate": "simulate the rotor from an initial state",
     "drop": "drop a spinning rotor onto its touchdown bearing after a magnetic-bearing failure",
     "drop-map": "drops of a machine over a range of speeds and friction coefficients",
+    "dry-whip": "the steady dry whip of a rotor on a touchdown bearing on springs",
     "equilibria": "regular and pseudo-equilibria, and the boundary equilibrium bifurcation",
     "orbits": "periodic orbits with one (or, with --impacts, p) impacts per period",
     "sweep": "brute-force orbit diagram against one parameter",
