@@ -6,6 +6,8 @@
    1e13 N/m^1.5 against the rigid kernel: the differences of the second impact time, of the velocity and
    of the spin after the first episode, relative to their scales, fall as K_c^(-2/5).
 3. The run time of a compliant drop to ``--t-end`` beside the rigid one.
+4. The same compliant drop with the touchdown bearing on springs (20 kg, 5 MN/m, 2 kN s/m), and the dry
+   whip of that machine (`analysis.dry_whip`) held by the simulator for 0.2 s from its steady state.
 
 Run: python benchmarks/compliant.py [--speed-rpm 12000] [--contact-stiffness 1e10] [--t-end 1] [--out DIR]
 """
@@ -19,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from rotorcontact import Machine, reference_machine
+from rotorcontact.analysis.dry_whip import steady_dry_whip
 from rotorcontact.plotting.drop import plot_rigid_limit, plot_touchdown_forces
 from rotorcontact.plotting.style import save_figure
 from rotorcontact.simulation.drop_run import RPM, drop, run_general
@@ -67,6 +70,26 @@ def main() -> None:
     print("ratios per tenfold K_c (theory 10^-0.4 = 0.398):", np.round(rows[1:] / rows[:-1], 4).tolist())
     fig, _ = plot_rigid_limit(stiffness, rows, ["second impact time", "velocity after", "spin after"])
     print("wrote", save_figure(fig, out / "compliant_rigid_limit.png"))
+
+    on_springs = Machine(**base, contact="compliant", contact_stiffness=args.contact_stiffness, stator_mass=20.0,
+                         stator_stiffness=5e6, stator_damping=2e3)
+    drop(on_springs, speed, 0.0, 1e-3)
+    t0 = time.perf_counter()
+    rs = drop(on_springs, speed, 0.0, args.t_end)
+    wall_s = time.perf_counter() - t0
+    print(f"{args.t_end:g} s drop on a stator on springs: {len(rs.impacts)} episodes, {len(rs.contacts)} lasting, "
+          f"peak force {rs.column('max_force_N').max():.4g} N, in {wall_s:.3g} s")
+    whip_machine = Machine(**{**on_springs.as_dict(), "eccentricity": 0.0, "gravity": 0.0})
+    whip = steady_dry_whip(whip_machine)
+    z, v, zs, vs = whip.state(0.0)
+    t0 = time.perf_counter()
+    rw = run_general(whip_machine, z, v, whip_machine.speed, 0.0, 0.2, stator_start=(zs, vs))
+    wall_w = time.perf_counter() - t0
+    z1 = whip.state(0.2)[0]
+    print(f"dry whip at {whip_machine.speed / RPM:g} rpm: {whip.whirl_frequency_hz:.6g} Hz (coupled "
+          f"{whip.coupled_frequency / (2 * np.pi):.6g} Hz), force {whip.normal_force:.4g} N; simulated 0.2 s in "
+          f"{wall_w:.3g} s, whirl {rw.contact_intervals()[0]['whirl_frequency_hz']:.9g} Hz, "
+          f"|z - z_whip| / r = {abs(complex(*rw.final_state[1:3]) - z1) / abs(whip.rotor_orbit):.2e}")
 
 
 if __name__ == "__main__":
