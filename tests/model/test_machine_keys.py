@@ -36,7 +36,8 @@ def test_absent_keys_keep_the_paper_machine():
     assert set(m.as_dict()) == set(Machine.units()) - {
         "stiffness_x", "stiffness_y", "damping_x", "damping_y", "gravity", "static_force", "polar_inertia",
         "race_inertia", "race_drag_torque", "race_drag_coefficient", "contact", "contact_stiffness",
-        "contact_exponent"}
+        "contact_exponent", "stator_mass", "stator_stiffness", "stator_stiffness_x", "stator_stiffness_y",
+        "stator_damping", "stator_damping_x", "stator_damping_y"}
 
 
 def test_general_keys_in_si_with_units(tmp_path):

@@ -181,5 +181,6 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
             f"{-w * rho / machine.rotor_radius if machine.rotor_radius > 0.0 else math.inf:.6g} rad/s"
         )
     force = -g.real * rho
-    return DryWhip(machine=machine, bearing_failed=bearing_failed, whirl_rate=w, coupled_frequency=coupled, rotor_orbit=complex(r), stator_orbit=-a * r / b,
+    return DryWhip(machine=machine, bearing_failed=bearing_failed, whirl_rate=w, coupled_frequency=coupled,
+                   rotor_orbit=complex(r), stator_orbit=-a * r / b,
                    normal_force=force, friction_force=-mu * force, penetration=delta, slip_velocity=slip)

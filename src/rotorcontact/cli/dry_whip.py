@@ -44,7 +44,8 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(out)
         return 0
-    print(f"dry whip at {out['speed_rpm']:.6g} rpm (bearing {out['bearing']}): whirl {out['whirl_frequency_hz']:.6g} Hz "
+    print(f"dry whip at {out['speed_rpm']:.6g} rpm (bearing {out['bearing']}): "
+          f"whirl {out['whirl_frequency_hz']:.6g} Hz "
           f"(coupled natural frequency {out['coupled_frequency_hz']:.6g} Hz)")
     print(f"rotor orbit {out['rotor_orbit_m'] * 1e6:.6g} um, stator orbit {out['stator_orbit_m'] * 1e6:.6g} um, "
           f"contact force {out['normal_force_N']:.6g} N, penetration {out['penetration_m'] * 1e6:.6g} um, "

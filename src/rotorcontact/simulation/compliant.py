@@ -7,8 +7,8 @@ F_t = -mu F_n sgn(v_rel), or rolling, v_rel = 0 held by the F_t it needs while |
 springs moves under the reaction of these forces and its support; the gap and the surface velocities are
 relative to it. The state is (x, y, x', y', psi, Omega, Omega_b, E_d, P_n, P_t, Theta, x_s, y_s, x_s', y_s')
 in SI: E_d the energy dissipated, P_n and P_t the integrals of F_n and F_t, Theta the angle of z - z_s
-followed continuously (the whirl), z_s the stator's centre (0 for a fixed stator). It is integrated with the Dormand-Prince 5(4) scheme of `contact` (relative
-tolerance ``tol``); its end (delta back to 0), the switches between sliding and rolling (v_rel = 0,
+followed continuously (the whirl), z_s the stator's centre (0 for a fixed stator). It is integrated with the
+Dormand-Prince 5(4) scheme of `contact` (relative tolerance ``tol``); its end (delta back to 0), the switches between sliding and rolling (v_rel = 0,
 |F_t| = mu F_n), the rotor at rest and the maxima of delta and F_n are located by bisection on single
 steps to `contact.EVENT_TOL` in time.
 """

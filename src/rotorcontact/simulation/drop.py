@@ -208,8 +208,8 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     row of the impact table with its `COMPLIANT_FIELDS`, and impacts never accumulate into rigid contact.
     An episode that lasts (`LASTING_CONTACT`) is a row of the contact table too, with its mean whirl rate.
     ``stator_mass`` > 0 (with the compliant law only) puts the stator on springs (N/m) and dampers (N s/m)
-    per axis: it starts at ``stator_z0`` (m) with velocity ``stator_v0`` (m/s), flies freely on its support between episodes, and the gap is
-    measured from it (MODEL.md §8).
+    per axis: it starts at ``stator_z0`` (m) with velocity ``stator_v0`` (m/s), flies freely on its support
+    between episodes, and the gap is measured from it (MODEL.md §8).
 
     Returns
     -------

@@ -9,7 +9,8 @@ A stator on springs (MODEL.md §8) flies too, freely on its support: its records
 no harmonic or polynomial part, and the gap is that of the rotor relative to it, Z = z - z_s.
 
 Impact location follows `rotorcontact.simulation.roots`: safe steps on f(s) = |Z(s)|^2 - 1 from bounds
-on |Z^(n)| over a window ahead (`crossing_free_step`), |Z^(n)| <= |z^(n)| + |z_s^(n)| with a moving stator. Over [s, s + W] each part is bounded on its own:
+on |Z^(n)| over a window ahead (`crossing_free_step`), |Z^(n)| <= |z^(n)| + |z_s^(n)| with a moving stator.
+Over [s, s + W] each part is bounded on its own:
 |Re(H (i Omega)^n e^{i Omega s})| <= |H| Omega^n; the polynomial by its Taylor terms; the homogeneous
 part, h^(n)(s + u) = e^{-gamma u/2}(C(u) h^(n)(s) + S(u)(gamma h^(n)(s)/2 + h^(n+1)(s))), by
 `window_bounds`. No step crosses the wall, so a grazing impact is never missed.
