@@ -118,25 +118,32 @@ def test_an_impact_on_a_free_stator_rebounds_with_the_restitution_at_the_reduced
 
 def _energy(m: Machine, state) -> float:
     """Rotor: m |v|^2/2 + I_p Omega^2/2 + m g y; contact: K_c delta^(n+1)/(n+1); stator: m_s |v_s|^2/2 and the
-    energy of its springs (its weight is carried by their preload: z_s is measured from its rest)."""
-    x, y, vx, vy, spin = state[1:6]
+    energy of its springs (its weight is carried by their preload: z_s is measured from its rest); race:
+    I_b Omega_b^2/2."""
+    x, y, vx, vy, spin, race = state[1:7]
     xs, ys, vxs, vys = state[8:12]
     kx, ky, _cx, _cy = m.stator_support()
     delta = max(math.hypot(x - xs, y - ys) - m.clearance, 0.0)
     return (0.5 * m.mass * (vx * vx + vy * vy) + 0.5 * m.polar_inertia * spin**2 + m.mass * m.g * y
             + m.contact_stiffness * delta ** (m.exponent + 1.0) / (m.exponent + 1.0)
-            + 0.5 * m.stator_mass * (vxs * vxs + vys * vys) + 0.5 * (kx * xs * xs + ky * ys * ys))
+            + 0.5 * m.stator_mass * (vxs * vxs + vys * vys) + 0.5 * (kx * xs * xs + ky * ys * ys)
+            + (0.5 * m.race_inertia * race**2 if m.has_race else 0.0))
 
 
 @pytest.mark.parametrize("t_end", [0.03, 0.2])
-@pytest.mark.parametrize("support", [dict(stator_damping=400.0),
-                                     dict(stator_stiffness_x=2e6, stator_damping_x=50.0, stator_damping_y=900.0)])
+@pytest.mark.parametrize("support", [
+    dict(stator_damping=400.0),
+    dict(stator_stiffness_x=2e6, stator_damping_x=50.0, stator_damping_y=900.0),
+    # a race turning in the stator on springs: friction spins it up, its drag dissipates
+    dict(stator_damping=400.0, race_inertia=2e-4, race_drag_torque=0.1, race_drag_coefficient=1e-4),
+])
 def test_dissipated_energy_is_the_fall_of_the_energy_of_rotor_and_stator(t_end, support):
     # the support's damping dissipates in flight (the stator rings between episodes) and during episodes
     m = machine(eccentricity=0.0, gravity=9.81, polar_inertia=0.04, restitution=0.9, **support)
     speed = 3000 * RPM
     r = run_general(m, 0j, 0j, speed, 0.0, t_end)
     assert len(r.impacts) >= 2
+    assert (r.final_state[6] != 0.0) == m.has_race
     start = np.zeros(12)
     start[5] = speed
     assert r.energy_dissipated > 0.0
