@@ -82,6 +82,7 @@ def test_the_simulator_started_on_the_whip_stays_on_it(damping, failed):
     (dict(friction=0.0), "friction = 0.0"),
     (dict(stator_stiffness_x=3e6), "isotropic support"),
     (dict(speed=0.5), "speed = 0.5"),
+    (dict(polar_inertia=0.04, race_inertia=2e-4, race_drag_torque=0.0, race_drag_coefficient=1e-4), "race_inertia"),
 ])
 def test_bad_machines_are_refused(changes, match):
     with pytest.raises(ParameterError, match=match):

@@ -108,8 +108,10 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
     Parameters
     ----------
     machine : Machine
-        A compliant machine with a stator on springs (isotropic support), friction > 0; unbalance and gravity
-        are left out of the whirl.
+        A compliant machine with a stator on springs (isotropic support) and no race, friction > 0;
+        unbalance and gravity are left out of the whirl, and its speed is held (with a polar inertia the
+        friction torque R F_t slows a free spin, so the whip is then the one of the current speed). Another
+        steady whirl of the same equations can lie above the stator's own frequency sqrt(k_s/m_s) (MODEL.md §8); it is not the one returned.
     bearing_failed : bool
         True: the magnetic bearing has failed (k = c = 0); False: its k and c (isotropic) act.
 
@@ -121,6 +123,11 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
     """
     if not machine.has_stator:
         raise ParameterError("stator_mass = None: dry whip needs a stator on springs (stator_mass, stator_stiffness)")
+    if machine.has_race:
+        raise ParameterError(
+            f"race_inertia = {machine.race_inertia!r}: the steady dry whip is that of a stator without a turning "
+            "race (the race's spin would enter the slip); allowed: a machine without the race keys"
+        )
     if not machine.friction > 0.0:
         raise ParameterError(f"friction = {machine.friction!r}: dry whip is driven by friction; allowed: > 0")
     ks, cs = _support(machine)

@@ -88,3 +88,20 @@ def plot_rigid_limit(stiffness, differences, labels, exponent: float = 1.5):
     ax.legend(loc="best", fontsize=8)
     fig.tight_layout()
     return fig, ax
+
+
+def plot_dry_whip(damping, whirl_hz, coupled_hz, simulated=None):
+    """The dry whip's whirl frequency |w|/2 pi (Hz) against the stator's support damping c_s (N s/m), with the
+    coupled natural frequency it tends to (MODEL.md §8, dry whip); ``simulated`` = (c_s values, frequencies)
+    from the simulator as markers (the runs that stayed on the whip). Returns (fig, ax)."""
+    fig, ax = plt.subplots(figsize=(6.0, 4.2))
+    ax.semilogx(damping, np.abs(whirl_hz), "-", label="steady dry whip (Im G = mu Re G)")
+    ax.axhline(coupled_hz, color="k", ls="--", lw=1, label="coupled natural frequency")
+    if simulated is not None:
+        ax.semilogx(simulated[0], np.abs(simulated[1]), "o", ms=5, mfc="none",
+                    label="simulated from it, where it holds (mean whirl)")
+    ax.set_xlabel("stator support damping c_s (N s/m)")
+    ax.set_ylabel("backward whirl frequency (Hz)")
+    ax.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    return fig, ax
