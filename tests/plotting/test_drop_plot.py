@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from rotorcontact import Machine, reference_machine
-from rotorcontact.plotting.drop import plot_rigid_limit, plot_touchdown_forces
+from rotorcontact.plotting.drop import plot_dry_whip, plot_rigid_limit, plot_touchdown_forces
 from rotorcontact.plotting.style import save_figure
 from rotorcontact.simulation.drop_run import RPM, drop
 
@@ -35,3 +35,14 @@ def test_rigid_limit_figure_draws_the_rate():
     assert len(lines) == 3
     _x, ref = lines[2].get_data()
     np.testing.assert_allclose(ref, 0.16 * (k / 1e11) ** -0.4, rtol=1e-14)
+
+
+def test_dry_whip_figure_draws_the_curve_the_coupled_frequency_and_the_runs(tmp_path):
+    damping = np.array([50.0, 500.0, 5000.0])
+    whirl = np.array([-42.0, -39.0, -30.0])
+    fig, ax = plot_dry_whip(damping, whirl, 42.5, (damping[1:], whirl[1:]))
+    curve, coupled, runs = ax.get_lines()
+    np.testing.assert_array_equal(curve.get_data()[1], -whirl)
+    assert list(coupled.get_data()[1]) == [42.5, 42.5]
+    np.testing.assert_array_equal(runs.get_data()[0], damping[1:])
+    assert save_figure(fig, tmp_path / "w.png").stat().st_size > 0
