@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from rotorcontact import Machine, ParameterError, reference_machine
-from rotorcontact.model.machine_model import hertz_rebound, restitution_damping
+from rotorcontact.model.machine_model import elastic_impact_duration, hertz_rebound, restitution_damping
 from rotorcontact.simulation.drop import COMPLIANT_FIELDS, IMPACT_FIELDS
 from rotorcontact.simulation.drop_run import RPM, drop, levitated_state, run_general
 
@@ -73,6 +73,8 @@ def test_elastic_impact_peak_force_penetration_and_duration_are_hertz(v0, n, kc)
     assert row[COL["max_penetration_m"]] == pytest.approx(dmax, rel=1e-9)
     assert row[COL["max_force_N"]] == pytest.approx(fmax, rel=1e-8)
     assert row[COL["duration_s"]] == pytest.approx(duration, rel=1e-9)
+    # the closed form the kernel uses to tell lasting contact from impacts
+    assert elastic_impact_duration(m.mass, v0, kc, n) == pytest.approx(duration, rel=1e-13)
     assert row[COL["rebound_ratio"]] == pytest.approx(1.0, rel=1e-8)
     assert row[COL["energy_lost_J"]] == 0.0  # no damping part, no friction
 
