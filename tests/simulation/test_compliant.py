@@ -231,6 +231,12 @@ def test_compliant_machine_file_with_units(tmp_path):
 
     m = load_machine(path)
     assert m.compliant and m.contact_stiffness == pytest.approx(1e3 / 1e-3**1.5, rel=1e-14)
+    # an exponent out of range is refused under its own name, not through the unit of K_c it would give
+    for bad in ("0", "-1.5", "11"):
+        path.write_text(REF_MACHINE_TOML + 'contact = "compliant"\ncontact_stiffness = "1e10 N/m**1.5"\n'
+                        f"contact_exponent = {bad}\n")
+        with pytest.raises(ParameterError, match=f"contact_exponent = {float(bad)!r} is out of range"):
+            load_machine(path)
     assert m.needs_general_model
     rigid = load_machine("reference")
     assert rigid.contact is None and not rigid.compliant and rigid.as_dict() == reference_machine().as_dict()

@@ -135,10 +135,19 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
         k = c = 0.0
     else:
         if machine.kx != machine.ky or machine.cx != machine.cy:
-            raise ParameterError("bearing_failed = False with an anisotropic bearing; a circular whirl needs "
-                                 "stiffness_x = stiffness_y and damping_x = damping_y")
+            raise ParameterError(
+                f"bearing_failed = False with an anisotropic bearing (stiffness {machine.kx!r}, {machine.ky!r} N/m, "
+                f"damping {machine.cx!r}, {machine.cy!r} N s/m on x, y); a circular whirl needs "
+                "stiffness_x = stiffness_y and damping_x = damping_y"
+            )
         k, c = machine.kx, machine.cx
     m, ms, mu = machine.mass, machine.stator_mass, machine.friction
+    if cs == 0.0 and c == 0.0:
+        # G is real: friction, never balanced, makes the whirl grow (MODEL.md §8, dry whip)
+        raise ParameterError(
+            "stator_damping = 0.0 with no bearing damping: without damping the whip's friction work is never "
+            "dissipated and its amplitude grows, so there is no steady whip; allowed: stator_damping > 0"
+        )
 
     def terms(w: float) -> tuple[complex, complex, complex]:
         a = complex(k - m * w * w, c * w)
@@ -182,10 +191,11 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
     r = rho * abs(b / (a + b))
     slip = machine.rotor_radius * machine.speed + w * rho
     if not slip > 0.0:
+        least = -w * rho / machine.rotor_radius if machine.rotor_radius > 0.0 else math.inf
         raise ParameterError(
             f"speed = {machine.speed!r} rad/s: R Omega = {machine.rotor_radius * machine.speed:.6g} m/s is below the "
             f"whirl's surface speed {-w * rho:.6g} m/s, so the contact cannot slide forward; allowed: a speed above "
-            f"{-w * rho / machine.rotor_radius if machine.rotor_radius > 0.0 else math.inf:.6g} rad/s"
+            f"{least:.6g} rad/s ({least * 30.0 / math.pi:.6g} rpm)"
         )
     force = -g.real * rho
     return DryWhip(machine=machine, bearing_failed=bearing_failed, whirl_rate=w, coupled_frequency=coupled,

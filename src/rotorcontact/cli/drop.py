@@ -22,7 +22,8 @@ def register(sub) -> None:
     p = sub.add_parser(
         "drop",
         description="Levitate the machine in its steady whirl at --speed, fail the magnetic bearing at "
-                    "--fail-at and follow the drop exactly (MODEL.md §7) to --t-end.",
+                    "--fail-at and follow the drop exactly (MODEL.md §7) to --t-end. With contact = 'compliant' "
+                    "the touchdown bearing is compliant, optionally on springs (stator_mass; MODEL.md §8).",
     )
     p.add_argument("machine", metavar="M.toml", help="machine file, or 'reference'")
     p.add_argument("--speed", default=None, metavar="SPEED",

@@ -32,14 +32,15 @@ def run(args: argparse.Namespace) -> int:
     from ..analysis.dry_whip import steady_dry_whip
 
     machine = load_machine(args.machine)
-    if args.speed is not None:
-        machine = machine.with_speed(quantity_in("--speed", args.speed, "rad/s"))
     if args.bearing not in BEARINGS:
         raise ParameterError(f"--bearing = {args.bearing!r}; allowed: {', '.join(BEARINGS)}")
     try:
+        if args.speed is not None:
+            machine = machine.with_speed(quantity_in("--speed", args.speed, "rad/s"))
         whip = steady_dry_whip(machine, bearing_failed=args.bearing == "failed")
     except ParameterError as exc:
-        raise ParameterError(str(exc).replace("speed =", "--speed =")) from None
+        raise ParameterError(str(exc).replace("bearing_failed = False", "--bearing = acting")
+                             .replace("speed =", "--speed =").replace("----speed", "--speed")) from None
     out = whip.to_dict()
     if args.json:
         print_json(out)

@@ -285,8 +285,8 @@ def _si_unit(name: str, exponent: Any = None) -> str:
     """The SI unit of a machine key for pint; K_c is in N/m^n (n = ``exponent``, 1.5 when absent or invalid)."""
     if name != "contact_stiffness":
         return _MACHINE_RULES[name]["unit"]
-    n = exponent if isinstance(exponent, (int, float)) and not isinstance(exponent, bool) else 1.5
-    return f"N/m**{float(n)!r}"
+    valid = isinstance(exponent, (int, float)) and not isinstance(exponent, bool) and 0.0 < exponent <= 10.0
+    return f"N/m**{float(exponent if valid else 1.5)!r}"  # an invalid n is refused under its own name
 
 
 def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
