@@ -111,7 +111,8 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
         A compliant machine with a stator on springs (isotropic support) and no race, friction > 0;
         unbalance and gravity are left out of the whirl, and its speed is held (with a polar inertia the
         friction torque R F_t slows a free spin, so the whip is then the one of the current speed). Another
-        steady whirl of the same equations can lie above the stator's own frequency sqrt(k_s/m_s) (MODEL.md §8); it is not the one returned.
+        steady whirl of the same equations can lie above the stator's own frequency sqrt(k_s/m_s) (MODEL.md
+        §8); it is not the one returned.
     bearing_failed : bool
         True: the magnetic bearing has failed (k = c = 0); False: its k and c (isotropic) act.
 
@@ -166,8 +167,8 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
     changes = np.flatnonzero(signs[1:] * signs[:-1] < 0.0)
     if changes.size == 0:
         raise ParameterError(
-            f"no steady dry whip within half of the coupled frequency {coupled:.6g} rad/s for friction = {mu!r}"
-            f", stator_damping = {cs!r} and a bearing damping of {c!r}: none with this damping"
+            f"no steady dry whip within half of the coupled frequency {coupled:.6g} rad/s for friction = {mu!r}, "
+            f"stator_damping = {cs!r} and a bearing damping of {c!r}; allowed: less damping or more friction"
         )
     i = int(changes[0])
     w = brentq(residual, grid[i], grid[i + 1], xtol=1e-15 * coupled, rtol=4.0 * np.finfo(float).eps)
@@ -180,7 +181,8 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
         return kc * d**n + g.real * (cr + d)
 
     top = cr
-    for _ in range(200):  # K_c delta^n grows faster than -Re G (c_r + delta) for n > 1, and past it for n = 1
+    # K_c delta^n outgrows -Re G (c_r + delta) for n > 1, and for n = 1 where K_c > -Re G; else no balance
+    for _ in range(200):
         if balance(top) > 0.0:
             break
         top *= 2.0
