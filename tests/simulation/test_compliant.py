@@ -165,17 +165,23 @@ def test_elastic_frictionless_drop_conserves_energy():
     assert _energy(m, r.final_state) == pytest.approx(_energy(m, start), abs=1e-10 * m.mass * 9.81 * m.clearance)
 
 
-def test_results_do_not_depend_on_the_tolerance():
-    m = machine(gravity=9.81, polar_inertia=0.04, contact="compliant", contact_stiffness=KC)
-    speed = 12000 * RPM
+def tolerance_pair(m, speed, min_impacts):
+    """A 0.05 s drop of ``m`` from its levitated whirl at ``speed`` at the default tolerance and at 1e-12, with
+    every episode's time, duration, peak force and penetration, spin and impulse checked to agree; returns both
+    runs."""
     z0, v0 = levitated_state(m, speed)
     loose = run_general(m, z0, v0, speed, 0.0, 0.05, tol=1e-10)
     tight = run_general(m, z0, v0, speed, 0.0, 0.05, tol=1e-12)
-    assert len(loose.impacts) == len(tight.impacts) >= 5
+    assert len(loose.impacts) == len(tight.impacts) >= min_impacts
     np.testing.assert_allclose(loose.column("t_s"), tight.column("t_s"), rtol=0, atol=1e-9)
-    np.testing.assert_allclose(loose.column("duration_s"), tight.column("duration_s"), rtol=1e-7, atol=1e-10)
-    for name in ("max_force_N", "max_penetration_m", "spin_after", "normal_impulse_Ns"):
+    for name in ("duration_s", "max_force_N", "max_penetration_m", "spin_after", "normal_impulse_Ns"):
         np.testing.assert_allclose(loose.column(name), tight.column(name), rtol=1e-7)
+    return loose, tight
+
+
+def test_results_do_not_depend_on_the_tolerance():
+    tolerance_pair(machine(gravity=9.81, polar_inertia=0.04, contact="compliant", contact_stiffness=KC),
+                   12000 * RPM, 5)
 
 
 def test_rigid_runs_keep_their_table_and_contract():

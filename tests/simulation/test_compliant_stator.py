@@ -267,17 +267,9 @@ def test_stator_keys_with_units_and_the_json_contract(tmp_path):
 
 
 def test_runs_with_a_stator_on_springs_do_not_depend_on_the_tolerance():
-    m = machine(gravity=9.81, polar_inertia=0.04)
-    speed = 12000 * RPM
-    from rotorcontact.simulation.drop_run import levitated_state
+    from tests.simulation.test_compliant import tolerance_pair
 
-    z0, v0 = levitated_state(m, speed)
-    loose = run_general(m, z0, v0, speed, 0.0, 0.05, tol=1e-10)
-    tight = run_general(m, z0, v0, speed, 0.0, 0.05, tol=1e-12)
-    assert len(loose.impacts) == len(tight.impacts) >= 3
-    np.testing.assert_allclose(loose.column("t_s"), tight.column("t_s"), rtol=0, atol=1e-9)
-    for name in ("duration_s", "max_force_N", "max_penetration_m", "spin_after", "normal_impulse_Ns"):
-        np.testing.assert_allclose(loose.column(name), tight.column(name), rtol=1e-7)
+    loose, tight = tolerance_pair(machine(gravity=9.81, polar_inertia=0.04), 12000 * RPM, 3)
     # the stator's end state, after a lasting backward whirl at MN forces: to 1e-6 of its excursion
     excursion = abs(complex(*tight.final_state[8:10]))
     np.testing.assert_allclose(loose.final_state[8:10], tight.final_state[8:10], rtol=0, atol=1e-6 * excursion)

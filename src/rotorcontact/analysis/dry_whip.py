@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..model.params import Machine
+from ..model.units import RPM
 
 __all__ = ["DryWhip", "steady_dry_whip"]
 
@@ -69,7 +70,7 @@ class DryWhip:
         """The ``rotorcontact dry-whip --json`` contract (README)."""
         return {
             "machine": self.machine.as_dict(),
-            "speed_rpm": self.machine.speed * 30.0 / math.pi,
+            "speed_rpm": self.machine.speed / RPM,
             "bearing": "failed" if self.bearing_failed else "acting",
             "whirl_rate_rad_per_s": self.whirl_rate,
             "whirl_frequency_hz": self.whirl_frequency_hz,
@@ -197,7 +198,7 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
         raise ParameterError(
             f"speed = {machine.speed!r} rad/s: R Omega = {machine.rotor_radius * machine.speed:.6g} m/s is below the "
             f"whirl's surface speed {-w * rho:.6g} m/s, so the contact cannot slide forward; allowed: a speed above "
-            f"{least:.6g} rad/s ({least * 30.0 / math.pi:.6g} rpm)"
+            f"{least:.6g} rad/s ({least / RPM:.6g} rpm)"
         )
     force = -g.real * rho
     return DryWhip(machine=machine, bearing_failed=bearing_failed, whirl_rate=w, coupled_frequency=coupled,

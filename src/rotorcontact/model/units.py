@@ -7,7 +7,10 @@ from functools import lru_cache
 
 from ..errors import ParameterError
 
-__all__ = ["quantity_in", "registry"]
+__all__ = ["quantity_in", "registry", "RPM"]
+
+#: rad/s per rpm.
+RPM = 2.0 * math.pi / 60.0
 
 # how a unit of the package is spelled for pint
 _PINT_SPELLING = {"1": "dimensionless", "N s/m": "N*s/m", "rad/s": "rad/s"}

@@ -234,7 +234,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     compliant = contact_stiffness > 0.0
     moving_stator = compliant and stator_mass > 0.0
     inv_ms = 1.0 / stator_mass if moving_stator else 0.0
-    stator_p = np.array([inv_ms, stator_kx, stator_ky, stator_cx, stator_cy]) if moving_stator else np.zeros(5)
+    stator_p = np.array([inv_ms, stator_kx, stator_ky, stator_cx, stator_cy])  # inert with inv_ms = 0: z_s stays 0
     stator = np.zeros((0, 10))
     zb = stator_z0 / cr if moving_stator else 0j  # the stator's centre and velocity, clearances and clearances/s
     vb = stator_v0 / cr if moving_stator else 0j

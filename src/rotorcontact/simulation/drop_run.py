@@ -18,13 +18,12 @@ from ..model.machine_model import (
     compliant_normal_force, constant_response, harmonic_response, restitution_damping, unbalance_amplitudes,
 )
 from ..model.params import Machine, check_range
+from ..model.units import RPM
 from ..model.validation import check_int
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
 __all__ = ["DropResult", "drop", "run_general", "levitated_state", "contact_force_history", "RPM"]
 
-#: rad/s per rpm.
-RPM = 2.0 * math.pi / 60.0
 #: Normal velocity (in units of sqrt(g c_r), or c_r Omega without gravity) below which impacts are taken to
 #: accumulate into contact.
 CHATTER_VELOCITY = 1e-6

@@ -36,6 +36,7 @@ from ..maps.impact_map import one_impact_orbits
 from ..model.params import Machine, check_range
 from ..model.validation import check_int
 from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
+from ..model.units import RPM
 from .driver import run_study
 
 __all__ = [
@@ -67,7 +68,6 @@ MAP_AXES = {
 }
 #: Largest number of points along each side of a plane map.
 MAX_PLANE_SIDE = 60
-RPM = 2.0 * math.pi / 60.0
 
 
 def rpm_to_rad_s(rpm):

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..model.params import Machine, check_range
+from ..model.units import RPM
 from ..model.validation import check_int
 from ..simulation.drop_run import drop
 from .driver import StudyRun, run_study
@@ -118,7 +119,7 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
         data = {name: np.concatenate([p[name] for p in parts]).reshape(grid_speed.shape) for name in _FIELDS}
         ds = xr.Dataset(
             {name: (("friction", "speed_rpm"), data[name]) for name in _FIELDS},
-            coords={"friction": frictions, "speed_rpm": speeds * 60.0 / (2.0 * np.pi)},
+            coords={"friction": frictions, "speed_rpm": speeds / RPM},
         )
         ds["transient_impacts"] = (("friction", "speed_rpm"), np.zeros(grid_speed.shape))
         ds.attrs.update({"regimes": ",".join(REGIMES), "fail_at_s": fail_at, "t_end_s": t_end,
