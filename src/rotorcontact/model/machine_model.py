@@ -41,6 +41,7 @@ __all__ = [
     "rolling_whirl_rate",
     "contact_accelerations",
     "compliant_normal_force",
+    "elastic_impact_duration",
     "hertz_rebound",
     "restitution_damping",
 ]

@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..model.machine_model import compliant_normal_force, surface_velocity
+from ..model.machine_model import compliant_normal_force, kinetic_energy, surface_velocity
 from .contact import (
     _A21, _A31, _A32, _A41, _A42, _A43, _A51, _A52, _A53, _A54, _A61, _A62, _A63, _A64, _A65,
     _B1, _B3, _B4, _B5, _B6, _E1, _E3, _E4, _E5, _E6, _E7, EVENT_TOL, MAX_CONTACT_STEPS,
@@ -148,11 +148,10 @@ def _step(y, h, p, rolling, sgn, rdir):
 
 @njit(cache=True)
 def _kinetic(y, p):
-    ke = 0.5 * p[0] * (y[2] * y[2] + y[3] * y[3])
-    if p[11] > 0.0:
-        ke += 0.5 * y[5] * y[5] / p[11]
+    """Kinetic energy of the rotor (whirl, and spin where it is free) and of a stator on springs, J."""
+    ke = kinetic_energy(p[0], complex(y[2], y[3]), 1.0 / p[11] if p[11] > 0.0 else 0.0, y[5], 0.0, 0.0)
     if p[20] > 0.0:
-        ke += 0.5 * (y[13] * y[13] + y[14] * y[14]) / p[20]
+        ke += kinetic_energy(1.0 / p[20], complex(y[13], y[14]), 0.0, 0.0, 0.0, 0.0)
     return ke
 
 

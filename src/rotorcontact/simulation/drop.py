@@ -180,8 +180,8 @@ def _episode(t, zs, vs, psi, spin, race, v_n, mass, cr, ecc, radius, mu, kx, ky,
 @njit(cache=True)
 def _stator_energy(zb, vb, cr, mass, kx, ky):
     """Kinetic and spring energy of the stator on springs at zb, vb (clearances, clearances/s), J."""
-    return 0.5 * cr * cr * (mass * (vb.real * vb.real + vb.imag * vb.imag) + kx * zb.real * zb.real
-                            + ky * zb.imag * zb.imag)
+    return kinetic_energy(mass, vb * cr, 0.0, 0.0, 0.0, 0.0) + 0.5 * cr * cr * (kx * zb.real * zb.real
+                                                                               + ky * zb.imag * zb.imag)
 
 
 @njit(cache=True)
