@@ -39,7 +39,9 @@ def angle_difference(a, b):
         A float for scalar inputs, else an array of the broadcast shape; each
         value is `wrap_angle` of the difference.
     """
+    from ..interpreted import call_kernel
+
     x = np.subtract(a, b, dtype=float)
     if x.ndim == 0:
-        return wrap_angle(float(x))
-    return _wrap_many(np.ascontiguousarray(x).ravel()).reshape(x.shape)
+        return call_kernel(wrap_angle, float(x))
+    return call_kernel(_wrap_many, np.ascontiguousarray(x).ravel()).reshape(x.shape)

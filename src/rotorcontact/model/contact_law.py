@@ -22,8 +22,10 @@ from numba import njit
 
 __all__ = [
     "normal_force",
+    "normal_forces",
     "normal_force_gradient",
     "free_tangential",
+    "free_tangentials",
     "free_tangential_gradient",
     "sliding_accel",
     "sliding_jacobian",
@@ -34,8 +36,18 @@ __all__ = [
 
 @njit(cache=True)
 def normal_force(theta, thetadot, omega: float, rho: float, phi: float):
-    """N = (1 + thetadot)^2 - omega^2 + rho cos(phi - theta) on r = 1 with rdot = 0; scalars or arrays."""
-    return (1.0 + thetadot) ** 2 - omega * omega + rho * np.cos(phi - theta)
+    """N = (1 + thetadot)^2 - omega^2 + rho cos(phi - theta) on r = 1 with rdot = 0."""
+    spin = 1.0 + thetadot
+    return spin * spin - omega * omega + rho * math.cos(phi - theta)
+
+
+@njit(cache=True)
+def normal_forces(theta: np.ndarray, thetadot: np.ndarray, omega: float, rho: float, phi: float) -> np.ndarray:
+    """`normal_force` at each point (theta[i], thetadot[i])."""
+    out = np.empty(theta.shape[0])
+    for i in range(theta.shape[0]):
+        out[i] = normal_force(theta[i], thetadot[i], omega, rho, phi)
+    return out
 
 
 @njit(cache=True)
@@ -47,7 +59,16 @@ def normal_force_gradient(theta: float, thetadot: float, rho: float, phi: float)
 @njit(cache=True)
 def free_tangential(theta, thetadot, gamma: float, rho: float, phi: float):
     """F = -(1 + thetadot) gamma + rho sin(phi - theta), the tangential acceleration without friction."""
-    return -(1.0 + thetadot) * gamma + rho * np.sin(phi - theta)
+    return -(1.0 + thetadot) * gamma + rho * math.sin(phi - theta)
+
+
+@njit(cache=True)
+def free_tangentials(theta: np.ndarray, thetadot: np.ndarray, gamma: float, rho: float, phi: float) -> np.ndarray:
+    """`free_tangential` at each point (theta[i], thetadot[i])."""
+    out = np.empty(theta.shape[0])
+    for i in range(theta.shape[0]):
+        out[i] = free_tangential(theta[i], thetadot[i], gamma, rho, phi)
+    return out
 
 
 @njit(cache=True)

@@ -25,6 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..interpreted import call_kernel
 from .params import Parameters
 
 __all__ = [
@@ -168,8 +169,8 @@ def free_flight(params: Parameters, u0: complex, du0: complex, t) -> tuple[np.nd
         Complex position and velocity in the co-rotating frame, shaped like ``t``.
     """
     tt = np.asarray(t, dtype=float)
-    k = equilibrium_point(params.gamma, params.omega, params.rho, params.phi)
-    u, du = _flow_many(complex(u0), complex(du0), tt.ravel(), params.gamma, params.omega, k)
+    u, du = call_kernel(_flow_many, complex(u0), complex(du0), np.ascontiguousarray(tt.ravel()), params.gamma,
+                        params.omega, params.k)
     return u.reshape(tt.shape), du.reshape(tt.shape)
 
 

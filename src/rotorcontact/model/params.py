@@ -221,9 +221,10 @@ class Parameters:
         """
         k = self.__dict__.get("_k")
         if k is None:
-            from .flow import equilibrium_point  # compiled: loaded on first use, not with the parameters
+            from ..interpreted import call_kernel  # kernels: loaded on first use, not with the parameters
+            from .flow import equilibrium_point
 
-            k = complex(equilibrium_point(self.gamma, self.omega, self.rho, self.phi))
+            k = complex(call_kernel(equilibrium_point, self.gamma, self.omega, self.rho, self.phi))
             object.__setattr__(self, "_k", k)
         return k
 

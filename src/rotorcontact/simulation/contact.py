@@ -91,7 +91,8 @@ def _dp_step(x, v, h, sgn, gamma, omega, rho, mu, phi):
     ev = h * (_E1 * k1v + _E3 * k3v + _E4 * k4v + _E5 * k5v + _E6 * k6v + _E7 * k7v)
     sx = CONTACT_TOL * (1.0 + max(abs(x), abs(xn)))
     sv = CONTACT_TOL * (1.0 + max(abs(v), abs(vn)))
-    err = math.sqrt(0.5 * ((ex / sx) ** 2 + (ev / sv) ** 2))
+    rx, rv = ex / sx, ev / sv
+    err = math.sqrt(0.5 * (rx * rx + rv * rv))
     return xn, vn, err
 
 
@@ -198,7 +199,7 @@ def _first_zero(a, b, c, psi0):
     (the start lies on the limit, to rounding) it turns negative at once only
     if it is decreasing there; otherwise the next down-crossing is returned.
     """
-    amp = math.hypot(b, c)
+    amp = abs(complex(b, c))
     if a > amp:
         return math.inf
     tol = 64.0 * 2.220446049250313e-16 * (abs(a) + amp)

@@ -266,7 +266,8 @@ def _all_time_bound(w: complex, dw: complex, gamma: float, h2: float) -> float:
     q = 0.5 * gamma * w + dw
     if h2 < 0.0:
         nu = math.sqrt(-h2)
-        euclid = math.sqrt(abs(w) ** 2 + abs(q) ** 2 / (-h2))
+        w_abs, q_abs = abs(w), abs(q)
+        euclid = math.sqrt(w_abs * w_abs + q_abs * q_abs / (-h2))
         a = (q + 1j * nu * w) / (2j * nu)  # dw - mu_minus w over (mu_plus - mu_minus)
         return min(euclid, abs(a) + abs(w - a))
     if h2 > 0.0:
@@ -369,7 +370,8 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
     s = 0.0
     for _ in range(MAX_STEPS):
         z, dz, w, dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
-        scale = (k_abs + abs(w)) ** 2 + 1.0
+        reach = k_abs + abs(w)
+        scale = reach * reach + 1.0
         ftol = 16.0 * EPS * scale
         if on_boundary and s == 0.0:
             f = 0.0

@@ -13,6 +13,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import ParameterError
+from ..interpreted import call_kernel
 from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
 from ..model.validation import check_int, check_params
 from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity
@@ -424,7 +425,7 @@ def simulate(
     chatter_rdot = check_range("chatter_rdot", chatter_rdot, low=0.0, low_open=True)
     chatter_height = check_range("chatter_height", chatter_height, low=0.0)
     chatter_dt = check_range("chatter_dt", chatter_dt, low=0.0)
-    k_abs = abs(params.k) if has_regular_equilibrium(params.gamma, params.omega) else math.inf
+    k_abs = abs(params.k) if call_kernel(has_regular_equilibrium, params.gamma, params.omega) else math.inf
     if k_abs > K_MAX:
         raise ParameterError(
             f"omega = {params.omega!r}, gamma = {params.gamma!r} are too close to undamped resonance "
@@ -433,9 +434,9 @@ def simulate(
             f"|omega^2 - 1 + i gamma| >= rho / {K_MAX:g} = {params.rho / K_MAX:.3g}"
         )
     p = params
-    impacts, flights, contacts, path, status, reason, t_stop = simulate_kernel(
-        p.gamma, p.omega, p.rho, p.mu, p.d, p.phi, p.r_ratio, u0, du0, t_end, int(max_events), chatter_tol,
-        chatter_rdot, chatter_height, chatter_dt, on_chatter == "stop",
+    impacts, flights, contacts, path, status, reason, t_stop = call_kernel(
+        simulate_kernel, p.gamma, p.omega, p.rho, p.mu, p.d, p.phi, p.r_ratio, u0, du0, t_end, int(max_events),
+        chatter_tol, chatter_rdot, chatter_height, chatter_dt, on_chatter == "stop",
     )
     return Trajectory(
         params=params,

@@ -13,7 +13,8 @@ from scipy.interpolate import BPoly
 from .contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_BACKWARD, SLIDE_FORWARD
 
 from ..errors import ParameterError
-from ..model.flow import equilibrium_point, propagate, to_inertial
+from ..interpreted import call_kernel
+from ..model.flow import propagate, to_inertial
 from ..model.impact_law import relative_velocity
 from ..model.validation import check_int
 from ..model.params import Machine, Parameters
@@ -259,9 +260,9 @@ class Trajectory:
                 f"t must lie in [0, t_stop] = [0, {self.t_stop:g}]; got values in [{flat.min():g}, {flat.max():g}]"
             )
         p = self.params
-        k = equilibrium_point(p.gamma, p.omega, p.rho, p.phi)
+        k = p.k
         starts, u_start, du_start = self._flight_table
-        u, du = _evaluate_flights(flat, starts, u_start, du_start, k, p.gamma, p.omega)
+        u, du = call_kernel(_evaluate_flights, flat, starts, u_start, du_start, k, p.gamma, p.omega)
         phase = self.in_contact(flat)
         for j in np.unique(phase[phase >= 0]):
             sel = phase == j
@@ -275,7 +276,7 @@ class Trajectory:
         -mu N sgn(v_rel) when sliding, and the force that holds v_rel = 0 when
         rolling (MODEL.md §4).
         """
-        from ..model.contact_law import free_tangential, normal_force
+        from ..model.contact_law import free_tangentials, normal_forces
 
         tt = np.asarray(t, dtype=float)
         r, theta, _rdot, thetadot = self.polar(tt)
@@ -286,10 +287,11 @@ class Trajectory:
         for j in np.unique(phase[phase >= 0]):
             sel = phase == j
             kind = int(self.contacts[j, 2])
-            nn = normal_force(theta[sel], thetadot[sel], p.omega, p.rho, p.phi)
+            th, thd = np.ascontiguousarray(theta[sel]), np.ascontiguousarray(thetadot[sel])
+            nn = call_kernel(normal_forces, th, thd, p.omega, p.rho, p.phi)
             n[sel] = nn
             if kind == ROLLING:
-                ft[sel] = -free_tangential(theta[sel], thetadot[sel], p.gamma, p.rho, p.phi)
+                ft[sel] = -call_kernel(free_tangentials, th, thd, p.gamma, p.rho, p.phi)
             elif kind == SLIDE_FORWARD:
                 ft[sel] = -p.mu * nn
             elif kind == SLIDE_BACKWARD:

@@ -1,0 +1,240 @@
+"""Run a kernel compiled when it is at hand, and interpreted while it is not.
+
+numba compiles a kernel on its first call and caches it on disk (``cache=True``). Compiling the simulator
+takes about 15 s, once per machine; interpreting the same source runs a short trajectory in well under a
+second. `call_kernel` therefore runs a kernel
+
+- compiled, when it is compiled in this process or cached on disk for these argument types;
+- otherwise interpreted: its Python source, with every kernel it calls replaced by that kernel's own
+  interpreted twin, for at most ``ROTORCONTACT_INTERPRET_S`` seconds (default `DEFAULT_BUDGET_S`) over
+  all its interpreted runs in this process. A run that outlasts what is left of this budget, or raises
+  anything, is abandoned and the kernel is compiled and run instead; so is every later call.
+
+Both tiers run the same floating-point operations in the same order: the kernels use ``math`` functions
+(C's libm in both tiers), ``abs`` of a complex number for the modulus (libm's ``hypot`` in both; Python's
+``math.hypot`` has its own algorithm) and products rather than integer powers (numba multiplies, Python
+calls ``pow``). The interpreted tier sees numba's floating-point environment: warnings off, as compiled
+code raises none. The tests hold the tiers bit-identical over chaotic, chattering and rolling runs.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import threading
+import time
+import types
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+import numpy as np
+
+from .errors import ParameterError
+
+__all__ = ["DEFAULT_BUDGET_S", "BUDGET_VARIABLE", "call_kernel", "compiled_only", "interpreted", "interpret_budget"]
+
+#: Seconds an interpreted run may take before the kernel is compiled instead.
+DEFAULT_BUDGET_S = 2.0
+#: The environment variable that sets that budget (0: always compile).
+BUDGET_VARIABLE = "ROTORCONTACT_INTERPRET_S"
+
+_state = threading.local()
+_twins: dict[int, Callable] = {}
+_namespaces: dict[int, dict[str, Any]] = {}
+_lock = threading.RLock()
+_on_disk: dict[tuple, bool] = {}
+_spent: dict[int, float] = {}
+
+
+class _OutOfTime(BaseException):
+    """The interpreted run passed its deadline (not an Exception: no ``except Exception`` in a kernel stops it)."""
+
+
+def interpret_budget() -> float:
+    """The interpretation budget in seconds, from ``ROTORCONTACT_INTERPRET_S`` (default `DEFAULT_BUDGET_S`).
+
+    Raises
+    ------
+    ParameterError
+        If the variable is set to something other than a finite number >= 0.
+    """
+    text = os.environ.get(BUDGET_VARIABLE)
+    if text is None or text.strip() == "":
+        return DEFAULT_BUDGET_S
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (0.0 <= value < float("inf")):
+        raise ParameterError(f"{BUDGET_VARIABLE} = {text!r} is invalid; allowed: a number of seconds >= 0")
+    return value
+
+
+@contextmanager
+def compiled_only() -> Iterator[None]:
+    """Within this block `call_kernel` compiles (or loads) every kernel it runs, in this thread."""
+    outer = getattr(_state, "compiled_only", False)
+    _state.compiled_only = True
+    try:
+        yield
+    finally:
+        _state.compiled_only = outer
+
+
+def _is_kernel(value: Any) -> bool:
+    from numba.core.dispatcher import Dispatcher
+
+    return isinstance(value, Dispatcher)
+
+
+def _check_deadline() -> None:
+    deadline = getattr(_state, "deadline", None)
+    if deadline is not None and time.perf_counter() > deadline:
+        raise _OutOfTime
+
+
+def _namespace(module_globals: dict[str, Any]) -> dict[str, Any]:
+    """The globals of a kernel module with every kernel in it replaced by its twin (built once)."""
+    key = id(module_globals)
+    names = _namespaces.get(key)
+    if names is None:
+        names = _namespaces[key] = {}
+        for name, value in list(module_globals.items()):
+            names[name] = _twin(value) if _is_kernel(value) else value
+    return names
+
+
+def _twin(kernel) -> Callable:
+    key = id(kernel)
+    twin = _twins.get(key)
+    if twin is not None:
+        return twin
+    source = kernel.py_func
+    # the module's twin namespace, shared by its kernels; building it may build this kernel's twin
+    names = _namespace(source.__globals__)
+    twin = _twins.get(key)
+    if twin is not None:
+        return twin
+    closure = source.__closure__
+    if closure is not None:
+        closure = tuple(
+            types.CellType(_twin(c.cell_contents) if _is_kernel(c.cell_contents) else c.cell_contents)
+            for c in closure
+        )
+    plain = types.FunctionType(source.__code__, names, source.__name__, source.__defaults__, closure)
+
+    def twin(*args, **kwargs):
+        _check_deadline()
+        return plain(*args, **kwargs)
+
+    twin.__name__ = source.__name__
+    twin.__qualname__ = source.__qualname__
+    twin.__doc__ = source.__doc__
+    twin.__wrapped__ = source
+    _twins[key] = twin
+    return twin
+
+
+def interpreted(kernel) -> Callable:
+    """The interpreted twin of ``kernel``: its Python source, calling the twins of the kernels it calls.
+
+    Parameters
+    ----------
+    kernel : numba.core.dispatcher.Dispatcher
+        A kernel (``@njit``).
+
+    Returns
+    -------
+    callable
+        A plain Python function with the kernel's signature and results. It compiles nothing.
+
+    Raises
+    ------
+    ParameterError
+        If ``kernel`` is not a numba kernel.
+    """
+    if not _is_kernel(kernel):
+        raise ParameterError(f"kernel = {kernel!r} is not a numba kernel; allowed: a function decorated with @njit")
+    with _lock:
+        return _twin(kernel)
+
+
+def _argument_types(kernel, args: tuple) -> tuple:
+    return tuple(kernel.typeof_pyval(a) for a in args)
+
+
+def _ready(kernel, args: tuple) -> bool:
+    """Compiled in this process, or in numba's disk cache, for the types of ``args``."""
+    try:
+        sig = _argument_types(kernel, args)
+    except Exception:
+        return False
+    if sig in kernel.overloads:
+        return True
+    key = (id(kernel), sig)
+    found = _on_disk.get(key)
+    if found is None:
+        found = _on_disk[key] = _cached_on_disk(kernel, sig)
+    return found
+
+
+def _cached_on_disk(kernel, sig: tuple) -> bool:
+    # numba's cache keeps an index per function, keyed by signature, CPU and bytecode; reading it loads
+    # nothing. Where numba's internals differ from these, this answers False and the budget decides.
+    try:
+        cache = kernel._cache
+        if not getattr(cache, "_enabled", False):
+            return False
+        index = cache._cache_file._load_index()
+        return cache._index_key(sig, kernel.targetctx.codegen()) in index
+    except Exception:
+        return False
+
+
+def call_kernel(kernel, *args, budget_s: float | None = None):
+    """Call ``kernel(*args)``: compiled when at hand, else interpreted within a budget (module docstring).
+
+    The budget is spent per kernel and process: once a kernel's interpreted runs have taken ``budget_s``
+    in all, it is compiled, so that many short calls do not stay interpreted.
+
+    Parameters
+    ----------
+    kernel : numba.core.dispatcher.Dispatcher
+        The kernel.
+    *args
+        Its arguments, positional.
+    budget_s : float, optional
+        Seconds the interpreted runs of this kernel may take in all; default `interpret_budget`
+        (``ROTORCONTACT_INTERPRET_S``). 0 compiles at once.
+
+    Returns
+    -------
+    Any
+        The kernel's result, the same in both tiers.
+    """
+    if getattr(_state, "compiled_only", False):
+        return kernel(*args)
+    budget = interpret_budget() if budget_s is None else float(budget_s)
+    key = id(kernel)
+    left = budget - _spent.get(key, 0.0)
+    if left <= 0.0 or _ready(kernel, args):
+        return kernel(*args)
+    with _lock:
+        twin = _twin(kernel)
+    start = time.perf_counter()
+    outer = getattr(_state, "deadline", None)
+    _state.deadline = start + left if outer is None else min(outer, start + left)
+    spent: float | None = None
+    try:
+        with np.errstate(all="ignore"):
+            return twin(*args)
+    except _OutOfTime:
+        spent = math.inf  # over budget: this kernel runs compiled from now on
+    except Exception:
+        spent = math.inf  # abandoned: this kernel runs compiled from now on
+    finally:
+        _state.deadline = outer
+        with _lock:
+            _spent[key] = spent if spent is not None else _spent.get(key, 0.0) + (time.perf_counter() - start)
+    return kernel(*args)

@@ -1,0 +1,301 @@
+"""The interpreted tier against the compiled one, and when each runs.
+
+The tiers must agree bit for bit: chaotic runs amplify a difference in the last bit of any operation into
+a different sequence of impacts, so identical records over a chaotic run check every operation the kernels
+use. A static check keeps out of the kernels the few constructs whose results differ between numba and
+the Python interpreter.
+"""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import json
+import math
+import os
+import subprocess
+import sys
+import textwrap
+import types
+
+import numpy as np
+import pytest
+from numba import njit
+from numba.core.dispatcher import Dispatcher
+
+import rotorcontact.interpreted as tiers
+from rotorcontact import ParameterError, Parameters, free_flight, simulate
+from rotorcontact.interpreted import BUDGET_VARIABLE, call_kernel, interpret_budget, interpreted
+from rotorcontact.model.angles import _wrap_many, angle_difference
+from rotorcontact.model.contact_law import free_tangentials, normal_forces
+from rotorcontact.model.flow import _flow_many, equilibrium_point, has_regular_equilibrium
+from rotorcontact.simulation import simulator
+from rotorcontact.simulation.trajectory import _evaluate_flights
+from reference_parameters import REF_VALUES
+
+# the kernels the package calls through call_kernel
+ENTRY_KERNELS = [simulator.simulate_kernel, equilibrium_point, has_regular_equilibrium, _wrap_many,
+                 normal_forces, free_tangentials, _flow_many, _evaluate_flights]
+
+RUNS = [
+    # label, parameters, u0, du0, t_end, on_chatter
+    ("chaotic-from-rest", dict(REF_VALUES, gamma=0.08), 0j, 0j, 1500.0, "contact"),
+    ("chaotic-offset", dict(REF_VALUES, gamma=0.08), 0.5 + 0.1j, 0j, 1500.0, "contact"),
+    ("periodic-impacting", dict(REF_VALUES, gamma=0.1), 0j, 0j, 800.0, "contact"),
+    ("chatter-to-forward-rub", REF_VALUES, 0j, 0j, 500.0, "contact"),
+    ("chatter-stop", REF_VALUES, 0j, 0j, 500.0, "stop"),
+    ("backward-whirl", dict(REF_VALUES, gamma=0.02, omega=0.5), 0j, 0j, 400.0, "contact"),
+    ("elastic", dict(REF_VALUES, gamma=0.08, d=1.0), 0.3j, 0j, 600.0, "contact"),
+    ("overdamped", dict(gamma=1.6, omega=0.7, rho=2.0, mu=0.3, d=0.8, phi=-1.0, r_ratio=20.0), 0.2j,
+     1.5 - 0.5j, 200.0, "contact"),
+    ("stiff", dict(gamma=0.3, omega=1.2, rho=0.8, mu=0.3, d=0.7, phi=-2.5, r_ratio=5.0), 0.2 + 0.1j,
+     -0.5 + 1j, 300.0, "contact"),
+]
+
+
+def _kernel_arguments(monkeypatch, p, u0, du0, t_end, on_chatter) -> tuple:
+    """The arguments `simulate` passes to its kernel (it runs compiled here)."""
+    seen = []
+
+    def spy(kernel, *args, **kwargs):
+        if kernel is simulator.simulate_kernel:
+            seen.append(args)
+        return kernel(*args)
+
+    with monkeypatch.context() as m:
+        m.setattr(simulator, "call_kernel", spy)
+        simulate(p, u0, du0, t_end, on_chatter=on_chatter)
+    return seen[0]
+
+
+def _assert_identical(a, b) -> None:
+    assert len(a) == len(b)
+    for x, y in zip(a, b):
+        if isinstance(x, np.ndarray):
+            assert x.dtype == y.dtype and x.shape == y.shape
+            assert x.tobytes() == y.tobytes()
+        else:
+            assert float(x) == float(y) or (math.isnan(x) and math.isnan(y))
+
+
+@pytest.mark.parametrize("label,kw,u0,du0,t_end,on_chatter", RUNS, ids=[r[0] for r in RUNS])
+def test_simulator_tiers_are_bit_identical(monkeypatch, label, kw, u0, du0, t_end, on_chatter):
+    args = _kernel_arguments(monkeypatch, Parameters(**kw), u0, du0, t_end, on_chatter)
+    compiled = simulator.simulate_kernel(*args)
+    with np.errstate(all="ignore"):
+        plain = interpreted(simulator.simulate_kernel)(*args)
+    _assert_identical(compiled, plain)
+    impacts = compiled[0]
+    if label.startswith("chaotic"):
+        assert len(impacts) > 300  # long enough for chaos to magnify any difference
+    if label.startswith("chatter") or label == "backward-whirl":
+        assert len(compiled[2]) >= 1  # a contact phase was run by both tiers
+
+
+def test_helper_kernels_tiers_are_bit_identical():
+    rng = np.random.default_rng(5)
+    theta, thetadot = rng.uniform(-7, 7, 500), rng.uniform(-3, 3, 500)
+    cases = [
+        (equilibrium_point, (0.1, 0.76, 0.43, 0.21)),
+        (has_regular_equilibrium, (0.0, 1.0)),
+        (_wrap_many, (rng.uniform(-40, 40, 1000),)),
+        (normal_forces, (theta, thetadot, 0.76, 0.43, 0.21)),
+        (free_tangentials, (theta, thetadot, 0.15, 0.43, 0.21)),
+        (_flow_many, (0.2 + 0.1j, -0.3j, rng.uniform(-5, 30, 400), 0.15, 0.76, 0.3 - 0.2j)),
+    ]
+    for kernel, args in cases:
+        a, b = kernel(*args), interpreted(kernel)(*args)
+        if isinstance(a, tuple):
+            _assert_identical(a, b)
+        else:
+            assert np.asarray(a).tobytes() == np.asarray(b).tobytes(), kernel.py_func.__name__
+
+
+def test_trajectory_evaluation_agrees_across_tiers():
+    """state_at and forces go through call_kernel; their kernels' twins give the same numbers."""
+    traj = simulate(Parameters(**REF_VALUES), 0j, 0j, 300.0)
+    t = np.linspace(0.0, traj.t_stop, 3001)
+    starts, u_start, du_start = traj._flight_table
+    p = traj.params
+    args = (t, starts, u_start, du_start, p.k, p.gamma, p.omega)
+    _assert_identical(_evaluate_flights(*args), interpreted(_evaluate_flights)(*args))
+    u, _ = free_flight(p, 0.1, 0.2j, t)
+    assert np.all(np.isfinite(u))
+    np.testing.assert_array_equal(angle_difference(t, 0.5), _wrap_many(t - 0.5))
+
+
+# ----------------------------------------------------------------------------------------------------------
+# which tier runs
+
+
+@njit
+def _step(i):
+    return math.sin(i * 0.001) * 1e-3
+
+
+@njit
+def _long_sum(n):
+    s = 0.0
+    for i in range(n):
+        s += _step(i)
+    return s
+
+
+@njit
+def _log(x):
+    return math.log(x)
+
+
+def _fresh(kernel) -> Dispatcher:
+    """A new, uncompiled dispatcher for the same source (the tests above may have compiled the originals)."""
+    return njit(kernel.py_func)
+
+
+def test_short_call_stays_interpreted_and_long_one_is_compiled():
+    small = _fresh(_long_sum)
+    assert call_kernel(small, 100, budget_s=10.0) == interpreted(small)(100)
+    assert small.signatures == []  # interpreted: nothing compiled
+    big = _fresh(_long_sum)
+    expected = interpreted(big)(200_000)
+    assert call_kernel(big, 200_000, budget_s=1e-3) == expected  # over budget: compiled, same result
+    assert len(big.signatures) == 1
+
+
+def test_budget_is_spent_over_calls():
+    kernel = _fresh(_long_sum)
+    for _ in range(200):
+        call_kernel(kernel, 20_000, budget_s=0.05)
+        if kernel.signatures:
+            break
+    assert len(kernel.signatures) == 1  # many short calls end compiled
+
+
+def test_zero_budget_compiles_at_once(monkeypatch):
+    kernel = _fresh(_long_sum)
+    monkeypatch.setenv(BUDGET_VARIABLE, "0")
+    call_kernel(kernel, 10)
+    assert len(kernel.signatures) == 1
+
+
+def test_python_error_in_the_interpreted_tier_falls_back_to_the_compiled_kernel():
+    kernel = _fresh(_log)  # Python's math.log(0) raises; compiled, it is -inf
+    assert call_kernel(kernel, 0.0, budget_s=10.0) == -math.inf
+    assert len(kernel.signatures) == 1
+    assert call_kernel(kernel, 2.0, budget_s=10.0) == math.log(2.0)
+
+
+def test_budget_variable(monkeypatch):
+    monkeypatch.delenv(BUDGET_VARIABLE, raising=False)
+    assert interpret_budget() == tiers.DEFAULT_BUDGET_S
+    monkeypatch.setenv(BUDGET_VARIABLE, "0.5")
+    assert interpret_budget() == 0.5
+    for bad in ("abc", "-1", "inf", "nan"):
+        monkeypatch.setenv(BUDGET_VARIABLE, bad)
+        with pytest.raises(ParameterError, match=BUDGET_VARIABLE):
+            interpret_budget()
+
+
+def test_interpreted_refuses_a_plain_function():
+    with pytest.raises(ParameterError, match="not a numba kernel"):
+        interpreted(math.sin)
+
+
+def test_disk_cache_decides_between_tiers(tmp_path):
+    """A cold cache interprets a short call; once the kernel is in the cache, the next process loads it."""
+    script = textwrap.dedent("""
+        import sys
+        from rotorcontact.interpreted import call_kernel
+        from rotorcontact.model.angles import wrap_angle
+        if sys.argv[1] == "compile":
+            wrap_angle(0.3)
+        else:
+            call_kernel(wrap_angle, 0.3, budget_s=10.0)
+        print(len(wrap_angle.signatures))
+    """)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+
+    def run(mode: str) -> str:
+        out = subprocess.run([sys.executable, "-c", script, mode], env=env, capture_output=True, text=True,
+                             check=True, timeout=300)
+        return out.stdout.strip()
+
+    assert run("call") == "0"  # cold cache: interpreted
+    assert run("compile") == "1"
+    assert run("call") == "1"  # in the cache: loaded and run compiled
+
+
+def test_cold_simulate_command_compiles_nothing(tmp_path, monkeypatch):
+    """The first `rotorcontact simulate` on a machine runs interpreted, with the compiled run's numbers."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    env.pop(BUDGET_VARIABLE, None)
+    cmd = [sys.executable, "-m", "rotorcontact.cli.main", "simulate", "--t-end", "300", "--json", "--all-impacts"]
+    cold = json.loads(subprocess.run(cmd, env=env, capture_output=True, text=True, check=True, timeout=300).stdout)
+    assert not any((tmp_path / "cache").rglob("*.nbi"))  # nothing was compiled
+    monkeypatch.setenv(BUDGET_VARIABLE, "0")
+    compiled = simulate(Parameters.reference(), 0j, 0j, 300.0).to_dict(None)
+    assert len(cold["impacts"]) > 100
+    assert cold["impacts"] == json.loads(json.dumps(compiled["impacts"]))
+    assert cold["contact_intervals"] == json.loads(json.dumps(compiled["contact_intervals"]))
+
+
+# ----------------------------------------------------------------------------------------------------------
+# constructs that numba and Python evaluate differently
+
+
+def _reachable_kernels() -> list[Dispatcher]:
+    seen: dict[int, Dispatcher] = {}
+    todo = list(ENTRY_KERNELS)
+    while todo:
+        kernel = todo.pop()
+        if id(kernel) in seen:
+            continue
+        seen[id(kernel)] = kernel
+        codes = [kernel.py_func.__code__]
+        names: set[str] = set()
+        while codes:
+            code = codes.pop()
+            names.update(code.co_names)
+            codes.extend(c for c in code.co_consts if isinstance(c, types.CodeType))
+        for name in names:
+            value = kernel.py_func.__globals__.get(name)
+            if isinstance(value, Dispatcher):
+                todo.append(value)
+    return list(seen.values())
+
+
+# numpy's own implementations (SIMD on some CPUs, pairwise summation) differ from numba's (libm, loops)
+NUMPY_DIFFERENT = {"sin", "cos", "tan", "exp", "log", "log1p", "expm1", "sinh", "cosh", "tanh", "arctan2",
+                   "arcsin", "arccos", "arctan", "hypot", "power", "sum", "mean", "dot", "prod", "linalg"}
+
+
+def _hazards(kernel: Dispatcher) -> list[str]:
+    tree = ast.parse(textwrap.dedent(inspect.getsource(kernel.py_func)))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            exponent = node.right
+            if isinstance(exponent, ast.UnaryOp):
+                exponent = exponent.operand
+            if isinstance(exponent, ast.Constant) and isinstance(exponent.value, int):
+                found.append(f"line {node.lineno}: integer power (numba multiplies, Python calls pow)")
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+            if node.value.id == "math" and node.attr == "hypot":
+                found.append(f"line {node.lineno}: math.hypot (Python's own algorithm, not libm's)")
+            if node.value.id in ("np", "numpy") and node.attr in NUMPY_DIFFERENT:
+                found.append(f"line {node.lineno}: np.{node.attr} (numpy's implementation, not numba's)")
+    return found
+
+
+def test_tiered_kernels_avoid_constructs_that_differ_between_tiers():
+    kernels = _reachable_kernels()
+    assert len(kernels) > 30  # the simulator's whole call tree
+    problems = {k.py_func.__qualname__: h for k in kernels if (h := _hazards(k))}
+    assert problems == {}
+
+
+def test_hazard_check_finds_each_construct():
+    @njit
+    def bad(x):
+        return x**2 + math.hypot(x, 1.0) + np.cos(x) + x ** -3
+
+    assert len(_hazards(bad)) == 4
