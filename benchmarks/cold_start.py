@@ -1,7 +1,9 @@
 """Start-up: a cold command (empty numba cache), a warm one, ``--help`` and ``import rotorcontact``.
 
 Each figure is the wall time of a fresh process. "Cold" runs with NUMBA_CACHE_DIR pointing at an empty
-folder, so every kernel the command needs is compiled; "warm" runs again with that folder filled.
+folder: the command runs its kernels interpreted (`rotorcontact.interpreted`) while they are not compiled.
+"Cold, compiled" sets ROTORCONTACT_INTERPRET_S=0, so every kernel the command needs is compiled first;
+"warm" runs again with that folder filled.
 
 Run: python benchmarks/cold_start.py [--repeat 3]
 """
@@ -15,7 +17,10 @@ import sys
 import tempfile
 import time
 
-SIMULATE = ["simulate", "--t-end", "100"]
+COMMANDS = {
+    "simulate --t-end 100": ["simulate", "--t-end", "100"],
+    "drop reference --speed 12000rpm --t-end 0.5s": ["drop", "reference", "--speed", "12000rpm", "--t-end", "0.5s"],
+}
 
 
 def _wall(argv: list[str], env: dict[str, str]) -> float:
@@ -29,23 +34,24 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3, help="runs of each warm figure (the best is printed)")
     args = ap.parse_args()
     cli = [sys.executable, "-m", "rotorcontact.cli.main"]
+    base = {k: v for k, v in os.environ.items() if k != "ROTORCONTACT_INTERPRET_S"}
+    for name, command in COMMANDS.items():
+        with tempfile.TemporaryDirectory() as cache:
+            env = {**base, "NUMBA_CACHE_DIR": cache}
+            cold = min(_wall([*cli, *command], env) for _ in range(args.repeat))
+            compiled = _wall([*cli, *command], {**env, "ROTORCONTACT_INTERPRET_S": "0"})
+            warm = min(_wall([*cli, *command], env) for _ in range(args.repeat))
+        print(f"`rotorcontact {name}`: cold {cold:.2f} s (interpreted); cold, compiled {compiled:.2f} s; "
+              f"warm {warm:.2f} s")
     with tempfile.TemporaryDirectory() as cache:
-        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
-        cold = _wall([*cli, *SIMULATE], env)
-        warm = min(_wall([*cli, *SIMULATE], env) for _ in range(args.repeat))
-    with tempfile.TemporaryDirectory() as cache:
-        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        env = {**base, "NUMBA_CACHE_DIR": cache}
         cold_warmup = _wall([*cli, "warmup"], env)
-        after = min(_wall([*cli, *SIMULATE], env) for _ in range(args.repeat))
-    env = dict(os.environ)
-    best = {name: min(_wall(argv, env) for _ in range(args.repeat)) for name, argv in {
+    print(f"cold `rotorcontact warmup` (every group): {cold_warmup:.2f} s")
+    best = {name: min(_wall(argv, base) for _ in range(args.repeat)) for name, argv in {
         "import rotorcontact": [sys.executable, "-c", "import rotorcontact"],
         "rotorcontact --help": [*cli, "--help"],
         "rotorcontact simulate --help": [*cli, "simulate", "--help"],
     }.items()}
-    print(f"cold `rotorcontact {' '.join(SIMULATE)}` (empty cache): {cold:.2f} s")
-    print(f"warm, the same command: {warm:.2f} s")
-    print(f"cold `rotorcontact warmup` (every group): {cold_warmup:.2f} s; then the command: {after:.2f} s")
     for name, s in best.items():
         print(f"{name}: {s:.3f} s")
 

@@ -29,13 +29,18 @@ from rotorcontact.interpreted import BUDGET_VARIABLE, call_kernel, interpret_bud
 from rotorcontact.model.angles import _wrap_many, angle_difference
 from rotorcontact.model.contact_law import free_tangentials, normal_forces
 from rotorcontact.model.flow import _flow_many, equilibrium_point, has_regular_equilibrium
-from rotorcontact.simulation import simulator
+from rotorcontact.model.machine_model import constant_response, harmonic_response, unbalance_amplitudes
+from rotorcontact.model.params import Machine, reference_machine
+from rotorcontact.model.units import RPM
+from rotorcontact.simulation import drop_run, simulator
+from rotorcontact.simulation.drop import drop_kernel
 from rotorcontact.simulation.trajectory import _evaluate_flights
 from reference_parameters import REF_VALUES
 
 # the kernels the package calls through call_kernel
 ENTRY_KERNELS = [simulator.simulate_kernel, equilibrium_point, has_regular_equilibrium, _wrap_many,
-                 normal_forces, free_tangentials, _flow_many, _evaluate_flights]
+                 normal_forces, free_tangentials, _flow_many, _evaluate_flights,
+                 drop_kernel, unbalance_amplitudes, harmonic_response, constant_response]
 
 RUNS = [
     # label, parameters, u0, du0, t_end, on_chatter
@@ -53,18 +58,18 @@ RUNS = [
 ]
 
 
-def _kernel_arguments(monkeypatch, p, u0, du0, t_end, on_chatter) -> tuple:
-    """The arguments `simulate` passes to its kernel (it runs compiled here)."""
+def _kernel_arguments(monkeypatch, module, kernel, run) -> tuple:
+    """The arguments ``run()`` passes to ``kernel`` through ``module.call_kernel`` (run compiled here)."""
     seen = []
 
-    def spy(kernel, *args, **kwargs):
-        if kernel is simulator.simulate_kernel:
+    def spy(called, *args, **kwargs):
+        if called is kernel:
             seen.append(args)
-        return kernel(*args)
+        return called(*args)
 
     with monkeypatch.context() as m:
-        m.setattr(simulator, "call_kernel", spy)
-        simulate(p, u0, du0, t_end, on_chatter=on_chatter)
+        m.setattr(module, "call_kernel", spy)
+        run()
     return seen[0]
 
 
@@ -80,7 +85,8 @@ def _assert_identical(a, b) -> None:
 
 @pytest.mark.parametrize("label,kw,u0,du0,t_end,on_chatter", RUNS, ids=[r[0] for r in RUNS])
 def test_simulator_tiers_are_bit_identical(monkeypatch, label, kw, u0, du0, t_end, on_chatter):
-    args = _kernel_arguments(monkeypatch, Parameters(**kw), u0, du0, t_end, on_chatter)
+    args = _kernel_arguments(monkeypatch, simulator, simulator.simulate_kernel,
+                             lambda: simulate(Parameters(**kw), u0, du0, t_end, on_chatter=on_chatter))
     compiled = simulator.simulate_kernel(*args)
     with np.errstate(all="ignore"):
         plain = interpreted(simulator.simulate_kernel)(*args)
@@ -90,6 +96,32 @@ def test_simulator_tiers_are_bit_identical(monkeypatch, label, kw, u0, du0, t_en
         assert len(impacts) > 300  # long enough for chaos to magnify any difference
     if label.startswith("chatter") or label == "backward-whirl":
         assert len(compiled[2]) >= 1  # a contact phase was run by both tiers
+
+
+RACE = dict(race_inertia=2e-4, race_drag_torque=0.05, race_drag_coefficient=1e-4)
+COMPLIANT = dict(contact="compliant", contact_stiffness=1e10)
+DROPS = [
+    # label, machine keys over the reference machine with gravity, speed (rpm), t_end (s)
+    ("rigid", {}, 12000, 0.3),
+    ("rigid-race", RACE, 12000, 0.2),
+    ("rigid-low-restitution", dict(restitution=0.3), 3000, 0.3),
+    ("compliant", COMPLIANT, 12000, 0.05),
+    ("compliant-race", {**COMPLIANT, **RACE}, 3000, 0.05),
+    ("compliant-stator-on-springs", {**COMPLIANT, "stator_mass": 20.0, "stator_stiffness": 4e6,
+                                     "stator_damping": 400.0}, 12000, 0.05),
+]
+
+
+@pytest.mark.parametrize("label,keys,rpm,t_end", DROPS, ids=[d[0] for d in DROPS])
+def test_drop_tiers_are_bit_identical(monkeypatch, label, keys, rpm, t_end):
+    machine = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04, **keys})
+    args = _kernel_arguments(monkeypatch, drop_run, drop_kernel,
+                             lambda: drop_run.drop(machine, speed=rpm * RPM, t_end=t_end))
+    compiled = drop_kernel(*args)
+    with np.errstate(all="ignore"):
+        plain = interpreted(drop_kernel)(*args)
+    _assert_identical(compiled, plain)
+    assert len(compiled[0]) >= 1  # it touched down
 
 
 def test_helper_kernels_tiers_are_bit_identical():
@@ -236,6 +268,16 @@ def test_cold_simulate_command_compiles_nothing(tmp_path, monkeypatch):
     assert len(cold["impacts"]) > 100
     assert cold["impacts"] == json.loads(json.dumps(compiled["impacts"]))
     assert cold["contact_intervals"] == json.loads(json.dumps(compiled["contact_intervals"]))
+
+
+def test_cold_drop_command_compiles_nothing(tmp_path):
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    env.pop(BUDGET_VARIABLE, None)
+    cmd = [sys.executable, "-m", "rotorcontact.cli.main", "drop", "reference", "--speed", "12000rpm", "--t-end",
+           "0.2s", "--json"]
+    out = json.loads(subprocess.run(cmd, env=env, capture_output=True, text=True, check=True, timeout=300).stdout)
+    assert not any((tmp_path / "cache").rglob("*.nbi"))
+    assert len(out["impacts"]) > 0 and out["summary"]["regime"] == "backward-whirl"
 
 
 # ----------------------------------------------------------------------------------------------------------

@@ -10,11 +10,13 @@ second. `call_kernel` therefore runs a kernel
   all its interpreted runs in this process. A run that outlasts what is left of this budget, or raises
   anything, is abandoned and the kernel is compiled and run instead; so is every later call.
 
-Both tiers run the same floating-point operations in the same order: the kernels use ``math`` functions
-(C's libm in both tiers), ``abs`` of a complex number for the modulus (libm's ``hypot`` in both; Python's
-``math.hypot`` has its own algorithm) and products rather than integer powers (numba multiplies, Python
-calls ``pow``). The interpreted tier sees numba's floating-point environment: warnings off, as compiled
-code raises none. The tests hold the tiers bit-identical over chaotic, chattering and rolling runs.
+Both tiers run the same floating-point operations in the same order. The kernels use ``math`` functions
+(C's libm in both tiers), ``abs`` of a complex number for a modulus (libm's ``hypot`` in both; Python's
+``math.hypot`` has its own algorithm), products rather than integer powers (numba multiplies, Python calls
+``pow``) and `complex_quotient` for every complex division (numba divides as Python's complex type does;
+numpy's complex scalars, which the interpreted tier meets, multiply by a reciprocal). The interpreted tier
+runs with numpy's floating-point warnings off, as compiled code raises none. The tests hold the tiers
+bit-identical over chaotic, chattering and rolling trajectories and over drops.
 """
 
 from __future__ import annotations
@@ -29,10 +31,12 @@ from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
+from numba import njit
 
 from .errors import ParameterError
 
-__all__ = ["DEFAULT_BUDGET_S", "BUDGET_VARIABLE", "call_kernel", "compiled_only", "interpreted", "interpret_budget"]
+__all__ = ["DEFAULT_BUDGET_S", "BUDGET_VARIABLE", "call_kernel", "compiled_only", "complex_quotient", "interpreted",
+           "interpret_budget"]
 
 #: Seconds an interpreted run may take before the kernel is compiled instead.
 DEFAULT_BUDGET_S = 2.0
@@ -45,6 +49,12 @@ _namespaces: dict[int, dict[str, Any]] = {}
 _lock = threading.RLock()
 _on_disk: dict[tuple, bool] = {}
 _spent: dict[int, float] = {}
+
+
+@njit(cache=True)
+def complex_quotient(a: complex, b: complex) -> complex:
+    """a / b as numba and Python's complex type compute it, in both tiers (a or b may be real)."""
+    return complex(a) / complex(b)
 
 
 class _OutOfTime(BaseException):

@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..interpreted import call_kernel
+from ..interpreted import call_kernel, complex_quotient
 from .params import Parameters
 
 __all__ = [
@@ -98,7 +98,7 @@ def equilibrium_point(gamma: float, omega: float, rho: float, phi: float) -> com
 
     `Parameters.k` is this value; `has_regular_equilibrium` tells where it is finite.
     """
-    return rho * cmath.exp(1j * phi) / complex(omega * omega - 1.0, gamma)
+    return complex_quotient(rho * cmath.exp(1j * phi), complex(omega * omega - 1.0, gamma))
 
 
 @njit(cache=True)

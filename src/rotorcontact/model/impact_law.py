@@ -21,6 +21,7 @@ import math
 
 from numba import njit
 
+from ..interpreted import complex_quotient
 __all__ = [
     "apply_reset",
     "ideal_reset",
@@ -38,7 +39,7 @@ __all__ = [
 def polar_velocity(u: complex, du: complex) -> tuple[float, float]:
     """(rdot, thetadot) of the motion U, U' at a point with |U| > 0."""
     r = abs(u)
-    e = u / r
+    e = complex_quotient(u, r)
     w = e.conjugate() * du
     return w.real, w.imag / r
 
@@ -92,7 +93,7 @@ def apply_reset(u: complex, du: complex, d: float, mu: float, r_ratio: float):
     normal_impulse, tangential_impulse : float
         Impulses per unit mass; the tangential one is signed along +theta.
     """
-    e = u / abs(u)
+    e = complex_quotient(u, abs(u))
     rdot, thetadot = polar_velocity(e, du)
     v_rel = relative_velocity(r_ratio, thetadot)
     p_n = (1.0 + d) * rdot

@@ -25,6 +25,7 @@ from functools import lru_cache
 
 from numba import njit
 
+from ..interpreted import complex_quotient
 from .impact_law import slip_bound, sticks
 
 __all__ = [
@@ -60,7 +61,7 @@ def harmonic_response(gamma: float, w2: float, spin: float, amplitude: complex) 
     den = complex(w2 - spin * spin, gamma * spin)
     if den == 0.0:
         return complex(math.nan, math.nan)
-    return amplitude / den
+    return complex_quotient(amplitude, den)
 
 
 @njit(cache=True)
@@ -111,7 +112,7 @@ def impact_with_spin(z: complex, v: complex, spin: float, race: float, mass: flo
     p_n, p_t : float
         Normal impulse (magnitude) and tangential impulse on the rotor along +theta, N s.
     """
-    e = z / abs(z)
+    e = complex_quotient(z, abs(z))
     w = e.conjugate() * v
     v_n = w.real
     v_t = w.imag

@@ -53,7 +53,7 @@ def episode_rates(y, p, rolling, sgn, rdir):
     inv_ms = p[20]
     xs, ys, vxs, vys = y[11], y[12], y[13], y[14]
     # the rotor relative to the stator's centre (MODEL.md §8)
-    dist = math.hypot(x - xs, yy - ys)
+    dist = abs(complex(x - xs, yy - ys))
     nx = (x - xs) / dist
     ny = (yy - ys) / dist
     delta = dist - cr
@@ -216,7 +216,7 @@ def friction_mode(y, p, at_switch, rdir):
     or |v_rel| below 1e-12 of the surface speeds) rolling where the friction it needs is available
     (|F_t| <= mu F_n), else sliding the way its F_t opposes."""
     _r, fn, _dfn, _d, _vn, v_rel, ft = episode_rates(y, p, True, 1.0, rdir)
-    scale = abs(p[3] * y[5]) + abs(p[4] * y[6]) + math.hypot(y[2], y[3]) + 1e-300
+    scale = abs(p[3] * y[5]) + abs(p[4] * y[6]) + abs(complex(y[2], y[3])) + 1e-300
     if abs(v_rel) > 1e-12 * scale and not at_switch:
         return False, 1.0 if v_rel > 0.0 else -1.0
     if abs(ft) <= p[5] * fn:

@@ -16,6 +16,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..interpreted import complex_quotient
 from ..model.angles import wrap_angle
 from ..model.machine_model import (
     elastic_impact_duration, impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate, surface_velocity,
@@ -236,8 +237,8 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     inv_ms = 1.0 / stator_mass if moving_stator else 0.0
     stator_p = np.array([inv_ms, stator_kx, stator_ky, stator_cx, stator_cy])  # inert with inv_ms = 0: z_s stays 0
     stator = np.zeros((0, 10))
-    zb = stator_z0 / cr if moving_stator else 0j  # the stator's centre and velocity, clearances and clearances/s
-    vb = stator_v0 / cr if moving_stator else 0j
+    zb = complex_quotient(stator_z0, cr) if moving_stator else 0j  # the stator's centre and velocity, clearances and clearances/s
+    vb = complex_quotient(stator_v0, cr) if moving_stator else 0j
     n_imp = 0
     in_contact = False
     liftoff = False
@@ -245,8 +246,8 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     stalls = 0
     crawls = 0
     t = 0.0
-    z = z0 / cr
-    v = v0 / cr
+    z = complex_quotient(z0, cr)
+    v = complex_quotient(v0, cr)
     psi = psi0
     spin = spin0
     race = race0
@@ -378,8 +379,8 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             if stalls > MAX_STALLS:
                 status = FAILED
                 break
-            w = z.conjugate() * v / abs(z)
-            v = z / abs(z) * complex(0.0, w.imag)
+            w = complex_quotient(z.conjugate() * v, abs(z))
+            v = complex_quotient(z, abs(z)) * complex(0.0, w.imag)
             in_contact = True
             continue
         z, v = flight_state(flight, spin, s)
@@ -400,7 +401,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         if code == NO_CROSSING:
             on_boundary = abs(abs(z - zb) - 1.0) <= BOUNDARY_TOL
             continue
-        normal = (z - zb) / abs(z - zb)
+        normal = complex_quotient(z - zb, abs(z - zb))
         if not penetrated:
             z = zb + normal
         zs = z * cr
@@ -418,7 +419,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             v_end = complex(y_e[2], y_e[3])
             zb_end = complex(y_e[11], y_e[12])
             vb_end = complex(y_e[13], y_e[14])
-            n_end = (z_end - zb_end) / abs(z_end - zb_end)
+            n_end = complex_quotient(z_end - zb_end, abs(z_end - zb_end))
             row[0] = t0
             row[1] = wrap_angle(math.atan2(normal.imag, normal.real))
             row[2] = w.real
@@ -450,10 +451,10 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                 crow[4] = (y_e[10] - math.atan2(normal.imag, normal.real)) / (t - t0)
                 contacts, n_ct = push_row(contacts, n_ct, crow)
             dissipated += y_e[7]
-            zb = zb_end / cr
-            vb = vb_end / cr
-            z = zb + n_end if code_e == E_SEPARATED else z_end / cr
-            v = v_end / cr
+            zb = complex_quotient(zb_end, cr)
+            vb = complex_quotient(vb_end, cr)
+            z = zb + n_end if code_e == E_SEPARATED else complex_quotient(z_end, cr)
+            v = complex_quotient(v_end, cr)
             psi, spin, race = y_e[4], y_e[5], y_e[6]
             on_boundary = True
             if code_e == E_REST:
@@ -486,7 +487,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         row[12] = lost
         row[13] = v_rel
         impacts, n_imp = push_row(impacts, n_imp, row)
-        v = v_plus / cr
+        v = complex_quotient(v_plus, cr)
         spin = spin_plus
         race = race_plus
         on_boundary = True

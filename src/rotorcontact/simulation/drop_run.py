@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
+from ..interpreted import call_kernel
 from ..model.machine_model import (
     compliant_normal_force, constant_response, harmonic_response, restitution_damping, unbalance_amplitudes,
 )
@@ -56,13 +57,13 @@ def levitated_state(machine: Machine, speed: float) -> tuple[complex, complex]:
         At an undamped resonance, or where the whirl does not start inside the clearance.
     """
     m = machine.mass
-    fx, fy = unbalance_amplitudes(machine.eccentricity, speed, machine.unbalance_phase)
+    fx, fy = call_kernel(unbalance_amplitudes, machine.eccentricity, speed, machine.unbalance_phase)
     z = 0j
     v = 0j
     for axis, (k, c, f, b) in enumerate(((machine.kx, machine.cx, fx, 0.0),
                                          (machine.ky, machine.cy, fy, machine.fs / m - machine.g))):
-        h = complex(harmonic_response(c / m, k / m, speed, f))
-        p0, _p1, _p2 = constant_response(c / m, k / m, b)
+        h = complex(call_kernel(harmonic_response, c / m, k / m, speed, f))
+        p0, _p1, _p2 = call_kernel(constant_response, c / m, k / m, b)
         unit = 1.0 if axis == 0 else 1j
         z += unit * (h.real + p0)
         v += unit * (1j * speed * h).real
@@ -296,9 +297,9 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     compliant = (float(m.contact_stiffness or 0.0), m.exponent,
                  restitution_damping(m.restitution, m.exponent) if m.compliant else 0.0,
                  DAMPING_VELOCITY_FRACTION * v_scale, tol)
-    impacts, contacts, status, t_stop, state = drop_kernel(
-        m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky, m.cx, m.cy,
-        m.fs, m.g, polar, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
+    impacts, contacts, status, t_stop, state = call_kernel(
+        drop_kernel, m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky,
+        m.cx, m.cy, m.fs, m.g, polar, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
         fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy, CHATTER_RELATIVE, *compliant,
         float(m.stator_mass or 0.0), *m.stator_support(), zb0, vb0)
     return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state,

@@ -105,7 +105,8 @@ def rotor_energy_above_rest(y, p):
     Zero only for a rotor at rest at the bottom: a rotor rolling to and fro passes through zero kinetic
     energy at each turning point, but not through zero of this.
     """
-    energy = 0.5 * p[0] * (p[1] * y[1]) ** 2 + p[0] * p[1] * (abs(p[10]) - p[10] * math.sin(y[0]))
+    speed = p[1] * y[1]
+    energy = 0.5 * p[0] * (speed * speed) + p[0] * p[1] * (abs(p[10]) - p[10] * math.sin(y[0]))
     if p[11] > 0.0:
         energy += 0.5 * y[3] * y[3] / p[11]
     return energy

@@ -115,7 +115,7 @@ def _axis_bounds(rec, spin, s, der, width, out):
     """out[n] >= |a^(n)| on [s, s + width], n = 0..5 (der from `_axis_derivatives` at s)."""
     gamma, h2 = rec[0], rec[2]
     cmax, smax = window_bounds(gamma, h2, width)
-    harm = math.hypot(rec[3], rec[4])
+    harm = abs(complex(rec[3], rec[4]))
     p1s = rec[6] + rec[7] * s
     p0s = rec[5] + rec[6] * s + 0.5 * rec[7] * s * s
     fac = harm
@@ -235,8 +235,8 @@ def next_impact(flight, spin, horizon, on_boundary, liftoff, stator):
     s = 0.0
     for _ in range(MAX_STEPS):
         f, fp, fpp, f3, f4 = _surface(flight, spin, s, dx, dy, stator, sx, sy)
-        speed = math.hypot(dx[0, 1], dy[0, 1])
-        reach = math.hypot(dx[0, 0], dy[0, 0])
+        speed = abs(complex(dx[0, 1], dy[0, 1]))
+        reach = abs(complex(dx[0, 0], dy[0, 0]))
         ftol = 16.0 * EPS * (reach * reach + 1.0)
         if on_boundary and s == 0.0:
             f = 0.0

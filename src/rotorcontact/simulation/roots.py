@@ -31,6 +31,7 @@ import math
 
 from numba import njit
 
+from ..interpreted import complex_quotient
 from ..model.flow import half_discriminant, scaled_cs
 
 NO_CROSSING = 0
@@ -268,7 +269,7 @@ def _all_time_bound(w: complex, dw: complex, gamma: float, h2: float) -> float:
         nu = math.sqrt(-h2)
         w_abs, q_abs = abs(w), abs(q)
         euclid = math.sqrt(w_abs * w_abs + q_abs * q_abs / (-h2))
-        a = (q + 1j * nu * w) / (2j * nu)  # dw - mu_minus w over (mu_plus - mu_minus)
+        a = complex_quotient(q + 1j * nu * w, 2j * nu)  # dw - mu_minus w over (mu_plus - mu_minus)
         return min(euclid, abs(a) + abs(w - a))
     if h2 > 0.0:
         return abs(w) + abs(q) / (2.0 * math.sqrt(h2))

@@ -13,7 +13,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import ParameterError
-from ..interpreted import call_kernel
+from ..interpreted import call_kernel, complex_quotient
 from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
 from ..model.validation import check_int, check_params
 from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity
@@ -146,7 +146,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
     du = du0
     on_boundary = abs(abs(u0) - 1.0) <= BOUNDARY_TOL
     if on_boundary:
-        u = u0 / abs(u0)
+        u = complex_quotient(u0, abs(u0))
     flights, n_fl = _push_state(flights, n_fl, t, u, du)
     in_contact = False
     liftoff = np.bool_(False)  # not a literal: one specialisation of next_crossing
@@ -188,7 +188,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 continue
             v, dv = propagate(u - k, du, tau, gamma, omega)
             ui = k + v
-            ui = ui / abs(ui)
+            ui = complex_quotient(ui, abs(ui))
             t = t + tau
             if polar_velocity(ui, dv)[0] <= RDOT_MIN * (1.0 + abs(dv)):
                 # a touch at rounding level with no normal velocity: no impulse, flight goes on
