@@ -27,7 +27,7 @@ import rotorcontact.interpreted as tiers
 from rotorcontact import ParameterError, Parameters, free_flight, simulate
 from rotorcontact.interpreted import BUDGET_VARIABLE, call_kernel, interpret_budget, interpreted
 from rotorcontact.model.angles import _wrap_many, angle_difference
-from rotorcontact.model.contact_law import free_tangentials, normal_forces
+from rotorcontact.model.contact_law import forces_along
 from rotorcontact.model.flow import _flow_many, equilibrium_point, has_regular_equilibrium
 from rotorcontact.model.machine_model import constant_response, harmonic_response, unbalance_amplitudes
 from rotorcontact.model.params import Machine, reference_machine
@@ -39,7 +39,7 @@ from reference_parameters import REF_VALUES
 
 # the kernels the package calls through call_kernel
 ENTRY_KERNELS = [simulator.simulate_kernel, equilibrium_point, has_regular_equilibrium, _wrap_many,
-                 normal_forces, free_tangentials, _flow_many, _evaluate_flights,
+                 forces_along, _flow_many, _evaluate_flights,
                  drop_kernel, unbalance_amplitudes, harmonic_response, constant_response]
 
 RUNS = [
@@ -131,8 +131,7 @@ def test_helper_kernels_tiers_are_bit_identical():
         (equilibrium_point, (0.1, 0.76, 0.43, 0.21)),
         (has_regular_equilibrium, (0.0, 1.0)),
         (_wrap_many, (rng.uniform(-40, 40, 1000),)),
-        (normal_forces, (theta, thetadot, 0.76, 0.43, 0.21)),
-        (free_tangentials, (theta, thetadot, 0.15, 0.43, 0.21)),
+        (forces_along, (theta, thetadot, 0.15, 0.76, 0.43, 0.21)),
         (_flow_many, (0.2 + 0.1j, -0.3j, rng.uniform(-5, 30, 400), 0.15, 0.76, 0.3 - 0.2j)),
     ]
     for kernel, args in cases:
@@ -225,6 +224,12 @@ def test_budget_variable(monkeypatch):
         monkeypatch.setenv(BUDGET_VARIABLE, bad)
         with pytest.raises(ParameterError, match=BUDGET_VARIABLE):
             interpret_budget()
+
+
+def test_call_kernel_refuses_a_bad_budget():
+    for bad in (-1.0, math.nan, math.inf, "1"):
+        with pytest.raises(ParameterError, match="budget_s"):
+            call_kernel(_fresh(_log), 2.0, budget_s=bad)
 
 
 def test_interpreted_refuses_a_plain_function():

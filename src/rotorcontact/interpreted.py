@@ -44,11 +44,12 @@ DEFAULT_BUDGET_S = 2.0
 BUDGET_VARIABLE = "ROTORCONTACT_INTERPRET_S"
 
 _state = threading.local()
-_twins: dict[int, Callable] = {}
-_namespaces: dict[int, dict[str, Any]] = {}
+# keyed by the kernel (or module namespace) itself, so that an id is never taken for another object's
+_twins: dict[Any, Callable] = {}
+_namespaces: dict[int, tuple[dict[str, Any], dict[str, Any]]] = {}
 _lock = threading.RLock()
 _on_disk: dict[tuple, bool] = {}
-_spent: dict[int, float] = {}
+_spent: dict[Any, float] = {}
 
 
 @njit(cache=True)
@@ -106,24 +107,24 @@ def _check_deadline() -> None:
 
 def _namespace(module_globals: dict[str, Any]) -> dict[str, Any]:
     """The globals of a kernel module with every kernel in it replaced by its twin (built once)."""
-    key = id(module_globals)
-    names = _namespaces.get(key)
-    if names is None:
-        names = _namespaces[key] = {}
-        for name, value in list(module_globals.items()):
-            names[name] = _twin(value) if _is_kernel(value) else value
+    entry = _namespaces.get(id(module_globals))
+    if entry is not None and entry[0] is module_globals:
+        return entry[1]
+    names: dict[str, Any] = {}
+    _namespaces[id(module_globals)] = (module_globals, names)
+    for name, value in list(module_globals.items()):
+        names[name] = _twin(value) if _is_kernel(value) else value
     return names
 
 
 def _twin(kernel) -> Callable:
-    key = id(kernel)
-    twin = _twins.get(key)
+    twin = _twins.get(kernel)
     if twin is not None:
         return twin
     source = kernel.py_func
     # the module's twin namespace, shared by its kernels; building it may build this kernel's twin
     names = _namespace(source.__globals__)
-    twin = _twins.get(key)
+    twin = _twins.get(kernel)
     if twin is not None:
         return twin
     closure = source.__closure__
@@ -142,7 +143,7 @@ def _twin(kernel) -> Callable:
     twin.__qualname__ = source.__qualname__
     twin.__doc__ = source.__doc__
     twin.__wrapped__ = source
-    _twins[key] = twin
+    _twins[kernel] = twin
     return twin
 
 
@@ -182,7 +183,7 @@ def _ready(kernel, args: tuple) -> bool:
         return False
     if sig in kernel.overloads:
         return True
-    key = (id(kernel), sig)
+    key = (kernel, sig)
     found = _on_disk.get(key)
     if found is None:
         found = _on_disk[key] = _cached_on_disk(kernel, sig)
@@ -225,8 +226,13 @@ def call_kernel(kernel, *args, budget_s: float | None = None):
     """
     if getattr(_state, "compiled_only", False):
         return kernel(*args)
-    budget = interpret_budget() if budget_s is None else float(budget_s)
-    key = id(kernel)
+    if budget_s is None:
+        budget = interpret_budget()
+    elif isinstance(budget_s, (int, float)) and 0.0 <= budget_s < math.inf:
+        budget = float(budget_s)
+    else:
+        raise ParameterError(f"budget_s = {budget_s!r} is invalid; allowed: a number of seconds >= 0")
+    key = kernel
     left = budget - _spent.get(key, 0.0)
     if left <= 0.0 or _ready(kernel, args):
         return kernel(*args)

@@ -41,8 +41,7 @@ def test_forces_match_the_formulas_of_the_model():
 def test_forces_over_arrays_are_the_pointwise_forces():
     theta = np.linspace(-3.0, 3.0, 7)
     thetadot = np.linspace(-1.0, 1.0, 7)
-    n = cl.normal_forces(theta, thetadot, 0.76, 0.43, 0.21)
-    f = cl.free_tangentials(theta, thetadot, 0.15, 0.43, 0.21)
+    n, f = cl.forces_along(theta, thetadot, 0.15, 0.76, 0.43, 0.21)
     assert n.shape == f.shape == (7,)
     for i in range(7):
         assert n[i] == cl.normal_force(theta[i], thetadot[i], 0.76, 0.43, 0.21)

@@ -22,10 +22,9 @@ from numba import njit
 
 __all__ = [
     "normal_force",
-    "normal_forces",
     "normal_force_gradient",
     "free_tangential",
-    "free_tangentials",
+    "forces_along",
     "free_tangential_gradient",
     "sliding_accel",
     "sliding_jacobian",
@@ -42,15 +41,6 @@ def normal_force(theta, thetadot, omega: float, rho: float, phi: float):
 
 
 @njit(cache=True)
-def normal_forces(theta: np.ndarray, thetadot: np.ndarray, omega: float, rho: float, phi: float) -> np.ndarray:
-    """`normal_force` at each point (theta[i], thetadot[i])."""
-    out = np.empty(theta.shape[0])
-    for i in range(theta.shape[0]):
-        out[i] = normal_force(theta[i], thetadot[i], omega, rho, phi)
-    return out
-
-
-@njit(cache=True)
 def normal_force_gradient(theta: float, thetadot: float, rho: float, phi: float) -> tuple[float, float]:
     """(dN/dtheta, dN/dthetadot) = (rho sin(phi - theta), 2 (1 + thetadot))."""
     return rho * math.sin(phi - theta), 2.0 * (1.0 + thetadot)
@@ -63,12 +53,15 @@ def free_tangential(theta, thetadot, gamma: float, rho: float, phi: float):
 
 
 @njit(cache=True)
-def free_tangentials(theta: np.ndarray, thetadot: np.ndarray, gamma: float, rho: float, phi: float) -> np.ndarray:
-    """`free_tangential` at each point (theta[i], thetadot[i])."""
-    out = np.empty(theta.shape[0])
+def forces_along(theta: np.ndarray, thetadot: np.ndarray, gamma: float, omega: float, rho: float,
+                 phi: float) -> tuple[np.ndarray, np.ndarray]:
+    """`normal_force` and `free_tangential` at each point (theta[i], thetadot[i])."""
+    n = np.empty(theta.shape[0])
+    f = np.empty(theta.shape[0])
     for i in range(theta.shape[0]):
-        out[i] = free_tangential(theta[i], thetadot[i], gamma, rho, phi)
-    return out
+        n[i] = normal_force(theta[i], thetadot[i], omega, rho, phi)
+        f[i] = free_tangential(theta[i], thetadot[i], gamma, rho, phi)
+    return n, f
 
 
 @njit(cache=True)

@@ -276,7 +276,7 @@ class Trajectory:
         -mu N sgn(v_rel) when sliding, and the force that holds v_rel = 0 when
         rolling (MODEL.md §4).
         """
-        from ..model.contact_law import free_tangentials, normal_forces
+        from ..model.contact_law import forces_along
 
         tt = np.asarray(t, dtype=float)
         r, theta, _rdot, thetadot = self.polar(tt)
@@ -288,10 +288,10 @@ class Trajectory:
             sel = phase == j
             kind = int(self.contacts[j, 2])
             th, thd = np.ascontiguousarray(theta[sel]), np.ascontiguousarray(thetadot[sel])
-            nn = call_kernel(normal_forces, th, thd, p.omega, p.rho, p.phi)
+            nn, f_free = call_kernel(forces_along, th, thd, p.gamma, p.omega, p.rho, p.phi)
             n[sel] = nn
             if kind == ROLLING:
-                ft[sel] = -call_kernel(free_tangentials, th, thd, p.gamma, p.rho, p.phi)
+                ft[sel] = -f_free
             elif kind == SLIDE_FORWARD:
                 ft[sel] = -p.mu * nn
             elif kind == SLIDE_BACKWARD:
