@@ -25,7 +25,13 @@ from numba.core.dispatcher import Dispatcher
 
 import rotorcontact.interpreted as tiers
 from rotorcontact import ParameterError, Parameters, free_flight, simulate
-from rotorcontact.interpreted import BUDGET_VARIABLE, call_kernel, interpret_budget, interpreted
+from rotorcontact.interpreted import (
+    BUDGET_VARIABLE,
+    INTERPRETED_ERRSTATE,
+    call_kernel,
+    interpret_budget,
+    interpreted,
+)
 from rotorcontact.model.angles import _wrap_many, angle_difference
 from rotorcontact.model.contact_law import forces_along
 from rotorcontact.model.flow import _flow_many, equilibrium_point, has_regular_equilibrium
@@ -88,7 +94,7 @@ def test_simulator_tiers_are_bit_identical(monkeypatch, label, kw, u0, du0, t_en
     args = _kernel_arguments(monkeypatch, simulator, simulator.simulate_kernel,
                              lambda: simulate(Parameters(**kw), u0, du0, t_end, on_chatter=on_chatter))
     compiled = simulator.simulate_kernel(*args)
-    with np.errstate(all="ignore"):
+    with np.errstate(**INTERPRETED_ERRSTATE):
         plain = interpreted(simulator.simulate_kernel)(*args)
     _assert_identical(compiled, plain)
     impacts = compiled[0]
@@ -118,7 +124,7 @@ def test_drop_tiers_are_bit_identical(monkeypatch, label, keys, rpm, t_end):
     args = _kernel_arguments(monkeypatch, drop_run, drop_kernel,
                              lambda: drop_run.drop(machine, speed=rpm * RPM, t_end=t_end))
     compiled = drop_kernel(*args)
-    with np.errstate(all="ignore"):
+    with np.errstate(**INTERPRETED_ERRSTATE):
         plain = interpreted(drop_kernel)(*args)
     _assert_identical(compiled, plain)
     assert len(compiled[0]) >= 1  # it touched down
@@ -143,7 +149,7 @@ def test_helper_kernels_tiers_are_bit_identical():
 
 
 def test_trajectory_evaluation_agrees_across_tiers():
-    """state_at and forces go through call_kernel; their kernels' twins give the same numbers."""
+    """state and contact_forces go through call_kernel; their kernels' twins give the same numbers."""
     traj = simulate(Parameters(**REF_VALUES), 0j, 0j, 300.0)
     t = np.linspace(0.0, traj.t_stop, 3001)
     starts, u_start, du_start = traj._flight_table
@@ -232,6 +238,15 @@ def test_call_kernel_refuses_a_bad_budget():
             call_kernel(_fresh(_log), 2.0, budget_s=bad)
 
 
+def test_with_the_jit_disabled_kernels_are_plain_functions(tmp_path):
+    script = ("from rotorcontact import Parameters, simulate; "
+              "t = simulate(Parameters.reference(), 0j, 0j, 50.0); print(len(t.impacts))")
+    env = {**os.environ, "NUMBA_DISABLE_JIT": "1", "NUMBA_CACHE_DIR": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr
+    assert int(out.stdout) > 0
+
+
 def test_interpreted_refuses_a_plain_function():
     with pytest.raises(ParameterError, match="not a numba kernel"):
         interpreted(math.sin)
@@ -313,6 +328,8 @@ def _reachable_kernels() -> list[Dispatcher]:
 # numpy's own implementations (SIMD on some CPUs, pairwise summation) differ from numba's (libm, loops)
 NUMPY_DIFFERENT = {"sin", "cos", "tan", "exp", "log", "log1p", "expm1", "sinh", "cosh", "tanh", "arctan2",
                    "arcsin", "arccos", "arctan", "hypot", "power", "sum", "mean", "dot", "prod", "linalg"}
+# Python's own algorithms, where numba calls libm
+MATH_DIFFERENT = {"hypot", "gamma", "lgamma", "erf", "erfc", "fsum", "prod", "dist"}
 
 
 def _hazards(kernel: Dispatcher) -> list[str]:
@@ -323,11 +340,14 @@ def _hazards(kernel: Dispatcher) -> list[str]:
             exponent = node.right
             if isinstance(exponent, ast.UnaryOp):
                 exponent = exponent.operand
-            if isinstance(exponent, ast.Constant) and isinstance(exponent.value, int):
-                found.append(f"line {node.lineno}: integer power (numba multiplies, Python calls pow)")
+            value = exponent.value if isinstance(exponent, ast.Constant) else None
+            if isinstance(value, (int, float)) and (float(value).is_integer() or abs(value) == 0.5):
+                # numba multiplies for an integer, LLVM turns pow(x, 2.0), pow(x, -1.0), pow(x, 0.5) into
+                # products, quotients and sqrt; Python calls pow
+                found.append(f"line {node.lineno}: power {value!r} (numba multiplies, Python calls pow)")
         if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
-            if node.value.id == "math" and node.attr == "hypot":
-                found.append(f"line {node.lineno}: math.hypot (Python's own algorithm, not libm's)")
+            if node.value.id == "math" and node.attr in MATH_DIFFERENT:
+                found.append(f"line {node.lineno}: math.{node.attr} (Python's own algorithm, not libm's)")
             if node.value.id in ("np", "numpy") and node.attr in NUMPY_DIFFERENT:
                 found.append(f"line {node.lineno}: np.{node.attr} (numpy's implementation, not numba's)")
     return found
@@ -343,6 +363,11 @@ def test_tiered_kernels_avoid_constructs_that_differ_between_tiers():
 def test_hazard_check_finds_each_construct():
     @njit
     def bad(x):
-        return x**2 + math.hypot(x, 1.0) + np.cos(x) + x ** -3
+        return x**2 + math.hypot(x, 1.0) + np.cos(x) + x ** -3 + x**0.5 + math.gamma(x) + x**2.0
 
-    assert len(_hazards(bad)) == 4
+    @njit
+    def good(x):
+        return x * x + abs(complex(x, 1.0)) + math.cos(x) + x**-0.2 + x**1.5
+
+    assert len(_hazards(bad)) == 7
+    assert _hazards(good) == []

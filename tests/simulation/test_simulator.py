@@ -311,6 +311,7 @@ def test_initial_position_outside_the_clearance(u0, text):
         (dict(t_end=math.inf), "t_end"),
         (dict(chatter_rdot=0.0), "chatter_rdot"),
         (dict(chatter_rdot=-1.0), "chatter_rdot"),
+        (dict(max_events=2**63), "max_events"),
     ],
 )
 def test_bad_simulate_arguments(kwargs, name):

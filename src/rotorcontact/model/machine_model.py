@@ -43,6 +43,8 @@ __all__ = [
     "contact_accelerations",
     "compliant_normal_force",
     "elastic_impact_duration",
+    "impact_duration",
+    "impact_duration_factor",
     "hertz_rebound",
     "restitution_damping",
 ]
@@ -256,14 +258,27 @@ def compliant_normal_force(delta: float, delta_dot: float, stiffness: float, exp
     return max(0.0, f_el * (1.0 + damping * delta_dot)), f_el
 
 
+def impact_duration_factor(exponent: float) -> float:
+    """2 B(1/(n+1), 1/2)/(n+1), the factor of `impact_duration` (MODEL.md §8).
+
+    Plain Python, passed to the kernels: numba's math.gamma (C's tgamma) and Python's differ in the last bits.
+    """
+    a = 1.0 / (exponent + 1.0)
+    return 2.0 * a * math.gamma(a) * math.sqrt(math.pi) / math.gamma(a + 0.5)
+
+
 @njit(cache=True)
+def impact_duration(mass: float, v0: float, stiffness: float, exponent: float, factor: float) -> float:
+    """T_c = factor delta_max/v0, delta_max = ((n+1) m v0^2/(2 K_c))^(1/(n+1)), ``factor`` of
+    `impact_duration_factor` (MODEL.md §8), s."""
+    d_max = ((exponent + 1.0) * mass * v0 * v0 / (2.0 * stiffness)) ** (1.0 / (exponent + 1.0))
+    return factor * d_max / v0
+
+
 def elastic_impact_duration(mass: float, v0: float, stiffness: float, exponent: float) -> float:
     """Duration of an isolated elastic impact (d = 1) at normal velocity v0 under F_n = K_c delta^n, s:
     T_c = 2 (delta_max/v0) B(1/(n+1), 1/2)/(n+1), delta_max = ((n+1) m v0^2/(2 K_c))^(1/(n+1)) (MODEL.md §8)."""
-    a = 1.0 / (exponent + 1.0)
-    d_max = ((exponent + 1.0) * mass * v0 * v0 / (2.0 * stiffness)) ** a
-    beta = math.gamma(a) * math.sqrt(math.pi) / math.gamma(a + 0.5)
-    return 2.0 * d_max / v0 * beta * a
+    return float(impact_duration(mass, v0, stiffness, exponent, impact_duration_factor(exponent)))
 
 
 def hertz_rebound(chi: float, exponent: float, rtol: float = 1e-12) -> float:

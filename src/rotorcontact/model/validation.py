@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import ParameterError
 from .params import Parameters
 
-__all__ = ["check_params", "check_int", "check_float", "check_choice"]
+__all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice"]
 
 
 def check_params(params: Any, name: str = "params"):
@@ -22,6 +22,10 @@ def check_params(params: Any, name: str = "params"):
     if not isinstance(params, Parameters):
         raise ParameterError(f"{name} = {params!r} is not a Parameters object; allowed: rotorcontact.Parameters")
     return params
+
+
+#: The largest count a kernel takes (numba's int64).
+MAX_COUNT = 2**63 - 1
 
 
 def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:

@@ -19,7 +19,7 @@ from numba import njit
 from ..interpreted import complex_quotient
 from ..model.angles import wrap_angle
 from ..model.machine_model import (
-    elastic_impact_duration, impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate, surface_velocity,
+    impact_duration, impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate, surface_velocity,
 )
 from .compliant import E_REST, E_SEPARATED, NQ, NY, compliant_episode
 from .general_contact import C_END, C_LIFTOFF, C_RACE, C_REST, C_STEP_LIMIT, NP, contact_phase, contact_rates
@@ -56,7 +56,7 @@ MAX_CRAWLS = 2
 CRAWL_TIME = 1e-6
 VREL_TOL = 1e-12  # |v_rel| below this times the surface speeds: the surfaces roll
 #: A compliant episode lasting longer than this many times the elastic impact at its start speed
-#: (`machine_model.elastic_impact_duration`) is lasting contact (a rub, rolling, a rotor settled on the
+#: (`machine_model.impact_duration`) is lasting contact (a rub, rolling, a rotor settled on the
 #: bearing): it is also a row of the contact table.
 LASTING_CONTACT = 10.0
 
@@ -189,8 +189,8 @@ def _stator_energy(zb, vb, cr, mass, kx, ky):
 def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, polar, race_inertia, race_torque,
                 race_coef, z0, v0, psi0, spin0, race0, t_fail, t_end, max_events, chatter_v, follow_contact=True,
                 rest_energy=0.0, chatter_rel=0.0, contact_stiffness=0.0, contact_exponent=1.5, contact_chi=0.0,
-                contact_v_floor=0.0, contact_tol=1e-10, stator_mass=0.0, stator_kx=0.0, stator_ky=0.0,
-                stator_cx=0.0, stator_cy=0.0, stator_z0=0j, stator_v0=0j):
+                contact_v_floor=0.0, contact_tol=1e-10, contact_duration_factor=0.0, stator_mass=0.0, stator_kx=0.0,
+                stator_ky=0.0, stator_cx=0.0, stator_cy=0.0, stator_z0=0j, stator_v0=0j):
     """Run the general machine from (z0, v0) (m, m/s) at t = 0 to t_end.
 
     ``polar`` and ``race_inertia`` are 0 for a held speed and a fixed stator. The speed is held until
@@ -207,10 +207,11 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
     ``contact_exponent``, D = ``contact_chi`` / max(v_n, ``contact_v_floor``), relative tolerance
     ``contact_tol``): each impact becomes a contact episode, a
     row of the impact table with its `COMPLIANT_FIELDS`, and impacts never accumulate into rigid contact.
-    An episode that lasts (`LASTING_CONTACT`) is a row of the contact table too, with its mean whirl rate.
-    ``stator_mass`` > 0 (with the compliant law only) puts the stator on springs (N/m) and dampers (N s/m)
-    per axis: it starts at ``stator_z0`` (m) with velocity ``stator_v0`` (m/s), flies freely on its support
-    between episodes, and the gap is measured from it (MODEL.md §8).
+    An episode that lasts (`LASTING_CONTACT` elastic impacts, of `machine_model.impact_duration` with
+    ``contact_duration_factor`` from `machine_model.impact_duration_factor`) is a row of the contact table
+    too, with its mean whirl rate. ``stator_mass`` > 0 (with the compliant law only) puts the stator on
+    springs (N/m) and dampers (N s/m) per axis: it starts at ``stator_z0`` (m) with velocity ``stator_v0``
+    (m/s), flies freely on its support between episodes, and the gap is measured from it (MODEL.md §8).
 
     Returns
     -------
@@ -442,8 +443,8 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                 if code_e == E_SEPARATED and w.real > 0.0 else math.nan
             row[18] = kind
             impacts, n_imp = push_row(impacts, n_imp, row)
-            if t - t0 > LASTING_CONTACT * elastic_impact_duration(mass, max(w.real, contact_v_floor),
-                                                                  contact_stiffness, contact_exponent):
+            if t - t0 > LASTING_CONTACT * impact_duration(mass, max(w.real, contact_v_floor), contact_stiffness,
+                                                          contact_exponent, contact_duration_factor):
                 crow[0] = t0
                 crow[1] = t
                 crow[2] = kind

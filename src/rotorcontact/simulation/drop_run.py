@@ -16,11 +16,12 @@ import numpy as np
 from ..errors import ParameterError
 from ..interpreted import call_kernel
 from ..model.machine_model import (
-    compliant_normal_force, constant_response, harmonic_response, restitution_damping, unbalance_amplitudes,
+    compliant_normal_force, constant_response, harmonic_response, impact_duration_factor, restitution_damping,
+    unbalance_amplitudes,
 )
 from ..model.params import Machine, check_range
 from ..model.units import RPM
-from ..model.validation import check_int
+from ..model.validation import MAX_COUNT, check_int
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
 __all__ = ["DropResult", "drop", "run_general", "levitated_state", "contact_force_history", "RPM"]
@@ -265,7 +266,7 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
     speed = machine.speed if speed is None else check_range("speed", speed, low=0.0, low_open=True)
     fail_at = check_range("fail_at", fail_at, low=0.0)
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
-    max_events = check_int("max_events", max_events, low=1)
+    max_events = check_int("max_events", max_events, low=1, high=MAX_COUNT)
     z0, v0 = levitated_state(machine, speed)
     return run_general(machine, z0, v0, speed, fail_at, t_end, max_events=max_events)
 
@@ -293,10 +294,11 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
     polar = m.polar_inertia or 0.0
     rest_energy = REST_FRACTION * 0.5 * (m.mass * abs(v0) ** 2 + polar * speed * speed)
-    # the compliant law's K_c, n, chi, the floor of v_0 in D and tolerance; K_c = 0: the rigid law
+    # the compliant law's K_c, n, chi, the floor of v_0 in D, tolerance and elastic impact's duration factor;
+    # K_c = 0: the rigid law
     compliant = (float(m.contact_stiffness or 0.0), m.exponent,
                  restitution_damping(m.restitution, m.exponent) if m.compliant else 0.0,
-                 DAMPING_VELOCITY_FRACTION * v_scale, tol)
+                 DAMPING_VELOCITY_FRACTION * v_scale, tol, impact_duration_factor(m.exponent) if m.compliant else 0.0)
     impacts, contacts, status, t_stop, state = call_kernel(
         drop_kernel, m.mass, m.clearance, m.eccentricity, m.rotor_radius, m.friction, m.restitution, m.kx, m.ky,
         m.cx, m.cy, m.fs, m.g, polar, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,

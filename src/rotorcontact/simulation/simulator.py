@@ -15,7 +15,7 @@ from numba import njit
 from ..errors import ParameterError
 from ..interpreted import call_kernel, complex_quotient
 from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
-from ..model.validation import check_int, check_params
+from ..model.validation import MAX_COUNT, check_int, check_params
 from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity
 from ..model.impact_law import apply_reset, polar_velocity, relative_velocity
 from ..model.angles import wrap_angle
@@ -420,7 +420,7 @@ def simulate(
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     if on_chatter not in ("contact", "stop"):
         raise ParameterError(f"on_chatter = {on_chatter!r} is invalid; allowed: 'contact', 'stop'")
-    max_events = check_int("max_events", max_events, 1)
+    max_events = check_int("max_events", max_events, 1, MAX_COUNT)
     chatter_tol = check_range("chatter_tol", chatter_tol, low=0.0)
     chatter_rdot = check_range("chatter_rdot", chatter_rdot, low=0.0, low_open=True)
     chatter_height = check_range("chatter_height", chatter_height, low=0.0)
