@@ -20,6 +20,7 @@ import time
 COMMANDS = {
     "simulate --t-end 100": ["simulate", "--t-end", "100"],
     "drop reference --speed 12000rpm --t-end 0.5s": ["drop", "reference", "--speed", "12000rpm", "--t-end", "0.5s"],
+    "orbits": ["orbits"],
 }
 
 

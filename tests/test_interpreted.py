@@ -25,6 +25,7 @@ from numba.core.dispatcher import Dispatcher
 
 import rotorcontact.interpreted as tiers
 from rotorcontact import ParameterError, Parameters, free_flight, simulate
+from rotorcontact.maps import impact_map
 from rotorcontact.interpreted import (
     BUDGET_VARIABLE,
     INTERPRETED_ERRSTATE,
@@ -46,7 +47,8 @@ from reference_parameters import REF_VALUES
 # the kernels the package calls through call_kernel
 ENTRY_KERNELS = [simulator.simulate_kernel, equilibrium_point, has_regular_equilibrium, _wrap_many,
                  forces_along, _flow_many, _evaluate_flights,
-                 drop_kernel, unbalance_amplitudes, harmonic_response, constant_response]
+                 drop_kernel, unbalance_amplitudes, harmonic_response, constant_response,
+                 *[v for v in vars(impact_map).values() if isinstance(v, Dispatcher)]]
 
 RUNS = [
     # label, parameters, u0, du0, t_end, on_chatter
@@ -85,8 +87,9 @@ def _assert_identical(a, b) -> None:
         if isinstance(x, np.ndarray):
             assert x.dtype == y.dtype and x.shape == y.shape
             assert x.tobytes() == y.tobytes()
-        else:
-            assert float(x) == float(y) or (math.isnan(x) and math.isnan(y))
+        else:  # a scalar: the same bits (nan included) in the compiled result's type
+            kind = np.asarray(x).dtype
+            assert np.asarray(x).tobytes() == np.asarray(y, dtype=kind).tobytes()
 
 
 @pytest.mark.parametrize("label,kw,u0,du0,t_end,on_chatter", RUNS, ids=[r[0] for r in RUNS])
@@ -128,6 +131,36 @@ def test_drop_tiers_are_bit_identical(monkeypatch, label, keys, rpm, t_end):
         plain = interpreted(drop_kernel)(*args)
     _assert_identical(compiled, plain)
     assert len(compiled[0]) >= 1  # it touched down
+
+
+def test_impact_map_tiers_are_bit_identical(monkeypatch):
+    """Every kernel call of the orbit search, the map and a continuation, run again in the other tier."""
+    from rotorcontact.continuation.branches import orbit_branches
+
+    calls = []
+
+    def spy(kernel, *args):
+        calls.append((kernel, tuple(a.copy() if isinstance(a, np.ndarray) else a for a in args)))
+        return kernel(*args)
+
+    monkeypatch.setattr(impact_map, "call_kernel", spy)
+    for g in (0.1, 0.14, -0.2):
+        orbits = impact_map.one_impact_orbits(Parameters(**dict(REF_VALUES, gamma=g)), 12.0)
+        for o in orbits[:3]:
+            impact_map.impact_map(o.params, (o.theta, o.rdot, o.thetadot))
+            impact_map.impact_map_jacobian(o.params, (o.theta, o.rdot, o.thetadot), o.T)
+    orbit_branches(Parameters(**dict(REF_VALUES, gamma=0.1)), "gamma", 0.05, 0.08, t_max=4.0, n_seeds=3)
+    kernels = {kernel for kernel, _ in calls}
+    assert len(kernels) >= 8 and len(calls) > 100
+    rng = np.random.default_rng(11)
+    for i in sorted(set(rng.choice(len(calls), size=min(len(calls), 400), replace=False)) | set(range(40))):
+        kernel, args = calls[i]
+        compiled = kernel(*args)
+        with np.errstate(**INTERPRETED_ERRSTATE):
+            plain = interpreted(kernel)(*args)
+        if not isinstance(compiled, tuple):
+            compiled, plain = (compiled,), (plain,)
+        _assert_identical(compiled, plain)
 
 
 def test_helper_kernels_tiers_are_bit_identical():

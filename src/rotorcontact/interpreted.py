@@ -12,13 +12,14 @@ second. `call_kernel` therefore runs a kernel
 
 Both tiers run the same floating-point operations in the same order. The kernels use ``math`` functions
 (C's libm in both tiers), ``abs`` of a complex number for a modulus (libm's ``hypot`` in both; Python's
-``math.hypot`` has its own algorithm), products rather than integer powers (numba multiplies, Python calls
-``pow``) and `complex_quotient` for every complex division (numba divides as Python's complex type does;
-numpy's complex scalars, which the interpreted tier meets, multiply by a reciprocal); functions that numba
-and Python compute differently (``math.gamma``) are evaluated in Python and passed in. The tests hold the
-tiers bit-identical over chaotic, chattering and rolling trajectories and over drops (CPython 3.11 to 3.13;
-CPython 3.14's mixed real-complex arithmetic may differ in the sign of a zero, and numba with Intel's SVML
-installed may vectorise a loop of sines).
+``math.hypot`` has its own algorithm), products or `int_power` rather than integer powers (numba
+multiplies, Python calls ``pow``) and `complex_quotient` for every complex division (numba divides as
+Python's complex type does; numpy's complex scalars, which the interpreted tier meets, multiply by a
+reciprocal); functions that numba and Python compute differently (``math.gamma``) are evaluated in Python
+and passed in. The tests hold the tiers bit-identical over chaotic, chattering and rolling trajectories,
+drops and the impact map's orbits and continuation (CPython 3.11 to 3.13; CPython 3.14's mixed
+real-complex arithmetic may differ in the sign of a zero, and numba with Intel's SVML installed may
+vectorise a loop of sines).
 
 Overflow and underflow pass silently in both tiers. A division by zero or an invalid operation on numpy
 scalars, which compiled code would raise or turn into nan, abandons the interpreted run for the compiled one.
@@ -41,8 +42,8 @@ from numba import njit
 
 from .errors import ParameterError
 
-__all__ = ["DEFAULT_BUDGET_S", "BUDGET_VARIABLE", "call_kernel", "compiled_only", "complex_quotient", "interpreted",
-           "interpret_budget"]
+__all__ = ["DEFAULT_BUDGET_S", "BUDGET_VARIABLE", "call_kernel", "compiled_only", "complex_quotient", "int_power",
+           "interpreted", "interpret_budget"]
 
 #: Seconds an interpreted run may take before the kernel is compiled instead.
 DEFAULT_BUDGET_S = 2.0
@@ -64,6 +65,18 @@ _spent: dict[Any, float] = {}
 def complex_quotient(a: complex, b: complex) -> complex:
     """a / b as numba and Python's complex type compute it, in both tiers (a or b may be real)."""
     return complex(a) / complex(b)
+
+
+@njit(cache=True)
+def int_power(x: float, n: int) -> float:
+    """x**n for an integer n >= 0 by binary powering, as numba computes ``x ** n`` (Python calls pow)."""
+    r = 1.0
+    while n != 0:
+        if n & 1:
+            r *= x
+        n >>= 1
+        x *= x
+    return r
 
 
 class _OutOfTime(BaseException):

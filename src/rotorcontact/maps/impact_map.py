@@ -117,6 +117,7 @@ from numba import njit
 
 from ..model.angles import wrap_angle
 from ..errors import ParameterError
+from ..interpreted import call_kernel, complex_quotient, int_power
 from ..model.flow import (
     flight_coefficients,
     half_discriminant,
@@ -245,11 +246,11 @@ def _dp_tilde(t: float, gamma: float, h2: float):
         for j in range(N_SERIES):
             n = j + 2
             if n % 2 == 0:
-                cd = 2.0 * (mp - h2p) / fact
-                cp = (h2p - mp) / fact
+                cd = complex_quotient(2.0 * (mp - h2p), fact)
+                cp = complex_quotient(h2p - mp, fact)
             else:
                 cd = 0j
-                cp = (m * h2p - mp) / fact
+                cp = complex_quotient(m * h2p - mp, fact)
             d0 += cd * tj
             d1 += j * cd * tj1
             d2 += j * (j - 1) * cd * tj2
@@ -309,8 +310,8 @@ def _g_bound(t0: float, t1: float, gamma: float, h2: float, qabs: float) -> floa
     bp = np.empty(3)
     for j in range(3):
         n = j + 2
-        dn = 2.0 * (mabs**n * chm + habs**n * ch)
-        pn = habs**n * ch + mabs * habs ** (n - 1) * ch + mabs**n * e_int
+        dn = 2.0 * (int_power(mabs, n) * chm + int_power(habs, n) * ch)
+        pn = int_power(habs, n) * ch + mabs * int_power(habs, n - 1) * ch + int_power(mabs, n) * e_int
         den = (j + 1.0) * (j + 2.0)
         bd[j] = dn / den
         bp[j] = pn / den
@@ -349,12 +350,12 @@ def _coefficients(t: float, gamma: float, omega: float):
     # D = T^2 D~, D' = 2T D~ + T^2 D~'
     dfull = t * t * d0
     dfull1 = 2.0 * t * d0 + t * t * d1
-    a12 = s / dfull
-    a22 = p0 / d0
-    a11 = a22 - 2.0 * m * s / dfull
-    a21 = b * s / dfull
-    da12 = (c * dfull - s * dfull1) / (dfull * dfull)
-    da22 = (p1 * d0 - p0 * d1) / (d0 * d0)
+    a12 = complex_quotient(s, dfull)
+    a22 = complex_quotient(p0, d0)
+    a11 = a22 - complex_quotient(2.0 * m * s, dfull)
+    a21 = complex_quotient(b * s, dfull)
+    da12 = complex_quotient(c * dfull - s * dfull1, dfull * dfull)
+    da22 = complex_quotient(p1 * d0 - p0 * d1, d0 * d0)
     return a11, a12, a21, a22, da12, da22
 
 
@@ -365,8 +366,8 @@ def _f1_many(t: np.ndarray, gamma: float, omega: float, q: complex):
     der = np.empty(t.shape[0])
     for i in range(t.shape[0]):
         d0, d1, d2, p0, p1, p2, sd, sp = _dp_tilde(t[i], gamma, h2)
-        a22 = p0 / d0
-        da22 = (p1 * d0 - p0 * d1) / (d0 * d0)
+        a22 = complex_quotient(p0, d0)
+        da22 = complex_quotient(p1 * d0 - p0 * d1, d0 * d0)
         out[i] = 1.0 + (q * a22).real
         der[i] = (q * da22).real
     return out, der
@@ -386,7 +387,8 @@ def _f_eval(t: float, gamma: float, omega: float, k: complex, v0: complex, dv0: 
     p2 = b * v - 2.0 * a * dv
     p3 = b * dv - 2.0 * a * p2
     f0 = (u.conjugate() * dv).real
-    f1 = abs(dv) ** 2 + (u.conjugate() * p2).real
+    speed = abs(dv)
+    f1 = speed * speed + (u.conjugate() * p2).real
     f2 = 3.0 * (dv.conjugate() * p2).real + (u.conjugate() * p3).real
     scale = (1.0 + abs(k) + abs(v) + abs(v0)) * (abs(dv) + abs(dv0) + abs(v0) + 1e-300)
     return f0, f1, f2, 64.0 * EPS * scale
@@ -638,7 +640,7 @@ def _jacobian_kernel(gamma, omega, k, d, mu, r_ratio, theta, rdot, thetadot, tau
     v0 = e - k
     v, dv = propagate(v0, du_plus, tau, gamma, omega)
     u1 = k + v
-    e1 = u1 / abs(u1)
+    e1 = complex_quotient(u1, abs(u1))
     ddv = b * v - 2.0 * a * dv
     rd1, td1 = polar_velocity(e1, dv)
     x1 = np.empty(3)
@@ -746,7 +748,7 @@ def post_impact_state(params: Parameters, state, *, law: str = SLIP_BOUNDED) -> 
     """
     g, w, k, d, mu, rr = _params_tuple(params)
     theta, rdot, thetadot = _state(state)
-    du_plus = _reset(theta, rdot, thetadot, d, mu, rr, _check_law(law))[0]
+    du_plus = call_kernel(_reset, theta, rdot, thetadot, d, mu, rr, _check_law(law))[0]
     return complex(math.cos(theta), math.sin(theta)), complex(du_plus)
 
 
@@ -782,12 +784,12 @@ def impact_map(
     theta, rdot, thetadot = _state(state)
     horizon = check_range("horizon", horizon, low=0.0, low_open=True)
     lw = _check_law(law)
-    code, tau = _impact_map_kernel(g, w, k, d, mu, rr, theta, rdot, thetadot, horizon, lw)
-    sticking = _reset(theta, rdot, thetadot, d, mu, rr, lw)[5] == _STICK
+    code, tau = call_kernel(_impact_map_kernel, g, w, k, d, mu, rr, theta, rdot, thetadot, horizon, lw)
+    sticking = call_kernel(_reset, theta, rdot, thetadot, d, mu, rr, lw)[5] == _STICK
     if code != CROSSING:
         status = "stuck" if code == STUCK else ("no-impact" if tau >= horizon else "failed")
         return ImpactMapResult(status, None, None, sticking=sticking)
-    x1, jac, dtau, branch = _jacobian_kernel(g, w, k, d, mu, rr, theta, rdot, thetadot, tau, lw)
+    x1, jac, dtau, branch = call_kernel(_jacobian_kernel, g, w, k, d, mu, rr, theta, rdot, thetadot, tau, lw)
     if not jacobian:
         jac, dtau = None, None
     return ImpactMapResult("impact", x1, float(tau), jac, dtau, sticking)
@@ -813,7 +815,8 @@ def impact_map_jacobian(
     g, w, k, d, mu, rr = _params_tuple(params)
     theta, rdot, thetadot = _state(state)
     time = check_range("time", time, low=0.0, low_open=True)
-    x1, jac, dtau, branch = _jacobian_kernel(g, w, k, d, mu, rr, theta, rdot, thetadot, time, _check_law(law))
+    x1, jac, dtau, branch = call_kernel(_jacobian_kernel, g, w, k, d, mu, rr, theta, rdot, thetadot, time,
+                                        _check_law(law))
     return x1, jac, dtau
 
 
@@ -847,7 +850,7 @@ def a_matrix(params: Parameters, T: float) -> np.ndarray:
     """
     _params_tuple(params)
     T = float(_check_time("T", T))
-    a11, a12, a21, a22, da12, da22 = _coefficients(T, params.gamma, params.omega)
+    a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
     return np.array([[a11, a12], [a21, a22]], dtype=complex)
 
 
@@ -855,7 +858,7 @@ def a_derivatives(params: Parameters, T: float) -> tuple[complex, complex, compl
     """(a12, a22, da12/dT, da22/dT) at T > 0 (for continuation of the fixed points)."""
     _params_tuple(params)
     T = float(_check_time("T", T))
-    a11, a12, a21, a22, da12, da22 = _coefficients(T, params.gamma, params.omega)
+    a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
     return complex(a12), complex(a22), complex(da12), complex(da22)
 
 
@@ -867,7 +870,7 @@ def f1(params: Parameters, T):
     """F1(T) = 1 + Re(q a22(T)) (MODEL.md §5), for a float or an array of T > 0."""
     _params_tuple(params)
     arr = _check_time("T", T)
-    val, _ = _f1_many(np.atleast_1d(arr).ravel(), params.gamma, params.omega, _q(params))
+    val, _ = call_kernel(_f1_many, np.atleast_1d(arr).ravel(), params.gamma, params.omega, _q(params))
     return float(val[0]) if arr.ndim == 0 else val.reshape(arr.shape)
 
 
@@ -875,7 +878,7 @@ def f1_derivative(params: Parameters, T):
     """dF1/dT, for a float or an array of T > 0."""
     _params_tuple(params)
     arr = _check_time("T", T)
-    _, der = _f1_many(np.atleast_1d(arr).ravel(), params.gamma, params.omega, _q(params))
+    _, der = call_kernel(_f1_many, np.atleast_1d(arr).ravel(), params.gamma, params.omega, _q(params))
     return float(der[0]) if arr.ndim == 0 else der.reshape(arr.shape)
 
 
@@ -961,7 +964,7 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
             "gamma = 0, mu = 0 and d = 1 make F1 vanish identically (every period is a zero); "
             "allowed: gamma != 0, mu != 0 or d < 1"
         )
-    zt, zd, zf, s0, status = _f1_zeros_kernel(params.gamma, params.omega, params.d, params.mu, t_max)
+    zt, zd, zf, s0, status = call_kernel(_f1_zeros_kernel, params.gamma, params.omega, params.d, params.mu, t_max)
     if status != ISO_OK:
         raise RuntimeError("F1 zero isolation did not finish (iteration limit)")
     h2 = half_discriminant.py_func(params.gamma, params.omega)
@@ -970,7 +973,7 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
     zeros = []
     for (t, direction, flag), (n, kind) in zip(inside, label_f1_zeros([z[1] for z in inside], s0 > 0)):
         if params.gamma == 0.0:
-            d0, d1, d2, p0, p1, p2, sd, sp = _dp_tilde(t, params.gamma, h2)
+            d0, d1, d2, p0, p1, p2, sd, sp = call_kernel(_dp_tilde, t, params.gamma, h2)
             if abs(d0) <= 1e-8 * abs(d0 + q * p0):
                 # a pole of F1 (a resonance at gamma = 0), the limit of a zero as gamma -> 0:
                 # it keeps its place in the labelling but has no orbit
@@ -1055,7 +1058,7 @@ def rdot_roots(params: Parameters, T: float) -> tuple[float, tuple[float, ...]]:
     """
     _params_tuple(params)
     T = float(_check_time("T", T))
-    a11, a12, a21, a22, da12, da22 = _coefficients(T, params.gamma, params.omega)
+    a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
     qa = _q(params) * a12
     return stable_quadratic_roots(abs(qa) ** 2, qa.real, 1.0 - abs(params.k) ** 2)
 
@@ -1077,7 +1080,7 @@ def fixed_point_residual(params: Parameters, T: float, rdot: float) -> tuple[np.
     T = float(_check_time("T", T))
     rdot = check_finite("rdot", rdot)
     q = _q(params)
-    a11, a12, a21, a22, da12, da22 = _coefficients(T, params.gamma, params.omega)
+    a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
     z = 1.0 + q * a12 * rdot
     res = np.array([1.0 + (q * a22).real, abs(z) ** 2 - abs(params.k) ** 2])
     jac = np.array(
@@ -1127,7 +1130,7 @@ class FlightExtrema:
 
 def _extrema_from_post(params: Parameters, u0: complex, du0: complex, T: float) -> FlightExtrema:
     k = params.k
-    zt, zd, zf, radii, status = _flight_extrema_kernel(params.gamma, params.omega, k, u0 - k, du0, T)
+    zt, zd, zf, radii, status = call_kernel(_flight_extrema_kernel, params.gamma, params.omega, k, u0 - k, du0, T)
     if status != ISO_OK:
         raise RuntimeError("isolation of the extrema of r did not finish (iteration limit)")
     edge = 1e-12 * (1.0 + T)
@@ -1291,11 +1294,11 @@ def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> Impact
     g, w, k, d, mu, rr = _params_tuple(params)
     q = _q(params)
     T = zero.T
-    a11, a12, a21, a22, da12, da22 = _coefficients(T, g, w)
-    theta = wrap_angle(cmath.phase(k / (1.0 + q * a12 * rdot)))
+    a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, g, w)
+    theta = call_kernel(wrap_angle, cmath.phase(k / (1.0 + q * a12 * rdot)))
     thetadot = -(q * a22).imag * rdot
     admissible = rdot > 0.0
-    slipping = slides_forward(thetadot, rdot, d, mu, rr)
+    slipping = call_kernel(slides_forward, thetadot, rdot, d, mu, rr)
     state = (theta, rdot, thetadot)
     u0, du0 = post_impact_state(params, state, law=IDEAL)
     ext = _extrema_from_post(params, u0, du0, T)
@@ -1304,7 +1307,7 @@ def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> Impact
     stable = None
     plausible = False
     if admissible:
-        x1, jac, dtau, _ = _jacobian_kernel(g, w, k, d, mu, rr, theta, rdot, thetadot, T, _LAWS[IDEAL])
+        x1, jac, dtau, _ = call_kernel(_jacobian_kernel, g, w, k, d, mu, rr, theta, rdot, thetadot, T, _LAWS[IDEAL])
         ev = np.linalg.eigvals(jac)
         ev = ev[np.argsort(-np.abs(ev), kind="stable")]
         multipliers = tuple(complex(x) for x in ev)
@@ -1315,7 +1318,7 @@ def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> Impact
             # Cross-check with the simulator's guaranteed impact location: the first impact
             # is the one at T, up to the resolution of a crossing at speed rdot.
             horizon = T * (1.0 + 1e-6) + 1e-9
-            code, tau = next_crossing(u0 - k, du0, k, g, w, horizon, True)
+            code, tau = call_kernel(next_crossing, u0 - k, du0, k, g, w, horizon, True)
             slack = max(1e-8 * (1.0 + T), 64.0 * EPS * ((abs(k) + 1.0) ** 2 + 1.0) / rdot)
             plausible = code == CROSSING and T - slack <= tau <= T + slack
     return ImpactOrbit(
