@@ -240,6 +240,15 @@ def test_budget_is_spent_over_calls():
     assert len(kernel.signatures) == 1  # many short calls end compiled
 
 
+def test_budget_is_shared_by_all_kernels():
+    first, second = _fresh(_long_sum), _fresh(_long_sum)
+    budget = tiers._interpreted_s[0] + 0.01  # what this process has interpreted so far, and 10 ms more
+    call_kernel(first, 200_000, budget_s=budget)  # outlasts the 10 ms
+    assert len(first.signatures) == 1
+    call_kernel(second, 10, budget_s=budget)  # short, but the budget is spent: compiled
+    assert len(second.signatures) == 1
+
+
 def test_zero_budget_compiles_at_once(monkeypatch):
     kernel = _fresh(_long_sum)
     monkeypatch.setenv(BUDGET_VARIABLE, "0")

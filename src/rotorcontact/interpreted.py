@@ -6,9 +6,11 @@ second. `call_kernel` therefore runs a kernel
 
 - compiled, when it is compiled in this process or cached on disk for these argument types;
 - otherwise interpreted: its Python source, with every kernel it calls replaced by that kernel's own
-  interpreted twin, for at most ``ROTORCONTACT_INTERPRET_S`` seconds (default `DEFAULT_BUDGET_S`) over
-  all its interpreted runs in this process. A run that outlasts what is left of this budget, or raises
-  anything, is abandoned and the kernel is compiled and run instead; so is every later call.
+  interpreted twin. All interpreted runs of a process share a budget of ``ROTORCONTACT_INTERPRET_S``
+  seconds (default `DEFAULT_BUDGET_S`): a run that outlasts what is left of it is abandoned and its kernel
+  compiled and run instead, and from then on every kernel runs compiled. So a command wastes at most the
+  budget, however many kernels it uses. A run that raises anything is abandoned too, and its kernel runs
+  compiled from then on.
 
 Both tiers run the same floating-point operations in the same order. The kernels use ``math`` functions
 (C's libm in both tiers), ``abs`` of a complex number for a modulus (libm's ``hypot`` in both; Python's
@@ -58,7 +60,8 @@ _twins: dict[Any, Callable] = {}
 _namespaces: dict[int, tuple[dict[str, Any], dict[str, Any]]] = {}
 _lock = threading.RLock()
 _on_disk: dict[tuple, bool] = {}
-_spent: dict[Any, float] = {}
+_compiled: set[Any] = set()  # kernels that run compiled from now on
+_interpreted_s = [0.0]  # seconds of interpreted runs in this process
 
 
 @njit(cache=True)
@@ -227,8 +230,8 @@ def _cached_on_disk(kernel, sig: tuple) -> bool:
 def call_kernel(kernel, *args, budget_s: float | None = None):
     """Call ``kernel(*args)``: compiled when at hand, else interpreted within a budget (module docstring).
 
-    The budget is spent per kernel and process: once a kernel's interpreted runs have taken ``budget_s``
-    in all, it is compiled, so that many short calls do not stay interpreted.
+    The budget is shared by all the interpreted runs of the process: once they have taken ``budget_s`` in
+    all, every kernel is compiled, so that many short calls do not stay interpreted.
 
     Parameters
     ----------
@@ -237,7 +240,7 @@ def call_kernel(kernel, *args, budget_s: float | None = None):
     *args
         Its arguments, positional.
     budget_s : float, optional
-        Seconds the interpreted runs of this kernel may take in all; default `interpret_budget`
+        Seconds the interpreted runs of this process may take in all; default `interpret_budget`
         (``ROTORCONTACT_INTERPRET_S``). 0 compiles at once.
 
     Returns
@@ -258,29 +261,26 @@ def call_kernel(kernel, *args, budget_s: float | None = None):
         budget = float(budget_s)
     else:
         raise ParameterError(f"budget_s = {budget_s!r} is invalid; allowed: a number of seconds >= 0")
-    key = kernel
-    left = budget - _spent.get(key, 0.0)
-    if left <= 0.0:
+    left = budget - _interpreted_s[0]
+    if left <= 0.0 or kernel in _compiled:
         return kernel(*args)
     if _ready(kernel, args):
         with _lock:
-            _spent[key] = math.inf  # at hand: compiled from now on, without asking again
+            _compiled.add(kernel)  # at hand: compiled from now on, without asking again
         return kernel(*args)
     with _lock:
         twin = _twin(kernel)
     start = time.perf_counter()
     outer = getattr(_state, "deadline", None)
     _state.deadline = start + left if outer is None else min(outer, start + left)
-    spent: float | None = None
     try:
         with np.errstate(**INTERPRETED_ERRSTATE):
             return twin(*args)
-    except _OutOfTime:
-        spent = math.inf  # over budget: this kernel runs compiled from now on
-    except Exception:
-        spent = math.inf  # abandoned: this kernel runs compiled from now on
+    except (_OutOfTime, Exception):
+        with _lock:
+            _compiled.add(kernel)  # abandoned (out of time, or refused by Python): compiled from now on
     finally:
         _state.deadline = outer
         with _lock:
-            _spent[key] = spent if spent is not None else _spent.get(key, 0.0) + (time.perf_counter() - start)
+            _interpreted_s[0] += time.perf_counter() - start
     return kernel(*args)
