@@ -44,10 +44,10 @@ from numba import njit
 
 from .errors import ParameterError
 
-__all__ = ["DEFAULT_BUDGET_S", "BUDGET_VARIABLE", "call_kernel", "compiled_only", "complex_quotient", "int_power",
-           "interpreted", "interpret_budget"]
+__all__ = ["DEFAULT_BUDGET_S", "BUDGET_VARIABLE", "INTERPRETED_ERRSTATE", "call_kernel", "compiled_only",
+           "complex_quotient", "int_power", "interpreted", "interpret_budget"]
 
-#: Seconds an interpreted run may take before the kernel is compiled instead.
+#: Seconds the interpreted runs of a process may take in all before every kernel runs compiled.
 DEFAULT_BUDGET_S = 2.0
 #: The environment variable that sets that budget (0: always compile).
 BUDGET_VARIABLE = "ROTORCONTACT_INTERPRET_S"
@@ -158,6 +158,7 @@ def _twin(kernel) -> Callable:
             for c in closure
         )
     plain = types.FunctionType(source.__code__, names, source.__name__, source.__defaults__, closure)
+    plain.__kwdefaults__ = source.__kwdefaults__
 
     def twin(*args, **kwargs):
         _check_deadline()
