@@ -19,9 +19,9 @@ multiplies, Python calls ``pow``) and `complex_quotient` for every complex divis
 Python's complex type does; numpy's complex scalars, which the interpreted tier meets, multiply by a
 reciprocal); functions that numba and Python compute differently (``math.gamma``) are evaluated in Python
 and passed in. The tests hold the tiers bit-identical over chaotic, chattering and rolling trajectories,
-drops and the impact map's orbits and continuation (CPython 3.11 to 3.13; CPython 3.14's mixed
+drops and the impact map's orbits and continuation, on CPython 3.11. Known exceptions: CPython 3.14's mixed
 real-complex arithmetic may differ in the sign of a zero, and numba with Intel's SVML installed may
-vectorise a loop of sines).
+vectorise a loop of sines.
 
 Overflow and underflow pass silently in both tiers. A division by zero or an invalid operation on numpy
 scalars, which compiled code would raise or turn into nan, abandons the interpreted run for the compiled one.
