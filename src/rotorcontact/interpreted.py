@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 from numba import njit
+from numba.core.dispatcher import Dispatcher
 
 from .errors import ParameterError
 
@@ -118,8 +119,6 @@ def compiled_only() -> Iterator[None]:
 
 
 def _is_kernel(value: Any) -> bool:
-    from numba.core.dispatcher import Dispatcher
-
     return isinstance(value, Dispatcher)
 
 

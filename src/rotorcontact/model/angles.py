@@ -7,6 +7,8 @@ import math
 import numpy as np
 from numba import njit
 
+from ..interpreted import call_kernel
+
 __all__ = ["wrap_angle", "angle_difference"]
 
 
@@ -39,8 +41,6 @@ def angle_difference(a, b):
         A float for scalar inputs, else an array of the broadcast shape; each
         value is `wrap_angle` of the difference.
     """
-    from ..interpreted import call_kernel
-
     x = np.subtract(a, b, dtype=float)
     if x.ndim == 0:
         return call_kernel(wrap_angle, float(x))
