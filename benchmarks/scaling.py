@@ -1,0 +1,122 @@
+"""Scaling of a study over cores: one sweep on 1, 2, 4, ... threads, then on joblib and Dask workers.
+
+Problem: the gamma sweep of sweep.py, every value from rest (``independent``),
+``--n`` values (default 4000: about a minute of single-core work on the 2-core
+machine of the README) of 4000 transient and 1000 recorded impacts. The sweep
+runs in this process on each thread count of ``--threads`` (default 1, 2, 4,
+... up to the cores this process may use), and with ``--executors`` also with
+``--n-jobs T`` (joblib) and ``--scheduler local --n-jobs T`` (a Dask
+LocalCluster), T the largest thread count, with their workers' start-up
+included. Every run's dataset is compared bit for bit with the first run's.
+
+Prints, per run: wall time, speed-up over the first run (one thread by
+default), parallel efficiency, impacts per second; the executors' wall times
+against the in-process run on the same cores; the load average; and a last
+line ``json: {...}`` with the same figures. Targets (issue: start-up and
+speed): at least 13x over one core on 16 cores; executors within 15 % of the
+in-process threads.
+
+Run: python benchmarks/scaling.py [--n 4000] [--transient 4000] [--record 1000]
+     [--threads 1,2,4,8,16] [--executors]
+The kernels must be compiled beforehand (``rotorcontact warmup --only studies``,
+or any earlier run); a short run loads them first so that no timing includes it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+
+import numba
+import numpy as np
+
+import rotorcontact as rc
+from rotorcontact.studies.execution import available_cores
+from rotorcontact.studies.sweep import sweep, sweep_values
+from memory import print_peak
+
+
+def default_threads(cores: int) -> list[int]:
+    """1, 2, 4, ... below ``cores``, then ``cores`` itself."""
+    counts = [1]
+    while counts[-1] * 2 < cores:
+        counts.append(counts[-1] * 2)
+    if cores > 1:
+        counts.append(cores)
+    return counts
+
+
+def same_bits(a, b) -> bool:
+    """Whether two sweep datasets hold the same variables and coordinates, bit for bit."""
+    names = sorted(a.variables)
+    if names != sorted(b.variables):
+        return False
+    return all(
+        a[n].shape == b[n].shape and a[n].dtype == b[n].dtype
+        and np.ascontiguousarray(a[n].values).tobytes() == np.ascontiguousarray(b[n].values).tobytes()
+        for n in names
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=4000, help="number of gamma values")
+    ap.add_argument("--from", dest="lo", type=float, default=0.085)
+    ap.add_argument("--to", dest="hi", type=float, default=0.145)
+    ap.add_argument("--transient", type=int, default=4000)
+    ap.add_argument("--record", type=int, default=1000)
+    ap.add_argument("--threads", default=None, help="comma-separated thread counts (default 1, 2, 4, ... cores)")
+    ap.add_argument("--executors", action="store_true", help="also joblib and a Dask LocalCluster")
+    args = ap.parse_args()
+    cores = available_cores()
+    threads = [int(t) for t in args.threads.split(",")] if args.threads else default_threads(cores)
+    threads = [t for t in threads if 1 <= t <= numba.config.NUMBA_NUM_THREADS]
+    if not threads:
+        raise SystemExit(f"--threads: no count between 1 and numba's {numba.config.NUMBA_NUM_THREADS} threads")
+    p = rc.Parameters.reference()
+    values = sweep_values(args.lo, args.hi, args.n)
+    run = dict(mode="independent", n_transient=args.transient, n_record=args.record, progress=False)
+    print(f"cores: {cores} (os.cpu_count {os.cpu_count()}), numba threads at most {numba.config.NUMBA_NUM_THREADS}")
+    print(f"gamma in [{args.lo}, {args.hi}], {args.n} values, {args.transient} + {args.record} impacts per value")
+    sweep(p, "gamma", values[:4], mode="independent", n_transient=10, n_record=10, progress=False)
+
+    rows, first, base = [], None, None
+    for t in threads:
+        numba.set_num_threads(t)
+        t0, load0 = time.perf_counter(), os.getloadavg()[0]
+        res = sweep(p, "gamma", values, **run)
+        wall = time.perf_counter() - t0
+        identical = True if first is None else same_bits(first.dataset, res.dataset)
+        if first is None:
+            first, base = res, wall
+        row = dict(runner="threads", workers=t, wall_s=round(wall, 3), speedup=round(base / wall, 2),
+                   efficiency=round(base / wall * threads[0] / t, 3), impacts_per_s=round(res.impacts_simulated / wall),
+                   load=round(max(load0, os.getloadavg()[0]), 1), identical=identical)
+        rows.append(row)
+        print(f"threads {t:3d}  wall {wall:8.2f} s  speed-up {row['speedup']:6.2f}x  efficiency "
+              f"{row['efficiency']:5.3f}  {row['impacts_per_s']:>10d} impacts/s  load {row['load']:.1f}  "
+              f"identical: {identical}")
+
+    if args.executors:
+        t = threads[-1]
+        numba.set_num_threads(t)
+        in_process = rows[-1]["wall_s"]
+        for runner, extra in (("joblib", dict(n_jobs=t)), ("dask-local", dict(n_jobs=t, scheduler="local"))):
+            t0 = time.perf_counter()
+            res = sweep(p, "gamma", values, **run, **extra)
+            wall = time.perf_counter() - t0
+            identical = same_bits(first.dataset, res.dataset)
+            rows.append(dict(runner=runner, workers=t, wall_s=round(wall, 3),
+                             versus_threads=round(wall / in_process - 1.0, 3), identical=identical))
+            print(f"{runner:10s} {t:3d} workers  wall {wall:8.2f} s  {100 * (wall / in_process - 1):+6.1f} % against "
+                  f"{t} threads in process (worker start-up included)  identical: {identical}")
+
+    print("json: " + json.dumps(dict(cores=cores, n=args.n, transient=args.transient, record=args.record,
+                                     impacts=int(first.impacts_simulated), runs=rows)))
+
+
+if __name__ == "__main__":
+    main()
+    print_peak()
