@@ -9,6 +9,13 @@ runs in this process on each thread count of ``--threads`` (default 1, 2, 4,
 LocalCluster), T the largest thread count, with their workers' start-up
 included. Every run's dataset is compared bit for bit with the first run's.
 
+With ``--ceiling``, it first measures what the machine allows: the same
+single-core piece of the sweep (``--ceiling-values`` values) in one process
+alone, then in T processes at once; T times the ratio of the two is the
+speed-up that T fully independent single-core runs reach on this machine
+(shared caches, memory bandwidth, clock speed under load, a virtual machine's
+neighbours), the ceiling for any threads or workers.
+
 Prints, per run: wall time, speed-up over the first run (one thread by
 default), parallel efficiency, impacts per second; the executors' wall times
 against the in-process run on the same cores; the load average; and a last
@@ -17,7 +24,7 @@ speed): at least 13x over one core on 16 cores; executors within 15 % of the
 in-process threads.
 
 Run: python benchmarks/scaling.py [--n 4000] [--transient 4000] [--record 1000]
-     [--threads 1,2,4,8,16] [--executors]
+     [--threads 1,2,4,8,16] [--executors] [--ceiling] [--ceiling-values 200]
 The kernels must be compiled beforehand (``rotorcontact warmup --only studies``,
 or any earlier run); a short run loads them first so that no timing includes it.
 """
@@ -26,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing
 import os
 import time
 
@@ -60,6 +68,35 @@ def same_bits(a, b) -> bool:
     )
 
 
+def _piece(values, transient: int, record: int, barrier, results) -> None:
+    """One single-core piece of the sweep, timed after every process has loaded the kernels."""
+    numba.set_num_threads(1)
+    p = rc.Parameters.reference()
+    run = dict(mode="independent", n_transient=transient, n_record=record, progress=False)
+    sweep(p, "gamma", values[:2], **{**run, "n_transient": 10, "n_record": 10})
+    barrier.wait()
+    t0 = time.perf_counter()
+    sweep(p, "gamma", values, **run)
+    results.put(time.perf_counter() - t0)
+
+
+def ceiling(values, transient: int, record: int, processes: int) -> tuple[float, float, float]:
+    """Seconds of one piece alone and (mean over) ``processes`` at once, and the speed-up they allow."""
+    ctx = multiprocessing.get_context("spawn")
+    times = []
+    for count in (1, processes):
+        barrier, results = ctx.Barrier(count), ctx.Queue()
+        procs = [ctx.Process(target=_piece, args=(values, transient, record, barrier, results))
+                 for _ in range(count)]
+        for proc in procs:
+            proc.start()
+        times.append([results.get(timeout=3600) for _ in procs])
+        for proc in procs:
+            proc.join()
+    alone, together = times[0][0], float(np.mean(times[1]))
+    return alone, together, processes * alone / together
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=4000, help="number of gamma values")
@@ -69,6 +106,8 @@ def main() -> None:
     ap.add_argument("--record", type=int, default=1000)
     ap.add_argument("--threads", default=None, help="comma-separated thread counts (default 1, 2, 4, ... cores)")
     ap.add_argument("--executors", action="store_true", help="also joblib and a Dask LocalCluster")
+    ap.add_argument("--ceiling", action="store_true", help="first measure the machine's own ceiling")
+    ap.add_argument("--ceiling-values", type=int, default=200, help="values of each process's piece")
     args = ap.parse_args()
     cores = available_cores()
     threads = [int(t) for t in args.threads.split(",")] if args.threads else default_threads(cores)
@@ -83,6 +122,13 @@ def main() -> None:
     sweep(p, "gamma", values[:4], mode="independent", n_transient=10, n_record=10, progress=False)
 
     rows, first, base = [], None, None
+    if args.ceiling:
+        piece = sweep_values(args.lo, args.hi, args.ceiling_values)
+        alone, together, allowed = ceiling(piece, args.transient, args.record, threads[-1])
+        rows.append(dict(runner="processes", workers=threads[-1], alone_s=round(alone, 3),
+                         together_s=round(together, 3), speedup=round(allowed, 2)))
+        print(f"ceiling: one piece alone {alone:.2f} s, {threads[-1]} at once {together:.2f} s each: "
+              f"{allowed:.2f}x is what {threads[-1]} independent single-core runs reach on this machine")
     for t in threads:
         numba.set_num_threads(t)
         t0, load0 = time.perf_counter(), os.getloadavg()[0]
