@@ -35,6 +35,7 @@ import argparse
 import json
 import multiprocessing
 import os
+import queue
 import time
 
 import numba
@@ -74,7 +75,7 @@ def _piece(values, transient: int, record: int, barrier, results) -> None:
     p = rc.Parameters.reference()
     run = dict(mode="independent", n_transient=transient, n_record=record, progress=False)
     sweep(p, "gamma", values[:2], **{**run, "n_transient": 10, "n_record": 10})
-    barrier.wait()
+    barrier.wait(timeout=600)
     t0 = time.perf_counter()
     sweep(p, "gamma", values, **run)
     results.put(time.perf_counter() - t0)
@@ -90,9 +91,18 @@ def ceiling(values, transient: int, record: int, processes: int) -> tuple[float,
                  for _ in range(count)]
         for proc in procs:
             proc.start()
-        times.append([results.get(timeout=3600) for _ in procs])
+        got, deadline = [], time.monotonic() + 3600
+        while len(got) < count:
+            try:
+                got.append(results.get(timeout=1.0))
+            except queue.Empty:
+                if time.monotonic() > deadline or any(proc.exitcode not in (None, 0) for proc in procs):
+                    for proc in procs:
+                        proc.kill()
+                    raise SystemExit("--ceiling: a process failed or ran past an hour") from None
         for proc in procs:
             proc.join()
+        times.append(got)
     alone, together = times[0][0], float(np.mean(times[1]))
     return alone, together, processes * alone / together
 
