@@ -45,6 +45,7 @@ import rotorcontact as rc
 from rotorcontact.studies.execution import available_cores
 from rotorcontact.studies.sweep import sweep, sweep_values
 from memory import print_peak
+from sweep_problem import add_problem_options
 
 
 def default_threads(cores: int) -> list[int]:
@@ -109,11 +110,7 @@ def ceiling(values, transient: int, record: int, processes: int) -> tuple[float,
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--n", type=int, default=4000, help="number of gamma values")
-    ap.add_argument("--from", dest="lo", type=float, default=0.085)
-    ap.add_argument("--to", dest="hi", type=float, default=0.145)
-    ap.add_argument("--transient", type=int, default=4000)
-    ap.add_argument("--record", type=int, default=1000)
+    add_problem_options(ap, n=4000)
     ap.add_argument("--threads", default=None, help="comma-separated thread counts (default 1, 2, 4, ... cores)")
     ap.add_argument("--executors", action="store_true", help="also joblib and a Dask LocalCluster")
     ap.add_argument("--ceiling", action="store_true", help="first measure the machine's own ceiling")

@@ -34,15 +34,12 @@ import numpy as np
 import rotorcontact as rc
 from rotorcontact.studies.sweep import sweep, sweep_values
 from memory import print_peak
+from sweep_problem import add_problem_options
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--n", type=int, default=1000, help="number of gamma values")
-    ap.add_argument("--from", dest="lo", type=float, default=0.085)
-    ap.add_argument("--to", dest="hi", type=float, default=0.145)
-    ap.add_argument("--transient", type=int, default=4000)
-    ap.add_argument("--record", type=int, default=1000)
+    add_problem_options(ap, n=1000)
     ap.add_argument("--modes", default="independent,up,both")
     ap.add_argument("--n-jobs", type=int, default=None, help="joblib workers (default: in-process threads)")
     ap.add_argument("--threads", type=int, default=None, help="numba threads (default: all cores)")
