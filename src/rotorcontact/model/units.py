@@ -61,7 +61,7 @@ def quantity_in(name: str, text: str, unit: str) -> float:
     elif q.dimensionless and q.units == ureg.dimensionless and target != "dimensionless":
         q = ureg.Quantity(q.magnitude, target)
     try:
-        if target in _ANGULAR_SPEEDS and not any(name in _ANGLE_UNITS for name, _ in q.to_tuple()[1]) \
+        if target in _ANGULAR_SPEEDS and not any(unit_name in _ANGLE_UNITS for unit_name, _ in q.to_tuple()[1]) \
                 and q.check("1/[time]"):
             # a frequency such as "50 Hz" or "3000 / minute" counts revolutions
             q = q * ureg.revolution
