@@ -61,8 +61,8 @@ def quantity_in(name: str, text: str, unit: str) -> float:
     elif q.dimensionless and q.units == ureg.dimensionless and target != "dimensionless":
         q = ureg.Quantity(q.magnitude, target)
     try:
-        if target in _ANGULAR_SPEEDS and not any(unit_name in _ANGLE_UNITS for unit_name, _ in q.to_tuple()[1]) \
-                and q.check("1/[time]"):
+        unit_names = {unit_name for unit_name, _ in q.to_tuple()[1]}
+        if target in _ANGULAR_SPEEDS and not unit_names & _ANGLE_UNITS and q.check("1/[time]"):
             # a frequency such as "50 Hz" or "3000 / minute" counts revolutions
             q = q * ureg.revolution
         value = float(q.to(target).magnitude)
