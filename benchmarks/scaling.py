@@ -70,12 +70,22 @@ def same_bits(a, b) -> bool:
     )
 
 
+def run_options(transient: int, record: int) -> dict:
+    """The sweep's options: every value from rest, no progress bar."""
+    return dict(mode="independent", n_transient=transient, n_record=record, progress=False)
+
+
+def load_kernels(p, values) -> None:
+    """A short sweep, so that no timing includes loading (or compiling) the kernels."""
+    sweep(p, "gamma", values[:4], **run_options(10, 10))
+
+
 def _piece(values, transient: int, record: int, barrier, results) -> None:
     """One single-core piece of the sweep, timed after every process has loaded the kernels."""
     numba.set_num_threads(1)
     p = rc.Parameters.reference()
-    run = dict(mode="independent", n_transient=transient, n_record=record, progress=False)
-    sweep(p, "gamma", values[:2], **{**run, "n_transient": 10, "n_record": 10})
+    run = run_options(transient, record)
+    load_kernels(p, values)
     barrier.wait(timeout=600)
     t0 = time.perf_counter()
     sweep(p, "gamma", values, **run)
@@ -123,10 +133,10 @@ def main() -> None:
         raise SystemExit(f"--threads: no count between 1 and numba's {numba.config.NUMBA_NUM_THREADS} threads")
     p = rc.Parameters.reference()
     values = sweep_values(args.lo, args.hi, args.n)
-    run = dict(mode="independent", n_transient=args.transient, n_record=args.record, progress=False)
+    run = run_options(args.transient, args.record)
     print(f"cores: {cores} (os.cpu_count {os.cpu_count()}), numba threads at most {numba.config.NUMBA_NUM_THREADS}")
     print(f"gamma in [{args.lo}, {args.hi}], {args.n} values, {args.transient} + {args.record} impacts per value")
-    sweep(p, "gamma", values[:4], mode="independent", n_transient=10, n_record=10, progress=False)
+    load_kernels(p, values)
 
     rows, first, base = [], None, None
     if args.ceiling:
