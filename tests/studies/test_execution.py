@@ -110,3 +110,203 @@ def test_with_a_store_waves_read_earlier_chunks_from_it_and_memory_keeps_none(tm
     plain = {}
     assert run_waves(Echo(), iter([[Task("c", 1)]]), None, Bar(), plain) == 1
     assert plain["c"]["value"].tolist() == [1.0, 1.0]
+
+
+# ---------------------------------------------------------------------------
+# Dask clusters that cannot be used: refused in bounded time, with the cause named
+# ---------------------------------------------------------------------------
+
+
+def _raised_within(seconds, fn):
+    """The exception ``fn()`` raises, asserting it came within ``seconds`` (a hang fails, it does not block)."""
+    import threading
+
+    outcome = []
+
+    def target():
+        try:
+            fn()
+        except BaseException as exc:  # handed to the test
+            outcome.append(exc)
+        else:
+            outcome.append(None)
+
+    thread = threading.Thread(target=target, daemon=True)
+    thread.start()
+    thread.join(seconds)
+    assert outcome, f"still waiting after {seconds} s"
+    return outcome[0]
+
+
+def _server(reply):
+    """A TCP server on a free local port that answers every connection with ``reply`` (None: never answers)."""
+    import socket
+    import threading
+    import time
+
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen()
+    held = []
+
+    def serve():
+        while True:
+            try:
+                conn, _ = srv.accept()
+            except OSError:  # the server is closed
+                for conn in held:
+                    conn.close()
+                return
+            held.append(conn)
+            if reply is not None:
+                conn.sendall(reply)
+                time.sleep(0.2)
+                conn.close()
+
+    threading.Thread(target=serve, daemon=True).start()
+    return srv, f"tcp://127.0.0.1:{srv.getsockname()[1]}"
+
+
+@pytest.mark.parametrize("address, why", [
+    ("http://127.0.0.1:8786", "unknown address scheme"),
+    ("tcp://127.0.0.1", "missing port"),
+    ("tcp://127.0.0.1:port", ""),
+])
+def test_a_malformed_scheduler_address_is_refused_before_connecting(address, why):
+    with pytest.raises(ParameterError) as info:
+        make_executor(scheduler=address)
+    assert str(info.value).startswith(f"scheduler = '{address}' is not a valid address ({why}")
+
+
+@pytest.mark.parametrize("reply, why", [
+    (None, "accepts connections but does not answer as a Dask scheduler"),
+    (b"HTTP/1.0 400 Bad Request\r\n\r\n", "is not a Dask scheduler"),
+    (b"\xff" * 64, "is not a Dask scheduler"),
+])
+def test_a_service_that_is_not_a_dask_scheduler_is_refused_in_bounded_time(monkeypatch, reply, why):
+    """distributed's own handshake waits for ever on a port that accepts and never answers (a dashboard's)."""
+    from rotorcontact.studies import execution
+
+    monkeypatch.setattr(execution, "CONNECT_TIMEOUT_S", 1.0)
+    srv, address = _server(reply)
+    try:
+        exc = _raised_within(60, lambda: make_executor(scheduler=address))
+    finally:
+        srv.close()
+    assert isinstance(exc, ParameterError) and why in str(exc) and repr(address) in str(exc)
+
+
+@pytest.fixture
+def tcp_cluster():
+    """An in-process LocalCluster on TCP, with one worker, and a factory of more such clusters."""
+    from distributed import LocalCluster
+
+    clusters = []
+
+    def make(n_workers):
+        cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=False, protocol="tcp",
+                               dashboard_address=None)
+        clusters.append(cluster)
+        return cluster
+
+    yield make
+    for cluster in clusters:
+        cluster.close()
+
+
+def test_a_workers_address_and_a_cluster_without_workers_are_refused(monkeypatch, tcp_cluster):
+    from rotorcontact.studies import execution
+
+    monkeypatch.setattr(execution, "CONNECT_TIMEOUT_S", 1.0)
+    worker = next(iter(tcp_cluster(1).workers.values())).address
+    with pytest.raises(ParameterError) as info:
+        make_executor(scheduler=worker)
+    assert str(info.value).startswith(f"scheduler = '{worker}' is a Dask worker, not a Dask scheduler")
+    empty = tcp_cluster(0).scheduler_address
+    exc = _raised_within(60, lambda: make_executor(scheduler=empty))
+    assert isinstance(exc, ParameterError) and "has no workers (none joined within 1 s)" in str(exc)
+
+
+def test_workers_must_run_this_version_of_rotorcontact(monkeypatch, tcp_cluster):
+    from distributed import Client
+
+    from rotorcontact import __version__
+    from rotorcontact.studies import execution
+
+    address = tcp_cluster(1).scheduler_address
+    executor = make_executor(scheduler=address)  # the same package in the workers: accepted
+    executor.close()
+    monkeypatch.setattr(execution, "_worker_version", lambda: "0.0.0")
+    with pytest.raises(ParameterError, match=f"must run rotorcontact {__version__}, .*has 0.0.0"):
+        make_executor(scheduler=address)
+
+    def missing():
+        raise ModuleNotFoundError("No module named 'rotorcontact'")
+
+    monkeypatch.setattr(execution, "_worker_version", missing)
+    with Client(address) as client:  # a client of the user's is checked too, and left open
+        with pytest.raises(ParameterError, match="workers cannot run rotorcontact .*No module named"):
+            make_executor(scheduler=client)
+        assert client.status == "running"
+
+
+def test_a_study_stops_when_its_cluster_has_no_workers_left(monkeypatch, tcp_cluster, tmp_path):
+    """A cluster whose workers have left keeps the chunks waiting for ever: the study stops instead."""
+    from distributed import Client
+
+    from rotorcontact.model.params import Parameters
+    from rotorcontact.studies import execution
+    from rotorcontact.studies.sweep import sweep
+
+    monkeypatch.setattr(execution, "NO_WORKERS_TIMEOUT_S", 0.5)
+    monkeypatch.setattr(execution, "_WORKER_POLL_S", 0.2)
+    with Client(tcp_cluster(0).scheduler_address) as client:
+        exc = _raised_within(60, lambda: sweep(Parameters.reference(), "gamma", [0.1, 0.11], scheduler=client,
+                                                n_transient=1, n_record=1, progress=False))
+    assert isinstance(exc, RuntimeError) and "has had no workers for 0.5 s" in str(exc)
+
+
+def test_a_cluster_that_cannot_be_used_leaves_no_chunk_folder(tmp_path):
+    from rotorcontact.model.params import Parameters
+    from rotorcontact.studies.sweep import sweep
+
+    with pytest.raises(ParameterError, match="not a valid address"):
+        sweep(Parameters.reference(), "gamma", [0.1, 0.11], scheduler="tcp://127.0.0.1", n_transient=1,
+              n_record=1, progress=False, out=tmp_path / "s.nc")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_chunks_cancelled_on_the_cluster_stop_the_study_with_an_error(monkeypatch, tcp_cluster):
+    """Chunks cancelled on the cluster (as when the client loses its scheduler) end the study with a RuntimeError."""
+    import threading
+    import time
+
+    from distributed import Client
+
+    from rotorcontact.model.params import Parameters
+    from rotorcontact.studies import execution
+    from rotorcontact.studies.sweep import sweep
+
+    made = []
+
+    class Recorded(execution.DaskExecutor):
+        """The study's executor, recorded so that its tasks can be cancelled from outside."""
+
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            made.append(self)
+
+    monkeypatch.setattr(execution, "DaskExecutor", Recorded)
+    with Client(tcp_cluster(0).scheduler_address) as client:  # no workers: the chunks wait until cancelled
+
+        def cancel_once_sent():
+            for _ in range(600):
+                if made and made[0]._futures:
+                    client.cancel(made[0]._futures)
+                    return
+                time.sleep(0.05)
+
+        threading.Thread(target=cancel_once_sent, daemon=True).start()
+        exc = _raised_within(60, lambda: sweep(Parameters.reference(), "gamma", [0.1, 0.11], scheduler=client,
+                                                n_transient=1, n_record=1, progress=False))
+    assert isinstance(exc, RuntimeError) and "cancelled the study's chunks" in str(exc)

@@ -138,15 +138,17 @@ def run_study(
             return StudyRun(dataset=finished, path=out, chunk_size=used, chunks_computed=0,
                             chunks_reused=len(keys(used)), impacts_simulated=dataset_impacts(finished),
                             reused_file=True)
-        # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
-        store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
-        chunk_size = int(store.layout["chunk_size"])
-    reused = sum(store.done(k) for k in keys(chunk_size)) if store is not None else 0
-    # results held in memory only without a store; with one, each wave is built from the stored chunks
-    sink = {} if store is None else StoredChunks(store, keys(chunk_size))
-    with make_executor(n_jobs, scheduler, processes=processes) as executor, \
-            progress_bar(n_items, desc, progress) as bar:
-        computed = run_waves(executor, waves(chunk_size, sink), store, bar, sink)
+    # the executor first: a cluster that cannot be used leaves no chunk folder behind
+    with make_executor(n_jobs, scheduler, processes=processes) as executor:
+        if out is not None:
+            # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
+            store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
+            chunk_size = int(store.layout["chunk_size"])
+        reused = sum(store.done(k) for k in keys(chunk_size)) if store is not None else 0
+        # results held in memory only without a store; with one, each wave is built from the stored chunks
+        sink = {} if store is None else StoredChunks(store, keys(chunk_size))
+        with progress_bar(n_items, desc, progress) as bar:
+            computed = run_waves(executor, waves(chunk_size, sink), store, bar, sink)
     # assemble from the chunk files when there are any, so that a resumed run is identical
     ds, impacts = assemble(chunk_size, store.load if store is not None else sink.__getitem__)
     ds.attrs["study_digest"] = digest

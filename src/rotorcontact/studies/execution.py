@@ -12,7 +12,11 @@ executor runs them:
 * ``n_jobs=N``: N joblib worker processes, one core each;
 * ``scheduler="local"`` (a `distributed.LocalCluster` started and stopped here)
   or ``scheduler="tcp://host:port"`` (an existing Dask cluster, whose workers
-  must have rotorcontact installed).
+  must have the same version of rotorcontact installed: `check_workers`).
+
+Nothing waits on a cluster for ever: a scheduler must answer within
+`CONNECT_TIMEOUT_S` and have a worker within as long again, and a study whose
+cluster has had no worker for `NO_WORKERS_TIMEOUT_S` stops with an error.
 
 Worker processes on this machine are at most as many as its cores
 (`available_cores`): more would only share the cores and multiply the memory.
@@ -37,12 +41,15 @@ import hashlib
 import json
 import logging
 import os
+import queue
 import shutil
 import signal
 import sys
 import tempfile
 import threading
+import time
 import warnings
+from concurrent.futures import CancelledError
 from dataclasses import dataclass, field
 from pathlib import Path
 from collections.abc import Mapping, MutableMapping
@@ -54,10 +61,17 @@ from .batch import BatchSettings, run_lanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
 
-__all__ = ["ChunkTask", "ChunkStore", "StoredChunks", "available_cores", "local_workers", "make_executor", "progress_bar", "run_task",
-           "study_digest", "write_netcdf", "read_finished"]
+__all__ = ["ChunkTask", "ChunkStore", "StoredChunks", "available_cores", "check_workers", "local_workers",
+           "make_executor", "progress_bar", "run_task", "study_digest", "write_netcdf", "read_finished"]
 
 STORE_FORMAT = 2
+
+#: Seconds a Dask scheduler has to answer, and then to have its first worker.
+CONNECT_TIMEOUT_S = 20.0
+#: Seconds a study waits on a Dask cluster without workers before it stops.
+NO_WORKERS_TIMEOUT_S = 60.0
+#: Seconds between two looks at a cluster's workers while no chunk finishes.
+_WORKER_POLL_S = 5.0
 
 
 @dataclass(frozen=True)
@@ -331,6 +345,7 @@ class DaskExecutor(_Executor):
         self._own_client = True
         self._futures: list[Any] = []
         self._workers: list[Any] = []
+        self._where = repr(scheduler) if isinstance(scheduler, str) else "the client's cluster"
         self.client = None
         if isinstance(scheduler, Client):
             self.client = scheduler
@@ -352,22 +367,69 @@ class DaskExecutor(_Executor):
                 self.close(abort=True)
                 raise
         elif isinstance(scheduler, str) and "://" in scheduler:
+            workers = _scheduler_workers(scheduler)
             try:
-                self.client = Client(scheduler, timeout="20s")
+                self.client = Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s")
             except (OSError, TimeoutError) as exc:
                 raise ParameterError(f"scheduler = {scheduler!r}: cannot connect ({exc})") from None
+            try:
+                if not workers:
+                    try:
+                        self.client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
+                    except TimeoutError:
+                        raise ParameterError(
+                            f"scheduler = {scheduler!r} has no workers (none joined within {CONNECT_TIMEOUT_S:g} s); "
+                            f"start them with: dask worker {scheduler}"
+                        ) from None
+                check_workers(self.client, self._where)
+            except BaseException:
+                self.close(abort=True)
+                raise
         else:
             raise ParameterError(
                 f"scheduler = {scheduler!r} is invalid; allowed: 'local' or an address such as tcp://host:8786"
             )
+        if not self._own_client:
+            check_workers(self.client, self._where)
 
     def run(self, tasks):
-        from distributed import as_completed
+        from distributed import KilledWorker
 
         futures = self.client.map(_indexed, range(len(tasks)), tasks, pure=False)
         self._futures = futures
-        for fut in as_completed(futures):
-            yield fut.result()
+        finished: queue.Queue = queue.Queue()
+        for fut in futures:
+            fut.add_done_callback(finished.put)
+        no_workers_since = None
+        for _ in range(len(futures)):
+            while True:
+                try:
+                    fut = finished.get(timeout=_WORKER_POLL_S)
+                    break
+                except queue.Empty:
+                    # a cluster whose workers have all left (or never came) would keep the chunks for ever
+                    if _has_workers(self.client):
+                        no_workers_since = None
+                    elif no_workers_since is None:
+                        no_workers_since = time.monotonic()
+                    elif time.monotonic() - no_workers_since > NO_WORKERS_TIMEOUT_S:
+                        raise RuntimeError(
+                            f"the Dask cluster ({self._where}) has had no workers for {NO_WORKERS_TIMEOUT_S:g} s: "
+                            "they left or failed (see their logs); the chunks already written are resumed "
+                            "when the study is run again"
+                        )
+            try:
+                result = fut.result()
+            except KilledWorker as exc:
+                raise RuntimeError(
+                    f"the Dask workers that ran a chunk died ({exc}); see their logs (memory limit, crash)"
+                ) from None
+            except CancelledError as exc:  # the scheduler was lost, or the tasks cancelled on the cluster
+                raise RuntimeError(
+                    f"the Dask cluster ({self._where}) cancelled the study's chunks ({exc}); the chunks already "
+                    "written are resumed when the study is run again"
+                ) from None
+            yield result
         for fut in futures:
             fut.release()
         self._futures = []
@@ -396,6 +458,139 @@ class DaskExecutor(_Executor):
                     self._cluster.close(timeout=10)
         finally:
             quiet.setLevel(level)
+
+
+def _has_workers(client: Any) -> bool:
+    """Whether the cluster of ``client`` has a worker (False where its scheduler cannot be asked)."""
+    try:
+        return bool(client.nthreads())
+    except OSError:
+        return False
+
+
+def _scheduler_identity(address: str, timeout: float) -> Any:
+    """The answer of the Dask scheduler at ``address`` to ``identity``, within ``timeout`` seconds.
+
+    Asked in a thread of its own, on an event loop of its own (the caller may
+    run one, as a notebook does), and bounded as a whole: distributed's own
+    connection waits for ever for the handshake of a service that accepts the
+    connection but never answers (a dashboard's port, for example).
+    """
+    import asyncio
+
+    from distributed.comm import connect
+    from distributed.security import Security
+
+    # the client's connection arguments (TLS certificates) from the Dask configuration, as Client takes them
+    arguments = Security().get_connection_args("client")
+
+    async def ask() -> Any:
+        comm = await connect(address, timeout=timeout, **arguments)
+        try:
+            await comm.write({"op": "identity"})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    async def bounded() -> Any:
+        # connect's own timeout (an OSError) covers a host that does not accept the connection,
+        # this one a service that accepts it and does not answer
+        return await asyncio.wait_for(ask(), timeout + 5.0)
+
+    answer: queue.Queue = queue.Queue()
+
+    def target() -> None:
+        try:
+            answer.put((True, asyncio.run(bounded())))
+        except BaseException as exc:  # handed to the caller
+            answer.put((False, exc))
+
+    threading.Thread(target=target, name="rotorcontact-scheduler-identity", daemon=True).start()
+    try:
+        ok, value = answer.get(timeout=timeout + 10.0)
+    except queue.Empty:
+        raise TimeoutError(f"no answer within {timeout + 10.0:g} s") from None
+    if not ok:
+        raise value
+    return value
+
+
+def _scheduler_workers(address: str) -> int:
+    """The number of workers of the Dask scheduler at ``address``; a `ParameterError` where none answers.
+
+    Raises
+    ------
+    ParameterError
+        On an address distributed cannot read, a host that cannot be
+        reached, or a service that is not a Dask scheduler.
+    """
+    from distributed.comm.addressing import parse_address, parse_host_port
+    from distributed.comm.registry import get_backend
+
+    try:  # distributed's own reading of the address: a known scheme, and a port where it needs one
+        scheme, location = parse_address(address)
+        get_backend(scheme)
+        if scheme in ("tcp", "tls"):
+            parse_host_port(location)
+    except ValueError as exc:
+        raise ParameterError(
+            f"scheduler = {address!r} is not a valid address ({exc}); allowed: 'local' or an address such as "
+            "tcp://host:8786"
+        ) from None
+    try:
+        identity = _scheduler_identity(address, CONNECT_TIMEOUT_S)
+    except TimeoutError:
+        raise ParameterError(
+            f"scheduler = {address!r}: it accepts connections but does not answer as a Dask "
+            "scheduler (the scheduler listens on 8786 by default; 8787 is its dashboard)"
+        ) from None
+    except OSError as exc:
+        raise ParameterError(f"scheduler = {address!r}: cannot connect ({exc})") from None
+    except Exception as exc:  # an answer in another protocol cannot be decoded, in any of many ways
+        raise ParameterError(
+            f"scheduler = {address!r} is not a Dask scheduler (its answer could not be read: {type(exc).__name__})"
+        ) from None
+    kind = identity.get("type") if isinstance(identity, dict) else None
+    if kind != "Scheduler":
+        what = f"a Dask {kind.lower()}" if kind in ("Worker", "Nanny") else "not a Dask scheduler"
+        raise ParameterError(f"scheduler = {address!r} is {what}, not a Dask scheduler; give the scheduler's address")
+    return len(identity.get("workers") or ())
+
+
+def _worker_version() -> str:
+    """The version of rotorcontact in a worker (run there by `check_workers`)."""
+    from .. import __version__
+
+    return __version__
+
+
+def check_workers(client: Any, where: str) -> None:
+    """Check that every worker of ``client`` runs this version of rotorcontact.
+
+    A worker without the package would fail on its first chunk and leave
+    the study waiting; one with another version could compute other results.
+
+    Raises
+    ------
+    ParameterError
+        Naming the workers concerned and their version, or the error of those
+        that cannot import the package.
+    """
+    from .. import __version__
+
+    try:
+        versions = client.run(_worker_version)
+    except Exception as exc:  # a worker that cannot import rotorcontact (or cannot run it)
+        raise ParameterError(
+            f"scheduler = {where}: its workers cannot run rotorcontact ({type(exc).__name__}: {exc}); "
+            f"install rotorcontact {__version__} on every worker"
+        ) from None
+    other = {worker: version for worker, version in versions.items() if version != __version__}
+    if other:
+        listed = ", ".join(f"{worker} has {version}" for worker, version in sorted(other.items()))
+        raise ParameterError(
+            f"scheduler = {where}: its workers must run rotorcontact {__version__}, as this process does: {listed}"
+        )
 
 
 def local_workers(n_jobs: int) -> tuple[int, bool]:
