@@ -19,7 +19,7 @@ def test_speed_map_writes_png_nc_and_table(tmp_path, cli):
 
 
 def test_json_contract(cli):
-    data = cli.json("design-map", "--machine", "reference", "--speed", "1500:2500", "--n", "5")
+    data = cli.json("design-map", "--machine", "reference", "--speed", "1500:2500rpm", "--n", "5")
     assert len(data["points"]) == 5
     for pt in data["points"]:
         for key in ("speed_rpm", "gamma", "omega", "regime", "coexisting"):
@@ -58,8 +58,9 @@ def test_machine_file_with_units_and_plane(tmp_path, cli):
         (["--machine", "reference", "--speed", "1000:6000wombats"], "unknown unit"),
         (["--machine", "reference", "--speed", "1000:6000kg"], "units of"),
         (["--machine", "reference"], "choose the map"),
-        (["--speed", "1000:2000"], "no machine"),
-        (["--machine", "nosuchfile.toml", "--speed", "1000:2000"], "no such file"),
+        (["--machine", "reference", "--speed", "1000:2000"], "--speed = '2000' has no unit"),
+        (["--speed", "1000:2000rpm"], "no machine"),
+        (["--machine", "nosuchfile.toml", "--speed", "1000:2000rpm"], "no such file"),
     ],
 )
 def test_bad_input_exits_2_without_traceback(args, fragment, cli):

@@ -173,3 +173,22 @@ def test_a_simulation_that_fails_for_real_exits_1(capsys):
     assert main(["simulate", "--gamma=-1e6", "--t-end", "5"]) == 1
     out, err = capsys.readouterr()
     assert "regime: none" in out and "failed" in err
+
+
+@pytest.mark.parametrize(
+    "args, option, value",
+    [
+        (("drop", "reference", "--speed", "30000"), "--speed", "30000"),
+        (("dry-whip", "reference", "--speed", "30000"), "--speed", "30000"),
+        (("drop-map", "reference", "--speed", "10000:30000", "--out", "/tmp/never"), "--speed", "30000"),
+        (("design-map", "--machine", "reference", "--speed", "1000:6000"), "--speed", "6000"),
+        (("attractors", "--machine", "reference", "--param", "speed", "--from", "3000", "--to", "6000rpm", "--n", "3",
+          "--grid", "shock:4", "--out", "/tmp/never.nc"), "--from", "3000"),
+    ],
+)
+def test_a_bare_speed_is_refused_not_guessed(args, option, value, cli):
+    """A bare 30000 could be rpm or rad/s, a factor of ten apart: every speed option asks for the unit."""
+    code, _, err = cli.exe(*args, timeout=300)
+    assert code == 2, err
+    assert f"{option} = '{value}' has no unit; allowed: an angular speed with its unit" in err
+    assert "Traceback" not in err

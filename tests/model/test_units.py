@@ -7,7 +7,7 @@ import math
 import pytest
 
 from rotorcontact import Machine, ParameterError, load_machine
-from rotorcontact.model.units import quantity_in
+from rotorcontact.model.units import option_quantity, quantity_in
 from reference_parameters import REF_MACHINE
 
 
@@ -37,7 +37,9 @@ def test_conversions_match_hand_computation(text, unit, expected):
     [
         ("0.7 furlongz", "m", "unknown unit"),
         ("0.7 kg", "m", "units of [mass]"),
-        ("fast", "rad/s", "unknown unit"),
+        ("fast", "rad/s", "has no number"),
+        ("rpm", "rad/s", "has no number"),                 # pint alone reads it as 1 rpm
+        ("m", "m", "has no number"),
         ("1 rpm rpm +", "rad/s", "not a quantity"),
         ("inf m", "m", "not finite"),
     ],
@@ -98,7 +100,23 @@ def test_bad_machine_files_are_rejected(tmp_path, old, new, fragment):
         ("50 rev/s", "rpm", 3000.0),
         ("3000 / minute", "rad/s", 100 * math.pi),
         ("360 deg/s", "rad/s", 2 * math.pi),        # an angular speed stays one
+        ("3 krpm", "rpm", 3000.0),                  # prefixed angular speeds stay ones too
+        ("3 krpm", "rad/s", 100 * math.pi),
+        ("0.003 Mrpm", "rad/s", 100 * math.pi),
+        ("0.05 kHz", "rpm", 3000.0),                # and prefixed frequencies count revolutions
+        ("400 grad/s", "rad/s", 2 * math.pi),
     ],
 )
 def test_rotation_frequencies_count_revolutions(text, unit, expected):
     assert quantity_in("speed", text, unit) == pytest.approx(expected, rel=1e-14)
+
+
+@pytest.mark.parametrize("unit", ["rad/s", "rpm"])
+def test_an_options_angular_speed_must_carry_its_unit(unit):
+    """A bare --speed 30000 could mean rpm or rad/s: it is refused; with a unit it is converted."""
+    with pytest.raises(ParameterError) as err:
+        option_quantity("--speed", "30000", unit)
+    assert str(err.value).startswith("--speed = '30000' has no unit; allowed: an angular speed with its unit")
+    assert option_quantity("--speed", "3000rpm", unit) == quantity_in("--speed", "3000rpm", unit)
+    # other quantities of an option may be bare, in their unit
+    assert option_quantity("--t-end", "2", "s") == 2.0

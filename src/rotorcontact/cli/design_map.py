@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import ParameterError
 from ..model.params import load_machine
-from ..model.units import quantity_in
+from ..model.units import option_quantity, quantity_in
 from .options import json_result, parse_int, print_json
 from .outputs import check_output_folder
 from .scale import add_executor_options, executor_kwargs
@@ -64,14 +64,14 @@ def parse_range(option: str, text: str, unit: str) -> tuple[float, float]:
         head = end.rstrip("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ/* ")
         if end.lower().startswith(("nan", "inf", "-inf", "+inf")) or head.lower() in ("nan", "inf", "-inf", "+inf"):
             raise ParameterError(f"--{option} = {text!r}: {end!r} is not finite; allowed: finite values")
-    b = quantity_in(f"--{option}", b_text, unit)
+    b = option_quantity(f"--{option}", b_text, unit)
     try:
         float(a_text)
         suffix = b_text.lstrip("0123456789.eE+- ")
         a_text = a_text + suffix
     except ValueError:
         pass
-    a = quantity_in(f"--{option}", a_text, unit)
+    a = option_quantity(f"--{option}", a_text, unit)
     if not a < b:
         raise ParameterError(f"--{option} = {text!r}: the range must increase (A < B)")
     low, strict = (0.0, option != "damping")
@@ -107,16 +107,7 @@ def _count(text: str, shock: bool = False) -> int:
 
 def _shock(text: str) -> float:
     """The velocity disturbance of ``--shock`` in m/s; its unit must be written."""
-    try:
-        float(text)
-    except ValueError:
-        pass
-    else:
-        raise ParameterError(
-            f"--shock = {text!r} has no unit; allowed: a speed > 0 with its unit, such as 5mm/s or 0.005m/s "
-            "(a disturbance of the rotor's velocity)"
-        )
-    shock = quantity_in("--shock", text, "m/s")
+    shock = quantity_in("--shock", text, "m/s", unit_required=True)
     if shock <= 0 or shock > MAX_SHOCK:
         raise ParameterError(
             f"--shock = {text!r} is out of range; allowed: a speed > 0 and at most {MAX_SHOCK:g} m/s, such as 5mm/s "

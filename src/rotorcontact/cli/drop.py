@@ -7,7 +7,7 @@ import sys
 
 from ..errors import ParameterError
 from ..model.params import load_machine
-from ..model.units import quantity_in
+from ..model.units import option_quantity, quantity_in
 from .outputs import check_plot_path
 from .options import parse_int, print_json
 
@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     from ..simulation.drop_run import RPM, drop
 
     machine = load_machine(args.machine)
-    speed = None if args.speed is None else quantity_in("--speed", args.speed, "rad/s")
+    speed = None if args.speed is None else option_quantity("--speed", args.speed, "rad/s")
     fail_at = parse_time("fail-at", args.fail_at)
     t_end = parse_time("t-end", args.t_end)
     if not 0.0 < t_end <= MAX_T_END:

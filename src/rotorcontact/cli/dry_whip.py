@@ -6,7 +6,7 @@ import argparse
 
 from ..errors import ParameterError
 from ..model.params import load_machine
-from ..model.units import quantity_in
+from ..model.units import option_quantity
 from .options import print_json
 
 BEARINGS = ("failed", "acting")
@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"--bearing = {args.bearing!r}; allowed: {', '.join(BEARINGS)}")
     try:
         if args.speed is not None:
-            machine = machine.with_speed(quantity_in("--speed", args.speed, "rad/s"))
+            machine = machine.with_speed(option_quantity("--speed", args.speed, "rad/s"))
         whip = steady_dry_whip(machine, bearing_failed=args.bearing == "failed")
     except ParameterError as exc:
         raise ParameterError(str(exc).replace("bearing_failed = False", "--bearing = acting")

@@ -279,7 +279,7 @@ def parameter_values(args: argparse.Namespace, params: Parameters, machine: Mach
 
     import numpy as np
 
-    from ..model.units import quantity_in
+    from ..model.units import option_quantity
     from ..studies.parameter_path import parameter_path
 
     param = args.param
@@ -291,7 +291,7 @@ def parameter_values(args: argparse.Namespace, params: Parameters, machine: Mach
             raise ParameterError(f"--param = {param!r} is a machine quantity; allowed with --machine only "
                                  f"(model parameters: {', '.join(PARAM_NAMES)})")
         unit = Machine.units()[param]
-        a, b = quantity_in("--from", args.start_value, unit), quantity_in("--to", args.stop_value, unit)
+        a, b = option_quantity("--from", args.start_value, unit), option_quantity("--to", args.stop_value, unit)
     else:
         raise ParameterError(f"--param = {param!r} is invalid; allowed: {', '.join(PARAM_NAMES)}, or with "
                              f"--machine {', '.join(machine_fields)}")

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import math
+import re
 from functools import lru_cache
 
 from ..errors import ParameterError
 
-__all__ = ["quantity_in", "registry", "RPM"]
+__all__ = ["option_quantity", "quantity_in", "registry", "RPM"]
 
 #: rad/s per rpm.
 RPM = 2.0 * math.pi / 60.0
@@ -16,12 +17,14 @@ RPM = 2.0 * math.pi / 60.0
 _PINT_SPELLING = {"1": "dimensionless", "N s/m": "N*s/m", "rad/s": "rad/s"}
 
 
-# angle units: a speed written with one of these is an angular speed; without, a frequency in cycles
-_ANGLE_UNITS = {"radian", "degree", "revolution", "rev", "turn", "revolutions_per_minute", "revolutions_per_second",
-                "cycle", "arcminute", "arcsecond", "gradian"}
-
-
 _ANGULAR_SPEEDS = {"rad/s", "rpm"}
+
+# what a quantity of a unit is, and how one is written, for the message asking for its unit
+_WRITTEN = {"rad/s": ("an angular speed", "12000rpm or 1250rad/s"), "rpm": ("an angular speed", "12000rpm or 1250rad/s"),
+            "m/s": ("a speed", "5mm/s or 0.005m/s")}
+
+# a quantity's text starts with its magnitude (pint alone would read "rpm" as 1 rpm)
+_MAGNITUDE = re.compile(r"\s*[-+]?(\d|\.\d|nan|inf)", re.IGNORECASE)
 
 
 @lru_cache(maxsize=1)
@@ -35,19 +38,37 @@ def registry():
     return ureg
 
 
-def quantity_in(name: str, text: str, unit: str) -> float:
+def _has_angle(q) -> bool:
+    """Whether the units of ``q`` hold an angle (rad, degree, revolution, rpm, krpm, ...), read from its root units."""
+    return any(name == "radian" for name, _ in q.to_root_units().to_tuple()[1])
+
+
+def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False) -> float:
     """Parse ``text`` (for example ``"0.7 mm"``) and return its magnitude in ``unit``.
 
-    A bare number is taken to be in ``unit`` already.
+    A bare number is taken to be in ``unit`` already, unless ``unit_required``.
+    For an angular speed (``unit`` rad/s or rpm), a frequency without an angle
+    (``"50 Hz"``, ``"3000/min"``) counts revolutions.
 
     Raises
     ------
     ParameterError
-        For a malformed quantity, an unknown unit, units of the wrong
+        For a malformed quantity, one without a number (or, with
+        ``unit_required``, without a unit), an unknown unit, units of the wrong
         dimension, or a non-finite value.
     """
     import pint
 
+    if not _MAGNITUDE.match(text):
+        raise ParameterError(f"{name} = {text!r} has no number; expected a number with units of {unit}")
+    if unit_required:
+        try:
+            float(text)
+        except ValueError:
+            pass
+        else:
+            what, example = _WRITTEN.get(unit, ("a quantity", f"a number followed by {unit}"))
+            raise ParameterError(f"{name} = {text!r} has no unit; allowed: {what} with its unit, such as {example}")
     ureg = registry()
     target = _PINT_SPELLING.get(unit, unit)
     try:
@@ -61,8 +82,7 @@ def quantity_in(name: str, text: str, unit: str) -> float:
     elif q.dimensionless and q.units == ureg.dimensionless and target != "dimensionless":
         q = ureg.Quantity(q.magnitude, target)
     try:
-        unit_names = {unit_name for unit_name, _ in q.to_tuple()[1]}
-        if target in _ANGULAR_SPEEDS and not unit_names & _ANGLE_UNITS and q.check("1/[time]"):
+        if target in _ANGULAR_SPEEDS and q.check("1/[time]") and not _has_angle(q):
             # a frequency such as "50 Hz" or "3000 / minute" counts revolutions
             q = q * ureg.revolution
         value = float(q.to(target).magnitude)
@@ -73,3 +93,12 @@ def quantity_in(name: str, text: str, unit: str) -> float:
     if not math.isfinite(value):
         raise ParameterError(f"{name} = {text!r} is not finite; a finite quantity in {unit} is required")
     return value
+
+
+def option_quantity(option: str, text: str, unit: str) -> float:
+    """A command-line option's quantity in ``unit``, as `quantity_in`; an angular speed must carry its unit.
+
+    A bare ``--speed 30000`` is as likely meant in rpm as in rad/s, a factor of
+    ten apart: it is refused rather than guessed. Other bare numbers are in ``unit``.
+    """
+    return quantity_in(option, text, unit, unit_required=unit in _ANGULAR_SPEEDS)
