@@ -192,3 +192,9 @@ def test_a_bare_speed_is_refused_not_guessed(args, option, value, cli):
     assert code == 2, err
     assert f"{option} = '{value}' has no unit; allowed: an angular speed with its unit" in err
     assert "Traceback" not in err
+
+
+def test_a_dimensionless_option_with_units_says_it_takes_none(cli):
+    code, _, err = cli.exe("simulate", "--t-end", "10s", timeout=300)
+    assert code == 2 and "Traceback" not in err
+    assert "--t-end = '10s' is not a number; allowed: a plain number without units" in err

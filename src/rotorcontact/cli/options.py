@@ -78,7 +78,10 @@ def parse_float(
     try:
         value = float(text)
     except ValueError:
-        raise ParameterError(f"{option} = {text!r} is not a number") from None
+        raise ParameterError(
+            f"{option} = {text!r} is not a number; allowed: a plain number without units (the model's "
+            "times and parameters are dimensionless: one forcing period is a time of 2 pi, MODEL.md)"
+        ) from None
     if not math.isfinite(value):
         raise ParameterError(f"{option} = {text!r} is not finite; a finite number is required")
     if low is not None or high is not None:
