@@ -121,3 +121,65 @@ def test_drop_to_rest_reports_the_time_and_stops_there(cli, tmp_path):
     # all the spin had and the fall to the bottom, dissipated (to the rest energy and the race's own)
     start = 0.5 * 0.04 * (1000 * RPM) ** 2 + 50.0 * 9.81 * 0.7e-3
     assert summary["energy_dissipated_J"] == pytest.approx(start, rel=1e-6)
+
+
+def _file(tmp_path, name, *lines):
+    path = tmp_path / name
+    path.write_text(GENERAL + "\n".join(lines) + "\n")
+    return str(path)
+
+
+def test_drop_names_the_static_sag_not_the_speed(cli, tmp_path):
+    """A static force whose sag (F_s - m g)/k_y passes the clearance is no fault of the speed."""
+    code, out, err = cli.run("drop", _file(tmp_path, "sf.toml", "static_force = 1e4"))
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert "static_force = 10000 N" in err and "speed =" not in err
+    sag = (1e4 - 50.0 * 9.81) / 9.8e5
+    assert f"{sag:.4g} m" in err and f"{9.8e5 * 0.7e-3:.4g} N" in err
+
+
+def test_drop_whirl_outside_a_tiny_clearance_names_the_clearance(cli, tmp_path):
+    path = _file(tmp_path, "nm.toml")
+    text = open(path).read().replace('clearance = "0.7 mm"', "clearance = 1e-9")
+    open(path, "w").write(text)
+    code, _out, err = cli.run("drop", path)
+    assert code == 2 and "clearance = 1e-09 m" in err and "speed = 1759 rpm" in err and "--speed" not in err
+    code, _out, err = cli.run("drop", path, "--speed", "1000rpm")
+    assert code == 2 and "--speed = 1000 rpm" in err
+
+
+@pytest.mark.parametrize("lines, word", [
+    (["gravity = 1e300"], "gravity = 1e+300"),
+    (['contact = "compliant"', "contact_stiffness = 1e300"], "contact_stiffness = 1e+300"),
+])
+def test_drop_refuses_absurd_machine_values(cli, tmp_path, lines, word):
+    text = GENERAL.replace('gravity = "9.81 m/s^2"\n', "")
+    path = tmp_path / "bad.toml"
+    path.write_text(text + "\n".join(lines) + "\n")
+    code, out, err = cli.run("drop", str(path))
+    assert code == 2 and out == "" and word in err and "allowed" in err and len(err.strip().splitlines()) == 1
+
+
+def test_drop_refuses_an_absurd_speed(cli, machine_file):
+    code, _out, err = cli.run("drop", machine_file, "--speed", "1e30rpm")
+    assert code == 2 and "--speed = " in err and "allowed: (0, 1e+06]" in err
+
+
+def test_simulate_overridden_general_machine_says_its_keys_are_ignored(cli, machine_file):
+    code, out, err = cli.run("simulate", "--machine", machine_file, "--gamma", "0.1", "--t-end", "20", "--json")
+    assert code == 0
+    assert "gravity, polar_inertia are ignored" in err and "paper's dimensionless model" in err
+    data = cli.loads(out)
+    assert data["model"] == "paper" and data["ignored_machine_keys"] == ["gravity", "polar_inertia"]
+    # the plain machine has nothing to ignore: no note, no new keys
+    code, out, err = cli.run("simulate", "--machine", "reference", "--gamma", "0.1", "--t-end", "20", "--json")
+    assert code == 0 and "ignored" not in err and "ignored_machine_keys" not in cli.loads(out)
+
+
+def test_design_map_says_it_ignores_gravity_and_polar_inertia(cli, machine_file):
+    code, out, err = cli.run("design-map", machine_file, "--speed", "5000:30000rpm", "--n", "3", "--json")
+    assert code == 0 and "design-map computes on the paper's dimensionless model" in err
+    data = cli.loads(out)
+    assert data["model"] == "paper" and data["ignored_machine_keys"] == ["gravity", "polar_inertia"]
+    code, _out, err = cli.run("design-map", machine_file, "--speed", "5000:30000rpm", "--n", "3")
+    assert code == 0 and "gravity, polar_inertia are ignored" in err

@@ -56,7 +56,7 @@ def test_general_keys_in_si_with_units(tmp_path):
 
 
 @pytest.mark.parametrize("key, value, allowed", [
-    ("stiffness_x", 0.0, "(0, inf)"), ("damping_y", -1.0, "[0, inf)"), ("gravity", -9.81, "[0, inf)"),
+    ("stiffness_x", 0.0, "(0, inf)"), ("damping_y", -1.0, "[0, inf)"), ("gravity", -9.81, "[0, 1e+06]"),
     ("polar_inertia", 0.0, "(0, inf)"), ("race_drag_torque", -1.0, "[0, inf)"),
 ])
 def test_general_keys_out_of_range(key, value, allowed):
@@ -82,3 +82,27 @@ def test_static_force_given_is_used_and_wrong_units_refused(tmp_path):
     path.write_text(TOML_GENERAL.replace('gravity = "9.81 m/s^2"', 'gravity = "9.81 m"'))
     with pytest.raises(ParameterError, match="gravity"):
         load_machine(path)
+
+
+@pytest.mark.parametrize("changes, word", [
+    ({"gravity": 1e300}, "gravity = 1e+300 is out of range; allowed: [0, 1e+06]"),
+    ({"speed": 1e29}, "speed = 1e+29 is out of range; allowed: (0, 1e+06]"),
+    ({"contact": "compliant", "contact_stiffness": 1e300}, "contact_stiffness = 1e+300 N/m^1.5 is out of range"),
+])
+def test_absurd_machine_values_are_refused_by_name(changes, word):
+    from rotorcontact import Machine, ParameterError, reference_machine
+
+    with pytest.raises(ParameterError) as err:
+        Machine(**{**reference_machine().as_dict(), **changes})
+    assert word in str(err.value) and "allowed" in str(err.value)
+
+
+def test_contact_stiffness_bound_is_the_force_at_one_clearance():
+    from rotorcontact import Machine, ParameterError, reference_machine
+    from rotorcontact.model.params import MAX_CONTACT_FORCE
+
+    base = {**reference_machine().as_dict(), "contact": "compliant"}
+    limit = MAX_CONTACT_FORCE / base["clearance"] ** 1.5
+    assert Machine(**base, contact_stiffness=0.99 * limit).contact_stiffness == 0.99 * limit
+    with pytest.raises(ParameterError, match="K_c c_r\\^n <= 1e\\+15 N"):
+        Machine(**base, contact_stiffness=1.01 * limit)

@@ -6,6 +6,7 @@ import cmath
 import math
 
 import numpy as np
+import mpmath as mp
 import pytest
 
 from rotorcontact.model.impact_law import apply_reset
@@ -169,3 +170,34 @@ def test_contact_keeps_the_angular_momentum_balance_without_unbalance():
                                                       1 / ip, RB, 1 / ib, drag)
         rate = M * CR * CR * thetadd + ip * sd + ib * rd
         assert rate == pytest.approx(M * CR * -4.0 - drag, rel=1e-12)
+
+
+@pytest.mark.parametrize("polar", [0.0, 0.04, 1e12])
+@pytest.mark.parametrize("v_rel", [25.0, 1e-4, -3.0])
+def test_impact_dissipation_is_the_loss_of_kinetic_energy(polar, v_rel):
+    """`impact_dissipation` against the kinetic energies before and after `impact_with_spin`, differenced in
+    60-digit arithmetic (with the speed held, polar = 0, the motor's work -R Omega P_t counts in)."""
+    from rotorcontact.model.machine_model import effective_mass_factor, impact_dissipation, impact_with_spin
+
+    mass, radius, d, mu, spin = 15.0, 0.03, 0.8, 0.1, 3000.0
+    inv_p = 1.0 / polar if polar else 0.0
+    z = 2.5e-4 * cmath.exp(0.3j)
+    v_n = 0.3
+    v = z / abs(z) * complex(v_n, v_rel - radius * spin)
+    v_plus, spin_plus, _race, vn, vrel, _pn, p_t = impact_with_spin(z, v, spin, 0.0, mass, d, mu, radius, inv_p,
+                                                                 radius + 2.5e-4, 0.0)
+    lost = impact_dissipation(mass, d, vn, vrel, p_t, effective_mass_factor(mass, radius, inv_p, 0.0, 0.0))
+    with mp.workdps(60):
+        m_, p_t_ = mp.mpf(mass), mp.mpf(p_t)
+        v_t = mp.mpf(v_rel) - mp.mpf(radius) * spin
+        before = m_ * (mp.mpf(v_n) ** 2 + v_t ** 2) / 2
+        after = m_ * ((d * mp.mpf(v_n)) ** 2 + (v_t + p_t_ / m_) ** 2) / 2
+        if polar:
+            i_p = mp.mpf(polar)
+            before += i_p * mp.mpf(spin) ** 2 / 2
+            after += i_p * (mp.mpf(spin) + mp.mpf(radius) * p_t_ / i_p) ** 2 / 2
+        else:
+            after += mp.mpf(radius) * spin * p_t_  # the motor's work holding the speed
+        expected = float(before - after)
+    assert lost >= 0.0
+    assert lost == pytest.approx(expected, rel=1e-12, abs=1e-15 * mass * v_n ** 2)

@@ -11,6 +11,7 @@ from ..studies.grids import GRID_SYNTAX
 from .basins import add_window_options
 from .options import (
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameter_values,
     parameters_from_args,
@@ -129,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
     if args.param == "speed" and machine is not None:
         summary["values_rpm"] = [float(v) for v in rad_s_to_rpm(res.values)]
     if args.json:
-        print_json(json_result(params, summary, machine))
+        print_json(json_result(params, summary, machine, ignored=ignored_keys(args)))
         return 0
     span = f"{values[0]:.6g} to {values[-1]:.6g}" + ("" if unit == "1" else f" {unit}")
     print(f"wrote {res.path}: {len(res.attractors)} attractors over {args.param} from {span} ({n_values} values, "

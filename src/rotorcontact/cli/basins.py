@@ -8,6 +8,7 @@ import time
 from ..studies.grids import GRID_SYNTAX
 from .options import (
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameters_from_args,
     parse_float,
@@ -109,7 +110,7 @@ def run(args: argparse.Namespace) -> int:
         "plot": args.plot,
     }
     if args.json:
-        print_json(json_result(params, summary, machine))
+        print_json(json_result(params, summary, machine, ignored=ignored_keys(args)))
     else:
         print(f"wrote {res.path}: {grid.kind} grid {cols} x {rows} ({summary['simulated']} simulated)")
         for name, frac in res.fractions.items():

@@ -12,6 +12,7 @@ from ..model.si import parameter_si, rate_scale, scaled_list, times_si, velocity
 from .options import (
     MAX_CONTINUATION_PERIOD,
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameters_from_args,
     parse_float,
@@ -192,7 +193,7 @@ def _run_impacts(args: argparse.Namespace, params, machine, start: float, stop: 
             lines.append(f"{len(fam.events)} events of the period-doubled branches:")
             lines.extend(_family_text(fam)[-len(fam.events):])
     if args.json:
-        print_json(json_result(params, data, machine))
+        print_json(json_result(params, data, machine, ignored=ignored_keys(args)))
     else:
         for line in lines:
             print(line)
@@ -247,7 +248,7 @@ def run(args: argparse.Namespace) -> int:
     if p is not None or doublings:
         return _run_impacts(args, params, machine, start, stop, 1, doublings, branches)
     if args.json:
-        print_json(json_result(params, _branches_dict(branches, machine), machine))
+        print_json(json_result(params, _branches_dict(branches, machine), machine, ignored=ignored_keys(args)))
     else:
         for line in _text(branches, machine):
             print(line)

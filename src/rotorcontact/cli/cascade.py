@@ -12,6 +12,7 @@ from .branches import param_range
 from .options import (
     MAX_CONTINUATION_PERIOD,
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameters_from_args,
     parse_int,
@@ -87,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
                             "depth": "--depth", "impacts": "--impacts"}) from None
     if args.json:
         print_json(json_result(params, {"param": args.param, "impacts": p,
-                                        "cascades": [c.to_dict() for c in found]}, machine))
+                                        "cascades": [c.to_dict() for c in found]}, machine, ignored=ignored_keys(args)))
     else:
         for line in _text(found, args.param):
             print(line)

@@ -11,6 +11,7 @@ from ..model.params import BRANCH_PARAMETERS
 from .options import (
     MAX_CONTINUATION_PERIOD,
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameter_value,
     parameters_from_args,
@@ -145,7 +146,7 @@ def run(args: argparse.Namespace) -> int:
         fig, _ = plot_codim2(params, diagram=diagram, t_max=t_max)
         save_figure(fig, args.plot)
     if args.json:
-        print_json(json_result(params, diagram.to_dict(), machine))
+        print_json(json_result(params, diagram.to_dict(), machine, ignored=ignored_keys(args)))
     else:
         for line in _text(diagram):
             print(line)

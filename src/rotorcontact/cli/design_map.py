@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 from ..errors import ParameterError
 from ..model.params import load_machine
 from ..model.units import option_quantity, quantity_in
-from .options import json_result, parse_int, print_json
+from .options import ignored_keys, json_result, note_paper_model, parse_int, print_json
 from .outputs import check_output_folder
 from .scale import add_executor_options, executor_kwargs
 
@@ -137,6 +137,8 @@ def build_map(args: argparse.Namespace) -> DesignMap:
     from ..studies.design_map import MAP_AXES, design_map
 
     machine = _machine(args)
+    # the classification is that of the paper's dimensionless model (its equilibria and orbits, MODEL.md §2-5)
+    note_paper_model(machine, "design-map", args)
     shock = _shock(args.shock) if args.shock is not None else None
     n = _count(args.n, shock is not None)
     ranges = {
@@ -181,7 +183,7 @@ def run(args: argparse.Namespace) -> int:
         save_design_map(dmap, out / "map.png")
         dmap.to_xarray().to_netcdf(out / "map.nc", engine="scipy")
     if args.json:
-        print_json(json_result(dmap.machine.parameters(), dmap.to_dict(), dmap.machine))
+        print_json(json_result(dmap.machine.parameters(), dmap.to_dict(), dmap.machine, ignored=ignored_keys(args)))
     else:
         print(_table(dmap))
         if args.out is not None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 
 from ..errors import ParameterError
@@ -60,8 +61,10 @@ def run(args: argparse.Namespace) -> int:
     try:
         result = drop(machine, speed, fail_at, t_end, max_events=max_events)
     except ParameterError as exc:
-        raise ParameterError(str(exc).replace("fail_at", "--fail-at").replace("t_end", "--t-end")
-                             .replace("speed =", "--speed =")) from None
+        text = str(exc).replace("fail_at", "--fail-at").replace("t_end", "--t-end")
+        if args.speed is not None:  # else the speed is the machine file's own key
+            text = re.sub(r"(?<![\w-])speed =", "--speed =", text)
+        raise ParameterError(text) from None
     if args.plot is not None:
         from ..plotting.drop import save_drop_figure
 

@@ -10,6 +10,7 @@ from ..model.params import BRANCH_PARAMETERS, Machine
 from ..model.si import equilibria_si, parameter_si
 from .options import (
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameter_value,
     parameters_from_args,
@@ -155,7 +156,7 @@ def run(args: argparse.Namespace) -> int:
                 "to": float(branches.values[-1]),
                 "events": events,
             }
-        print_json(json_result(params, data, machine))
+        print_json(json_result(params, data, machine, ignored=ignored_keys(args)))
     else:
         for line in _text(eq, branches, machine):
             print(line)

@@ -11,6 +11,7 @@ from ..model.si import parameter_si, times_si
 from .options import (
     MAX_PERIOD,
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameters_from_args,
     parse_t_max,
@@ -90,7 +91,7 @@ def run(args: argparse.Namespace) -> int:
             for row, o in zip(orbits, analysis.orbits):
                 row.update(times_si(machine, T=o.T))
         # the analysis is made at gamma = gamma*, whatever --gamma says
-        print_json(json_result(params.replace(gamma=gamma_star), data, machine))
+        print_json(json_result(params.replace(gamma=gamma_star), data, machine, ignored=ignored_keys(args)))
     else:
         for line in _table(gamma_star, analysis, machine):
             print(line)

@@ -9,6 +9,7 @@ from ..model.params import check_range
 from ..model.si import rate_scale, scaled_list, times_si
 from .options import (
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameter_values,
     parameters_from_args,
@@ -113,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
                 keep |= {"final_regime", "regime_start", "regime_start_s", "final_exponents", "final_exponents_per_s",
                          "final_errors"}
             data = {k: v for k, v in data.items() if k in keep}
-        print_json(json_result(params, data, machine))
+        print_json(json_result(params, data, machine, ignored=ignored_keys(args)))
         return 0
     print(f"Lyapunov spectrum of ({', '.join(COORDINATES)}), largest first"
           f"{' (per unit time; per second)' if machine is not None else ''}:")
@@ -199,7 +200,7 @@ def run_scan(args, params, machine, u0, du0, t_end, t_transient, qr_interval) ->
     if machine is not None:
         data["exponents_per_s"] = [scaled_list(r, rate_scale(machine)) for r in data["exponents"]]
     if args.json:
-        print_json(json_result(params, data, machine))
+        print_json(json_result(params, data, machine, ignored=ignored_keys(args)))
         return 0
     print(f"Lyapunov spectrum of ({', '.join(COORDINATES)}) against {args.param}, largest first:")
     for v, ex, err, ch in zip(res.values, res.exponents, res.errors, change):

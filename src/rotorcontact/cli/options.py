@@ -192,8 +192,49 @@ def parameter_value(option: str, params: Parameters, name: str, value: float) ->
     return value
 
 
-def parameters_from_args(args: argparse.Namespace) -> tuple[Parameters, Machine | None]:
-    """The Parameters selected by the options, and the machine if one was given."""
+#: What the paper's model of MODEL.md §2 leaves out of a general machine (MODEL.md §7-8).
+PAPER_MODEL = ("the paper's dimensionless model (MODEL.md §2: isotropic bearing, no gravity or static force, "
+               "speed held, rigid impacts on a fixed stator)")
+
+
+def note_paper_model(machine: Machine | None, command: str, args: argparse.Namespace | None = None) -> tuple[str, ...]:
+    """Say on stderr that ``command`` computes on the paper's model, ignoring the machine's keys of MODEL.md §7-8.
+
+    Parameters
+    ----------
+    machine : Machine or None
+        The machine given (None: nothing to say).
+    command : str
+        The subcommand, as the note names it.
+    args : argparse.Namespace, optional
+        The parsed options: the keys ignored are kept in ``args.ignored_machine_keys`` for `ignored_keys`.
+
+    Returns
+    -------
+    tuple of str
+        The machine's keys the computation ignores (`Machine.general_keys`); empty when it ignores none.
+    """
+    keys = () if machine is None else machine.general_keys
+    if keys:
+        print(f"note: rotorcontact {command} computes on {PAPER_MODEL}; the machine's {', '.join(keys)} "
+              "are ignored", file=sys.stderr)
+    if args is not None:
+        args.ignored_machine_keys = keys
+    return keys
+
+
+def ignored_keys(args: argparse.Namespace) -> tuple[str, ...]:
+    """The machine's keys the command's model ignores, as `note_paper_model` recorded them (empty if none)."""
+    return tuple(getattr(args, "ignored_machine_keys", ()))
+
+
+def parameters_from_args(args: argparse.Namespace, *, general: bool = False) -> tuple[Parameters, Machine | None]:
+    """The Parameters selected by the options, and the machine if one was given.
+
+    ``general``: the command runs a machine that needs it on the general model of MODEL.md §7 (as long as
+    no option overrides the machine's values). Otherwise the command computes on the paper's model, and a
+    note on stderr (`note_paper_model`) names the machine's keys it ignores.
+    """
     machine = load_machine(args.machine) if args.machine is not None else None
     base = (machine or reference_machine()).parameters()
     changes = {
@@ -210,6 +251,9 @@ def parameters_from_args(args: argparse.Namespace) -> tuple[Parameters, Machine 
             "its SI outputs are left out",
             file=sys.stderr,
         )
+    if machine is not None and (changes or not general):
+        note_paper_model(machine, getattr(args, "command", None) or "this command", args)
+    if changes:
         machine = None
     return params, machine
 
@@ -222,7 +266,8 @@ def renamed(exc: Exception, names: dict[str, str]) -> ParameterError:
     return ParameterError(text)
 
 
-def json_result(params: Parameters, data: dict[str, Any], machine: Machine | None = None) -> dict[str, Any]:
+def json_result(params: Parameters, data: dict[str, Any], machine: Machine | None = None, *,
+                ignored: tuple[str, ...] = ()) -> dict[str, Any]:
     """The object a subcommand prints with ``--json``: its ``"parameters"`` first, then ``data``.
 
     Parameters
@@ -233,6 +278,9 @@ def json_result(params: Parameters, data: dict[str, Any], machine: Machine | Non
         The subcommand's own keys (a ``"parameters"`` key in it is replaced).
     machine : Machine, optional
         With ``--machine``: its SI values are added as ``"machine"``.
+    ignored : tuple of str
+        The machine's keys the computation's model ignores (`ignored_keys`); given, ``"model": "paper"`` and
+        ``"ignored_machine_keys"`` are added.
 
     Returns
     -------
@@ -242,6 +290,9 @@ def json_result(params: Parameters, data: dict[str, Any], machine: Machine | Non
     out.update((k, v) for k, v in data.items() if k != "parameters")
     if machine is not None:
         out["machine"] = machine.as_dict()
+    if ignored:
+        out["model"] = "paper"
+        out["ignored_machine_keys"] = list(ignored)
     return out
 
 

@@ -19,6 +19,7 @@ from ..model.si import orbit_si, rate_scale, times_si, velocity_scale
 from .options import (
     MAX_PERIOD,
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameters_from_args,
     parse_int,
@@ -147,7 +148,8 @@ def _run_multi(args: argparse.Namespace, params, machine, t_max: float, p: int) 
     grid = None if args.grid is None else parse_section_grid(args.grid)
     orbits = multi_impact_orbits(params, p, t_max=t_max, grid=grid)
     if args.json:
-        print_json(json_result(params, {"orbits": [_multi_dict(o, machine) for o in orbits]}, machine))
+        print_json(json_result(params, {"orbits": [_multi_dict(o, machine) for o in orbits]}, machine,
+                ignored=ignored_keys(args)))
     else:
         print(f"periodic orbits with {p} impacts per period at gamma = {params.gamma:g}, "
               f"omega = {params.omega:g}, rho = {params.rho:g}, mu = {params.mu:g}, d = {params.d:g}")
@@ -174,7 +176,8 @@ def run(args: argparse.Namespace) -> int:
     except ParameterError as exc:
         raise renamed(exc, {"t_max": "--t-max"}) from None
     if args.json:
-        print_json(json_result(params, {"orbits": [_orbit_dict(o, machine) for o in orbits]}, machine))
+        print_json(json_result(params, {"orbits": [_orbit_dict(o, machine) for o in orbits]}, machine,
+                ignored=ignored_keys(args)))
     else:
         print(f"one-impact periodic orbits with T in (0, {t_max:g}] at gamma = {params.gamma:g}, "
               f"omega = {params.omega:g}, rho = {params.rho:g}, mu = {params.mu:g}, d = {params.d:g}, "

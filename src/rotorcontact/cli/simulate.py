@@ -7,6 +7,7 @@ import sys
 
 from .options import (
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameters_from_args,
     parse_complex,
@@ -59,7 +60,7 @@ def register(sub) -> None:
 def run(args: argparse.Namespace) -> int:
     from ..simulation.simulator import simulate
 
-    params, machine = parameters_from_args(args)
+    params, machine = parameters_from_args(args, general=True)
     u0 = parse_complex("u0", args.u0)
     du0 = parse_velocity("du0", args.du0)
     t_end = parse_float("t-end", args.t_end, low=0.0, high=MAX_T_END, low_open=True,
@@ -76,7 +77,8 @@ def run(args: argparse.Namespace) -> int:
 
         save_trajectory_figure(traj, args.plot)
     if args.json:
-        print_json(json_result(params, traj.to_dict(None if args.all_impacts else JSON_ROWS), machine))
+        print_json(json_result(params, traj.to_dict(None if args.all_impacts else JSON_ROWS), machine,
+                ignored=ignored_keys(args)))
     else:
         s = traj.summary
         print(traj.message)

@@ -9,6 +9,7 @@ from ..continuation.limits import MAX_DOUBLINGS
 from ..errors import ParameterError
 from .options import (
     add_parameter_options,
+    ignored_keys,
     json_result,
     parameter_value,
     parameters_from_args,
@@ -167,7 +168,7 @@ def run(args: argparse.Namespace) -> int:
         "overlay": overlay_kind,
     }
     if args.json:
-        print_json(json_result(params, summary, machine))
+        print_json(json_result(params, summary, machine, ignored=ignored_keys(args)))
     else:
         dirs = ", ".join(summary["directions"])
         print(f"wrote {res.path}: {args.param} sweep, {values.size} values, directions {dirs}")

@@ -35,6 +35,7 @@ __all__ = [
     "effective_mass_factor",
     "surface_velocity",
     "impact_with_spin",
+    "impact_dissipation",
     "race_spin",
     "unbalance_amplitudes",
     "kinetic_energy",
@@ -130,6 +131,31 @@ def impact_with_spin(z: complex, v: complex, spin: float, race: float, mass: flo
     spin_plus = spin + mass * radius * q_t * inv_polar
     race_plus = race - mass * race_radius * q_t * inv_race
     return v_plus, spin_plus, race_plus, v_n, v_rel, mass * (1.0 + d) * v_n, mass * q_t
+
+
+@njit(cache=True)
+def impact_dissipation(mass: float, d: float, v_n: float, v_rel: float, p_t: float, kappa: float) -> float:
+    """Energy an impact of `impact_with_spin` dissipates in the touchdown bearing, J (MODEL.md §7).
+
+    (1 - d^2) m v_n^2 / 2 by restitution plus the friction work |P_t| (|v_rel-| + |v_rel+|) / 2, with
+    v_rel+ = v_rel- + kappa P_t / m on the same side of 0 as v_rel- (or at 0: a sticking impact). It equals
+    the loss of m |z'|^2/2 + I_p Omega^2/2 + I_b Omega_b^2/2 (plus the motor's work with the speed held)
+    without differencing those energies, so it keeps its relative accuracy however large the spin energies
+    are. Never negative.
+
+    Parameters
+    ----------
+    mass, d : float
+        m (kg) and the restitution.
+    v_n, v_rel : float
+        Normal velocity (outward) and relative surface velocity before the impact, m/s.
+    p_t : float
+        Tangential impulse on the rotor, N s.
+    kappa : float
+        `effective_mass_factor` of the impact.
+    """
+    slip_after = max(0.0, abs(v_rel) - kappa * abs(p_t) / mass)  # |v_rel+|: friction never reverses v_rel
+    return 0.5 * (1.0 - d * d) * mass * v_n * v_n + 0.5 * abs(p_t) * (abs(v_rel) + slip_after)
 
 
 @njit(cache=True)

@@ -30,6 +30,10 @@ __all__ = [
     "check_finite",
     "check_range",
     "check_velocity",
+    "check_machine_value",
+    "MAX_SPEED",
+    "MAX_GRAVITY",
+    "MAX_CONTACT_FORCE",
     "MAX_MAGNITUDE",
     "MAX_VELOCITY",
     "OPTIONAL_MACHINE_KEYS",
@@ -229,6 +233,17 @@ class Parameters:
         return k
 
 
+#: Largest spin speed, rad/s (about 9.5 million rpm): ten times the fastest rotors built (about 1e5 rad/s);
+#: far beyond it the drop's first flight cannot even start (a speed of 1e30 rpm fails at t = 0).
+MAX_SPEED = 1e6
+#: Largest gravity, m/s^2 (about 1e5 g): beyond any shock test; far beyond it (1e15 m/s^2) the drop's contact
+#: phases no longer end, and at 1e300 it fails at t = 0.
+MAX_GRAVITY = 1e6
+#: Largest force of the compliant law at a penetration of one clearance, K_c c_r^n, N (steel on steel: about
+#: 1e5 N). Beyond it the penetrations (below 1e-7 of the clearance at 1e15 N) near the rounding of |z| and the
+#: episodes' steps grow without end; at K_c = 1e300 the forces overflow into nan. The rigid law is that limit.
+MAX_CONTACT_FORCE = 1e15
+
 _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "mass": dict(low=0.0, low_open=True, unit="kg"),
     "damping": dict(low=0.0, unit="N s/m"),
@@ -237,7 +252,8 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "clearance": dict(low=0.0, low_open=True, unit="m"),
     "rotor_radius": dict(low=0.0, unit="m"),
     "unbalance_phase": dict(unit="rad"),
-    "speed": dict(low=0.0, low_open=True, unit="rad/s"),
+    "speed": dict(low=0.0, low_open=True, high=MAX_SPEED, unit="rad/s",
+                  why="rad/s: about 9.5e6 rpm, ten times the fastest rotors; beyond it the simulation cannot start"),
     "friction": dict(low=0.0, unit="1"),
     "restitution": dict(low=0.0, high=1.0, unit="1"),
     # the general machine (MODEL.md §7); absent (None): the paper's machine of MODEL.md §1
@@ -245,7 +261,8 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "stiffness_y": dict(low=0.0, low_open=True, unit="N/m"),
     "damping_x": dict(low=0.0, unit="N s/m"),
     "damping_y": dict(low=0.0, unit="N s/m"),
-    "gravity": dict(low=0.0, unit="m/s^2"),
+    "gravity": dict(low=0.0, high=MAX_GRAVITY, unit="m/s^2",
+                    why="m/s^2: about 1e5 g, beyond any shock; far beyond it the drop's contact phases no longer end"),
     "static_force": dict(unit="N"),
     "polar_inertia": dict(low=0.0, low_open=True, unit="kg m^2"),
     "race_inertia": dict(low=0.0, low_open=True, unit="kg m^2"),
@@ -280,6 +297,18 @@ STATOR_KEYS = ("stator_mass", "stator_stiffness", "stator_stiffness_x", "stator_
                "stator_damping_x", "stator_damping_y")
 #: The race keys, given all three or none.
 RACE_KEYS = ("race_inertia", "race_drag_torque", "race_drag_coefficient")
+
+
+def check_machine_value(name: str, value: Any) -> float:
+    """Check one SI value of a machine key against its range (`Machine`'s rules); return it as a float.
+
+    Raises
+    ------
+    ParameterError
+        Naming the key, the value and the allowed range.
+    """
+    rule = {k: v for k, v in _MACHINE_RULES[name].items() if k != "unit"}
+    return check_range(name, value, **rule)
 
 
 def _si_unit(name: str, exponent: Any = None) -> str:
@@ -417,13 +446,12 @@ class Machine:
         for f in fields(self):
             if f.name == "contact":
                 continue
-            rule = {k: v for k, v in _MACHINE_RULES[f.name].items() if k != "unit"}
             value = getattr(self, f.name)
             if value is None and f.name in OPTIONAL_MACHINE_KEYS:
                 continue
             if isinstance(value, str):  # a quantity with units, as in machine files: "12000 rpm"
                 value = to_si(f.name, value, self._unit(f.name), source="Machine")
-            object.__setattr__(self, f.name, check_range(f.name, value, **rule))
+            object.__setattr__(self, f.name, check_machine_value(f.name, value))
         given = [key for key in RACE_KEYS if getattr(self, key) is not None]
         if given and len(given) < len(RACE_KEYS):
             missing = [key for key in RACE_KEYS if getattr(self, key) is None][0]
@@ -453,6 +481,16 @@ class Machine:
             if self.contact_stiffness is None:
                 raise ParameterError(
                     "contact_stiffness = None with contact = 'compliant'; the compliant law needs K_c in N/m^n (> 0)"
+                )
+            force = self.contact_stiffness * self.clearance ** self.exponent
+            if not force <= MAX_CONTACT_FORCE:
+                raise ParameterError(
+                    f"contact_stiffness = {self.contact_stiffness!r} N/m^{self.exponent:g} is out of range for "
+                    f"clearance = {self.clearance:g} m: its force at a penetration of one clearance, K_c c_r^n = "
+                    f"{force:.3g} N; allowed: K_c c_r^n <= {MAX_CONTACT_FORCE:g} N, K_c <= "
+                    f"{MAX_CONTACT_FORCE / self.clearance ** self.exponent:.3g} N/m^{self.exponent:g} (stiffer "
+                    "contacts penetrate less than the rounding of the position resolves; contact = 'rigid' is "
+                    "their limit)"
                 )
             if self.restitution == 0.0:
                 raise ParameterError(
@@ -570,6 +608,17 @@ class Machine:
             self.kx != self.ky or self.cx != self.cy or self.g != 0.0 or self.fs != 0.0
             or self.free_speed or self.has_race or self.compliant
         )
+
+    @property
+    def general_keys(self) -> tuple[str, ...]:
+        """The optional keys of MODEL.md §7-8 this machine gives, where it needs that model
+        (`needs_general_model`); empty for the paper's machine of MODEL.md §1.
+
+        The paper's dimensionless model (`parameters`) has none of them: a computation on it ignores these.
+        """
+        if not self.needs_general_model:
+            return ()
+        return tuple(key for key in OPTIONAL_MACHINE_KEYS if getattr(self, key) is not None)
 
     def parameters(self) -> Parameters:
         """Convert to the dimensionless `Parameters` (MODEL.md §2)."""

@@ -19,7 +19,8 @@ from numba import njit
 from ..interpreted import complex_quotient
 from ..model.angles import wrap_angle
 from ..model.machine_model import (
-    impact_duration, impact_with_spin, kinetic_energy, race_spin, rolling_whirl_rate, surface_velocity,
+    effective_mass_factor, impact_dissipation, impact_duration, impact_with_spin, kinetic_energy, race_spin,
+    rolling_whirl_rate, surface_velocity,
 )
 from .compliant import E_REST, E_SEPARATED, NQ, NY, compliant_episode
 from .general_contact import C_END, C_LIFTOFF, C_RACE, C_REST, C_STEP_LIMIT, NP, contact_phase, contact_rates
@@ -465,13 +466,12 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                 status = MAX_EVENTS
                 break
             continue
-        e_before = kinetic_energy(mass, vs, polar if inv_p > 0.0 else 0.0, spin, race_inertia, race)
         v_plus, spin_plus, race_plus, v_n, v_rel, p_n, p_t = _impact(
             zs, vs, spin, race, mass, d, mu, radius, inv_p, race_radius, inv_race)
-        e_after = kinetic_energy(mass, v_plus, polar if inv_p > 0.0 else 0.0, spin_plus, race_inertia, race_plus)
-        lost = e_before - e_after
-        if inv_p == 0.0:
-            lost -= radius * spin * p_t  # the motor's work holding the speed against the torque impulse R P_t
+        # the loss of kinetic energy (with the motor's work where the speed is held) from the impulses, not as
+        # a difference of energies that a large spin energy would swamp (MODEL.md §7)
+        lost = impact_dissipation(mass, d, v_n, v_rel, p_t,
+                                  effective_mass_factor(mass, radius, inv_p, race_radius, inv_race))
         dissipated += lost
         row[0] = t
         row[1] = wrap_angle(math.atan2(z.imag, z.real))

@@ -19,7 +19,7 @@ from ..model.machine_model import (
     compliant_normal_force, constant_response, harmonic_response, impact_duration_factor, restitution_damping,
     unbalance_amplitudes,
 )
-from ..model.params import Machine, check_range
+from ..model.params import Machine, check_machine_value, check_range
 from ..model.units import RPM
 from ..model.validation import MAX_COUNT, check_int
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
@@ -55,25 +55,40 @@ def levitated_state(machine: Machine, speed: float) -> tuple[complex, complex]:
     Raises
     ------
     ParameterError
-        At an undamped resonance, or where the whirl does not start inside the clearance.
+        At an undamped resonance, or where the whirl does not start inside the clearance: naming the static
+        force and gravity where their sag alone reaches the wall (no speed helps), else the speed and the
+        clearance.
     """
     m = machine.mass
     fx, fy = call_kernel(unbalance_amplitudes, machine.eccentricity, speed, machine.unbalance_phase)
-    z = 0j
+    whirl = 0j  # the unbalance's part
+    sag = 0.0  # the constant force's part, along y
     v = 0j
     for axis, (k, c, f, b) in enumerate(((machine.kx, machine.cx, fx, 0.0),
                                          (machine.ky, machine.cy, fy, machine.fs / m - machine.g))):
         h = complex(call_kernel(harmonic_response, c / m, k / m, speed, f))
         p0, _p1, _p2 = call_kernel(constant_response, c / m, k / m, b)
         unit = 1.0 if axis == 0 else 1j
-        z += unit * (h.real + p0)
+        whirl += unit * h.real
+        sag += p0
         v += unit * (1j * speed * h).real
+    z = whirl + 1j * sag
     if not (math.isfinite(abs(z)) and math.isfinite(abs(v))):
         raise ParameterError(f"speed = {speed!r} rad/s is an undamped resonance of the bearing; no steady whirl")
-    if abs(z) >= machine.clearance:
+    cr = machine.clearance
+    if abs(sag) >= cr:
+        fs = "static_force" if machine.static_force is not None else "static_force (default m g)"
         raise ParameterError(
-            f"speed = {speed / RPM:.6g} rpm: the levitated whirl starts at |z| = {abs(z):.4g} m, not inside the "
-            f"clearance {machine.clearance:g} m; allowed: a speed whose levitated whirl starts inside it"
+            f"{fs} = {machine.fs:g} N with gravity = {machine.g:g} m/s^2: the levitated rotor sags by "
+            f"(F_s - m g)/k_y = {sag:.4g} m (m = {m:g} kg, k_y = {machine.ky:g} N/m), not inside the clearance "
+            f"{cr:g} m, at any speed; allowed: |F_s - m g| < k_y c_r = {machine.ky * cr:.4g} N"
+        )
+    if abs(z) >= cr:
+        raise ParameterError(
+            f"speed = {speed / RPM:.6g} rpm: the levitated whirl starts at |z| = {abs(z):.4g} m (unbalance "
+            f"response {abs(whirl):.4g} m from eccentricity = {machine.eccentricity:g} m, static sag {sag:.4g} m), "
+            f"not inside the clearance = {cr:g} m; allowed: a speed whose levitated whirl starts inside it, "
+            "or a larger clearance"
         )
     return z, v
 
@@ -263,7 +278,7 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
     -------
     DropResult
     """
-    speed = machine.speed if speed is None else check_range("speed", speed, low=0.0, low_open=True)
+    speed = machine.speed if speed is None else check_machine_value("speed", speed)
     fail_at = check_range("fail_at", fail_at, low=0.0)
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     max_events = check_int("max_events", max_events, low=1, high=MAX_COUNT)
@@ -304,8 +319,10 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
         m.cx, m.cy, m.fs, m.g, polar, *race_args, complex(z0), complex(v0), m.unbalance_phase, speed, 0.0,
         fail_at, t_end, max_events, CHATTER_VELOCITY * v_scale, True, rest_energy, CHATTER_RELATIVE, *compliant,
         float(m.stator_mass or 0.0), *m.stator_support(), zb0, vb0)
-    return DropResult(machine, speed, fail_at, t_end, STATUS_NAMES[int(status)], float(t_stop), impacts, state,
-                      contacts)
+    status = STATUS_NAMES[int(status)]
+    if not (np.all(np.isfinite(state)) and np.all(np.isfinite(impacts[:, :_COL["duration_s"]]))):
+        status = "failed"  # a value the arithmetic lost (nan, inf) is never reported as a result
+    return DropResult(machine, speed, fail_at, t_end, status, float(t_stop), impacts, state, contacts)
 
 
 
