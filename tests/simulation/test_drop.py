@@ -405,3 +405,26 @@ def test_impacts_of_a_rotor_sliding_round_the_wall_accumulate_into_contact():
     assert v_n[-1] < CHATTER_RELATIVE * 1.01 * speed[-1] and np.all(v_n[:-1] >= CHATTER_RELATIVE * 0.99 * speed[:-1])
     first = r.contact_intervals()[0]
     assert first["t_start_s"] == r.column("t_s")[-1] and first["kind"] == "sliding-forward"
+
+
+def test_a_drop_refuses_a_speed_above_the_bound_whether_given_or_the_machines():
+    from rotorcontact.simulation.drop_run import MAX_SPEED_RPM, check_drop_speed
+
+    m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
+    assert check_drop_speed(m, MAX_SPEED_RPM * RPM) == MAX_SPEED_RPM * RPM
+    for speed in (2.0 * MAX_SPEED_RPM * RPM, 1e30 * RPM, -1.0, 0.0, math.nan):
+        with pytest.raises(ParameterError, match="speed = .*(allowed|required)"):
+            drop(m, speed, 0.0, 0.01)
+    with pytest.raises(ParameterError, match=r"speed = 1e\+30 rpm .*at most 1e\+06 rpm"):
+        drop(Machine(**{**m.as_dict(), "speed": 1e30 * RPM}), None, 0.0, 0.01)
+    with pytest.raises(ParameterError, match=r"^--speed = 1e\+30 rpm"):
+        check_drop_speed(m, 1e30 * RPM, "--speed")
+
+
+def test_a_failed_drop_has_the_regime_failed_never_levitated():
+    # a levitated flight of 5000 s at 9000 rpm is beyond the impact search's step budget (it ends as failed
+    # from about 200 s on): the run fails at once, before any impact
+    m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
+    r = drop(m, 9000 * RPM, 5000.0, 5000.01)
+    assert r.status == "failed" and len(r.impacts) == 0 and len(r.contacts) == 0
+    assert r.regime == "failed" and r.to_dict()["summary"]["regime"] == "failed"
