@@ -183,3 +183,48 @@ def test_design_map_says_it_ignores_gravity_and_polar_inertia(cli, machine_file)
     assert data["model"] == "paper" and data["ignored_machine_keys"] == ["gravity", "polar_inertia"]
     code, _out, err = cli.run("design-map", machine_file, "--speed", "5000:30000rpm", "--n", "3")
     assert code == 0 and "gravity, polar_inertia are ignored" in err
+
+
+@pytest.mark.parametrize("command, speed", [("drop", "1e30rpm"), ("drop-map", "10000:1e30rpm"),
+                                            ("drop", "2e7rpm"), ("drop-map", "1000:2e7rpm")])
+def test_a_speed_above_the_bound_is_refused_at_once(cli, machine_file, tmp_path, command, speed):
+    out = tmp_path / "map"
+    extra = ("--n", "2", "--out", str(out)) if command == "drop-map" else ()
+    code, _out, err = cli.run(command, machine_file, "--speed", speed, "--t-end", "10ms", *extra)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert f"rotorcontact {command}: error: --speed = " in err and "allowed: (0, 1e+06]" in err
+    assert not out.exists()  # refused before the output folder is made
+
+
+@pytest.mark.parametrize("argv, words", [
+    (("--t-end", "1e12s"), ("--t-end = '1e12s'", "(0, 10000] s")),
+    (("--t-end", "10001"), ("--t-end = '10001'", "(0, 10000] s")),
+    (("--t-end", "nan"), ("--t-end = 'nan'", "not finite", "(0, 10000] s")),
+    (("--t-end", "0s"), ("--t-end = '0s'", "(0, 10000] s")),
+    (("--fail-at=-1s",), ("--fail-at = '-1s'", "[0, inf) s")),
+    (("--fail-at", "inf"), ("--fail-at = 'inf'", "not finite")),
+])
+@pytest.mark.parametrize("command", ["drop", "drop-map"])
+def test_time_options_are_refused_by_their_option_names(cli, machine_file, tmp_path, command, argv, words):
+    extra = ("--speed", "3000:9000rpm", "--n", "2", "--out", str(tmp_path / "map")) if command == "drop-map" else ()
+    code, _out, err = cli.run(command, machine_file, *extra, *argv)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert all(w in err for w in words), err
+    assert "t_end" not in err and "fail_at" not in err
+
+
+def test_drop_map_marks_failed_drops_and_exits_1(cli, machine_file, tmp_path):
+    # each levitated flight of 5000 s is beyond the impact search's step budget: every drop fails at once
+    argv = ("--speed", "3000:9000rpm", "--n", "2", "--fail-at", "5000s", "--t-end", "5000.01s")
+    code, _out, err = cli.run("drop", machine_file, "--speed", "9000rpm", *argv[4:], "--json")
+    assert code == 1 and cli.loads(_out)["summary"]["regime"] == "failed"
+    code, out, err = cli.run("drop-map", machine_file, *argv, "--out", str(tmp_path / "map"), "--json")
+    assert code == 1 and "Traceback" not in err
+    data = cli.loads(out)
+    assert data["regime"] == [["failed", "failed"]]
+    assert data["max_normal_impulse_Ns"] == [[None, None]] and data["energy_dissipated_J"] == [[None, None]]
+    line = err.strip().splitlines()[-1]
+    assert line.startswith("rotorcontact drop-map: failed: 2 of 2 drops failed") and "9000 rpm" in line
+    assert (tmp_path / "map" / "drop_map.nc").is_file()
+    code, out, err = cli.run("drop-map", machine_file, *argv, "--out", str(tmp_path / "map2"))
+    assert code == 1 and "failed 2" in out and "levitated" not in out

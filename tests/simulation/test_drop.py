@@ -432,3 +432,27 @@ def test_energy_of_an_impact_of_a_heavy_spinning_rotor_is_exact(polar):
     assert np.all(expected > 1.0)
     np.testing.assert_allclose(r.column("energy_lost_J"), expected, rtol=1e-10)
     assert r.energy_dissipated == pytest.approx(expected.sum(), rel=1e-10)
+
+
+def test_a_drop_refuses_a_speed_above_the_bound_whether_given_or_the_machines():
+    from rotorcontact.model.params import MAX_SPEED
+    from rotorcontact.simulation.drop_run import check_drop_speed
+
+    m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
+    assert check_drop_speed(m, MAX_SPEED) == MAX_SPEED
+    for speed in (2.0 * MAX_SPEED, 1e30 * RPM, -1.0, 0.0, math.nan):
+        with pytest.raises(ParameterError, match="^speed = .*(allowed|required)"):
+            drop(m, speed, 0.0, 0.01)
+    with pytest.raises(ParameterError, match="^speed = .*allowed"):  # a machine's own speed has the same bound
+        Machine(**{**m.as_dict(), "speed": 1e30 * RPM})
+    with pytest.raises(ParameterError, match="^--speed = .*allowed"):
+        check_drop_speed(m, 1e30 * RPM, "--speed")
+
+
+def test_a_failed_drop_has_the_regime_failed_never_levitated():
+    # a levitated flight of 5000 s at 9000 rpm is beyond the impact search's step budget (it ends as failed
+    # from about 200 s on): the run fails at once, before any impact
+    m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
+    r = drop(m, 9000 * RPM, 5000.0, 5000.01)
+    assert r.status == "failed" and len(r.impacts) == 0 and len(r.contacts) == 0
+    assert r.regime == "failed" and r.to_dict()["summary"]["regime"] == "failed"

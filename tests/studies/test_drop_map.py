@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rotorcontact import Machine, reference_machine
-from rotorcontact.simulation.drop_run import RPM, drop
-from rotorcontact.studies.drop_map import REGIMES, drop_map
+from rotorcontact import Machine, ParameterError, reference_machine
+from rotorcontact.simulation.drop_run import MAX_T_END, RPM, drop
+from rotorcontact.studies.drop_map import FAILED, REGIMES, drop_map, failed_points
 
 M = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
 SPEEDS = np.array([3000.0, 9000.0, 15000.0]) * RPM
@@ -44,3 +44,29 @@ def test_dask_executor_agrees():
     dask = drop_map(M, SPEEDS[:2], FRICTIONS[:1], t_end=T_END, chunk_size=1, scheduler="local", processes=False)
     for name in base.dataset.data_vars:
         xr.testing.assert_identical(base.dataset[name], dask.dataset[name])
+
+
+def test_a_failed_drop_is_marked_failed_with_no_outcome():
+    # each levitated flight of 5000 s is beyond the impact search's step budget: every drop fails
+    ds = drop_map(M, SPEEDS[:2], FRICTIONS[:1], fail_at=5000.0, t_end=5000.01).dataset
+    assert [REGIMES[c] for c in ds["regime"].values[0].astype(int)] == ["failed", "failed"]
+    assert (ds["regime"].values == FAILED).all()
+    for name in ("backward_whirl_onset_s", "max_normal_impulse_Ns", "energy_dissipated_J", "final_spin_rpm"):
+        assert np.isnan(ds[name].values).all(), name
+    np.testing.assert_array_equal(ds["n_impacts"].values, 0.0)
+    assert np.array(failed_points(ds)) == pytest.approx(np.array([[3000.0, 0.05], [9000.0, 0.05]]), rel=1e-12)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(speeds=[3000.0 * RPM, 1e30 * RPM]), r"speeds\[1\] = .*allowed: \(0, 1e\+06\]"),
+    (dict(speeds=[3000.0 * RPM, np.nan]), r"speeds\[1\] = nan"),
+    (dict(t_end=1e12), r"t_end = 1000000000000.0 .*\(0, 10000\]"),
+    (dict(t_end=MAX_T_END * (1.0 + 1e-9)), r"t_end = .*\(0, 10000\]"),
+    (dict(t_end=np.nan), "t_end = nan"),
+    (dict(fail_at=-1.0), r"fail_at = -1.0 .*\[0, inf\)"),
+    (dict(frictions=[0.1, -0.2]), r"frictions\[1\] = -0.2"),
+])
+def test_bad_arguments_are_refused_before_any_drop(kwargs, match):
+    args = {"speeds": SPEEDS, **kwargs}
+    with pytest.raises(ParameterError, match=match):
+        drop_map(M, **args)

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import argparse
-import re
+import math
 import sys
 
 from ..errors import ParameterError
@@ -12,8 +12,6 @@ from ..model.units import option_quantity, quantity_in
 from .outputs import check_plot_path
 from .options import parse_int, print_json
 
-#: Largest --t-end, s.
-MAX_T_END = 1e4
 #: Default and largest --max-events.
 DEFAULT_MAX_EVENTS = 1_000_000
 MAX_EVENTS = 10_000_000
@@ -38,33 +36,63 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def parse_time(option: str, text: str) -> float:
-    """A time option in seconds: a bare number, or a quantity with units ("0.5s", "20 ms")."""
+def parse_time(option: str, text: str, *, low_open: bool = False, high: float | None = None) -> float:
+    """A time option in seconds: a bare number, or a quantity with units ("0.5s", "20 ms").
+
+    Parameters
+    ----------
+    option : str
+        The option's name without the leading dashes (``"t-end"``).
+    text : str
+        The text given.
+    low_open : bool
+        Whether 0 itself is refused (the time must be > 0, else >= 0).
+    high : float, optional
+        Largest time allowed, s.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ParameterError
+        For a malformed or non-finite time or one out of range, naming the option, the text and what is
+        allowed.
+    """
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
-        return quantity_in(f"--{option}", text, "s")
+        value = quantity_in(f"--{option}", text, "s")
+    allowed = f"{'(' if low_open else '['}0, {'inf)' if high is None else f'{high:g}]'} s"
+    if not math.isfinite(value):
+        raise ParameterError(f"--{option} = {text!r} is not finite; allowed: {allowed}")
+    if value < 0.0 or (low_open and value == 0.0) or (high is not None and value > high):
+        raise ParameterError(f"--{option} = {text!r} ({value:g} s) is out of range; allowed: {allowed}")
+    return value
+
+
+def parse_drop_times(args: argparse.Namespace) -> tuple[float, float]:
+    """``--fail-at`` and ``--t-end`` of ``drop`` and ``drop-map``, s: fail_at >= 0 and 0 < t_end <=
+    `rotorcontact.simulation.drop_run.MAX_T_END`."""
+    from ..simulation.drop_run import MAX_T_END
+
+    return parse_time("fail-at", args.fail_at), parse_time("t-end", args.t_end, low_open=True, high=MAX_T_END)
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..simulation.drop_run import RPM, drop
+    from ..simulation.drop_run import RPM, check_drop_speed, drop
 
     machine = load_machine(args.machine)
-    speed = None if args.speed is None else option_quantity("--speed", args.speed, "rad/s")
-    fail_at = parse_time("fail-at", args.fail_at)
-    t_end = parse_time("t-end", args.t_end)
-    if not 0.0 < t_end <= MAX_T_END:
-        raise ParameterError(f"--t-end = {t_end!r} s is out of range; allowed: (0, {MAX_T_END:g}] s")
+    fail_at, t_end = parse_drop_times(args)
+    if args.speed is None:
+        speed = check_drop_speed(machine, machine.speed)  # the machine file's key
+    else:
+        speed = check_drop_speed(machine, option_quantity("--speed", args.speed, "rad/s"), "--speed")
     max_events = parse_int("max-events", args.max_events, 1, MAX_EVENTS)
     if args.plot is not None:
         check_plot_path(args.plot)
-    try:
-        result = drop(machine, speed, fail_at, t_end, max_events=max_events)
-    except ParameterError as exc:
-        text = str(exc).replace("fail_at", "--fail-at").replace("t_end", "--t-end")
-        if args.speed is not None:  # else the speed is the machine file's own key
-            text = re.sub(r"(?<![\w-])speed =", "--speed =", text)
-        raise ParameterError(text) from None
+    result = drop(machine, speed, fail_at, t_end, max_events=max_events)
     if args.plot is not None:
         from ..plotting.drop import save_drop_figure
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -36,14 +37,17 @@ def register(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..studies.drop_map import REGIMES, drop_map
+    from ..simulation.drop_run import check_drop_speed
+    from ..studies.drop_map import REGIMES, drop_map, failed_points
     from .design_map import parse_range
-    from .drop import parse_time
+    from .drop import parse_drop_times
 
     machine = load_machine(args.machine)
     n = parse_int("n", args.n, 1, MAX_N)
     lo, hi = parse_range("speed", args.speed, "rad/s")
     speeds = np.linspace(lo, hi, n)
+    for speed in speeds:
+        check_drop_speed(machine, speed, "--speed")
     if args.friction is None:
         frictions = np.array([machine.friction])
     else:
@@ -53,12 +57,12 @@ def run(args: argparse.Namespace) -> int:
         a = parse_float("friction", parts[0], low=0.0)
         b = parse_float("friction", parts[1], low=a)
         frictions = np.linspace(a, b, n)
+    fail_at, t_end = parse_drop_times(args)
+    chunk = parse_int("chunk-size", args.chunk_size, 1, 1_000_000)
     out = check_output_folder("--out", args.out)
     out.mkdir(parents=True, exist_ok=True)
-    chunk = parse_int("chunk-size", args.chunk_size, 1, 1_000_000)
-    run_ = drop_map(machine, speeds, frictions, fail_at=parse_time("fail-at", args.fail_at),
-                    t_end=parse_time("t-end", args.t_end), chunk_size=chunk, out=Path(out) / "drop_map.nc",
-                    progress=not args.json, **executor_kwargs(args))
+    run_ = drop_map(machine, speeds, frictions, fail_at=fail_at, t_end=t_end, chunk_size=chunk,
+                    out=Path(out) / "drop_map.nc", progress=not args.json, **executor_kwargs(args))
     ds = run_.dataset
     from ..plotting.drop_map import save_drop_map_figure
 
@@ -83,4 +87,11 @@ def run(args: argparse.Namespace) -> int:
         counts = {name: int((regime == i).sum()) for i, name in enumerate(REGIMES)}
         print(f"{regime.size} drops: " + ", ".join(f"{k} {v}" for k, v in counts.items() if v))
         print(f"written {run_.path} and {figure}")
+    failed = failed_points(ds)
+    if failed:
+        where = ", ".join(f"{speed:.6g} rpm and friction {mu:g}" for speed, mu in failed[:5])
+        more = f" and {len(failed) - 5} more" if len(failed) > 5 else ""
+        print(f"rotorcontact drop-map: failed: {len(failed)} of {regime.size} drops failed (at {where}{more}); "
+              f"the map marks them \"failed\"", file=sys.stderr)
+        return 1
     return 0

@@ -299,16 +299,19 @@ STATOR_KEYS = ("stator_mass", "stator_stiffness", "stator_stiffness_x", "stator_
 RACE_KEYS = ("race_inertia", "race_drag_torque", "race_drag_coefficient")
 
 
-def check_machine_value(name: str, value: Any) -> float:
+def check_machine_value(name: str, value: Any, label: str | None = None) -> float:
     """Check one SI value of a machine key against its range (`Machine`'s rules); return it as a float.
+
+    ``label``: the value's name in errors where it is not the key itself (a command-line option such as
+    ``"--speed"``, or ``"speeds[3]"``).
 
     Raises
     ------
     ParameterError
-        Naming the key, the value and the allowed range.
+        Naming the key (or ``label``), the value and the allowed range.
     """
     rule = {k: v for k, v in _MACHINE_RULES[name].items() if k != "unit"}
-    return check_range(name, value, **rule)
+    return check_range(label or name, value, **rule)
 
 
 def _si_unit(name: str, exponent: Any = None) -> str:

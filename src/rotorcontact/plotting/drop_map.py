@@ -10,7 +10,7 @@ from .style import save_figure
 
 __all__ = ["plot_drop_map", "save_drop_map_figure"]
 
-_REGIME_COLORS = ("#9ecae1", "#fdd0a2", "#a1d99b", "#de2d26")
+_REGIME_COLORS = ("#9ecae1", "#fdd0a2", "#a1d99b", "#de2d26", "#000000")  # failed: black
 
 
 def plot_drop_map(ds):

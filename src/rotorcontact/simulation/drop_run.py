@@ -24,7 +24,11 @@ from ..model.units import RPM
 from ..model.validation import MAX_COUNT, check_int
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
-__all__ = ["DropResult", "drop", "run_general", "levitated_state", "contact_force_history", "RPM"]
+__all__ = ["DropResult", "drop", "run_general", "levitated_state", "check_drop_speed", "contact_force_history", "RPM",
+           "MAX_T_END"]
+
+#: Largest final time of a drop in ``rotorcontact drop`` and of each drop of a drop map, s.
+MAX_T_END = 1e4
 
 #: Normal velocity (in units of sqrt(g c_r), or c_r Omega without gravity) below which impacts are taken to
 #: accumulate into contact.
@@ -45,12 +49,13 @@ EPISODE_TOL = 1e-10
 _COL = {name: i for i, name in enumerate(IMPACT_FIELDS)}
 
 
-def levitated_state(machine: Machine, speed: float) -> tuple[complex, complex]:
+def levitated_state(machine: Machine, speed: float, *, name: str = "speed") -> tuple[complex, complex]:
     """(z, z') in m and m/s at t = 0 of the steady levitated whirl at ``speed`` (rad/s) (MODEL.md §7).
 
     The particular solution of the levitated flight: the harmonic response to the unbalance at phase
     ``unbalance_phase`` plus the static deflection (F_s - m g)/k_y. A whirl that reaches the wall
-    later in its period impacts before the failure (the kernel finds those impacts).
+    later in its period impacts before the failure (the kernel finds those impacts). ``name``: the
+    speed's name in errors (a command-line option such as ``"--speed"``).
 
     Raises
     ------
@@ -74,7 +79,7 @@ def levitated_state(machine: Machine, speed: float) -> tuple[complex, complex]:
         v += unit * (1j * speed * h).real
     z = whirl + 1j * sag
     if not (math.isfinite(abs(z)) and math.isfinite(abs(v))):
-        raise ParameterError(f"speed = {speed!r} rad/s is an undamped resonance of the bearing; no steady whirl")
+        raise ParameterError(f"{name} = {speed!r} rad/s is an undamped resonance of the bearing; no steady whirl")
     cr = machine.clearance
     if abs(sag) >= cr:
         fs = "static_force" if machine.static_force is not None else "static_force (default m g)"
@@ -85,12 +90,41 @@ def levitated_state(machine: Machine, speed: float) -> tuple[complex, complex]:
         )
     if abs(z) >= cr:
         raise ParameterError(
-            f"speed = {speed / RPM:.6g} rpm: the levitated whirl starts at |z| = {abs(z):.4g} m (unbalance "
+            f"{name} = {speed / RPM:.6g} rpm: the levitated whirl starts at |z| = {abs(z):.4g} m (unbalance "
             f"response {abs(whirl):.4g} m from eccentricity = {machine.eccentricity:g} m, static sag {sag:.4g} m), "
             f"not inside the clearance = {cr:g} m; allowed: a speed whose levitated whirl starts inside it, "
             "or a larger clearance"
         )
     return z, v
+
+
+def check_drop_speed(machine: Machine, speed: Any, name: str = "speed") -> float:
+    """Check the spin speed (rad/s) a drop of ``machine`` starts at; return it as a float.
+
+    Every drop (`drop`, each point of a drop map, ``rotorcontact drop`` and ``drop-map``) starts here: the speed
+    must be finite, above 0 and at most `rotorcontact.model.params.MAX_SPEED`, and its levitated whirl (`levitated_state`) must exist
+    and start inside the clearance.
+
+    Parameters
+    ----------
+    machine : Machine
+    speed : float
+        Spin speed, rad/s.
+    name : str
+        The speed's name in errors: ``"speed"``, ``"speeds[3]"`` or a command-line option such as ``"--speed"``.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ParameterError
+        Naming ``name``, the speed and what is allowed.
+    """
+    v = check_machine_value("speed", speed, label=name)
+    levitated_state(machine, v, name=name)
+    return v
 
 
 @dataclass(frozen=True)
@@ -189,8 +223,10 @@ class DropResult:
 
     @property
     def regime(self) -> str:
-        """``"levitated"`` (no impact, no contact), ``"backward-whirl"``, ``"contact"`` (continuous contact,
-        or impacts that accumulate) or ``"bouncing"``."""
+        """``"failed"`` (the run failed: what it reached is no outcome), ``"levitated"`` (no impact, no contact),
+        ``"backward-whirl"``, ``"contact"`` (continuous contact, or impacts that accumulate) or ``"bouncing"``."""
+        if self.status == "failed":
+            return "failed"
         if len(self.impacts) == 0 and len(self.contacts) == 0:
             return "levitated"
         if self.backward_whirl_onset is not None:
@@ -266,7 +302,8 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
     machine : Machine
         The machine (its optional keys of MODEL.md §7 give gravity, anisotropy, spin inertia, race).
     speed : float, optional
-        Spin speed at the start in rad/s (default: ``machine.speed``).
+        Spin speed at the start in rad/s (default: ``machine.speed``), at most `rotorcontact.model.params.MAX_SPEED` and with a
+        levitated whirl inside the clearance (`check_drop_speed`).
     fail_at : float
         Time of the bearing failure, s (>= 0).
     t_end : float
@@ -278,7 +315,7 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
     -------
     DropResult
     """
-    speed = machine.speed if speed is None else check_machine_value("speed", speed)
+    speed = check_drop_speed(machine, machine.speed if speed is None else speed)
     fail_at = check_range("fail_at", fail_at, low=0.0)
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     max_events = check_int("max_events", max_events, low=1, high=MAX_COUNT)

@@ -2,9 +2,10 @@
 
 Each grid point is `rotorcontact.simulation.drop_run.drop` at that speed and friction; the map records
 the regime after the drop, the onset of backward whirl, the peak normal impulse, the energy dissipated,
-the final spin and the number of impacts. It runs on `rotorcontact.studies.driver.run_study` (in
-process, joblib or Dask; resumable NetCDF); every point is independent, so the result does not depend
-on the executor or the chunk size.
+the final spin and the number of impacts; a drop that fails has the regime ``"failed"``, nan as its onset,
+impulse, energy and final spin (what it reached is no outcome) and the impacts before the failure. It runs
+on `rotorcontact.studies.driver.run_study` (in process, joblib or Dask; resumable NetCDF); every point is
+independent, so the result does not depend on the executor or the chunk size.
 """
 
 from __future__ import annotations
@@ -19,14 +20,16 @@ from ..errors import ParameterError
 from ..model.params import Machine, check_range
 from ..model.units import RPM
 from ..model.validation import check_int
-from ..simulation.drop_run import drop
+from ..simulation.drop_run import MAX_T_END, check_drop_speed, drop
 from .driver import StudyRun, run_study
 from .execution import study_digest
 
-__all__ = ["REGIMES", "DropTask", "drop_map"]
+__all__ = ["REGIMES", "FAILED", "DropTask", "drop_map", "failed_points"]
 
-#: Regime codes of the map, in the order of their codes 0, 1, 2, ...
-REGIMES = ("levitated", "bouncing", "contact", "backward-whirl")
+#: Regime codes of the map, in the order of their codes 0, 1, 2, ... (`DropResult.regime`).
+REGIMES = ("levitated", "bouncing", "contact", "backward-whirl", "failed")
+#: Code of the drops that failed.
+FAILED = REGIMES.index("failed")
 _FIELDS = ("regime", "backward_whirl_onset_s", "max_normal_impulse_Ns", "energy_dissipated_J", "final_spin_rpm",
            "n_impacts")
 
@@ -53,12 +56,14 @@ class DropTask:
             r = drop(Machine(**{**self.machine, "friction": float(mu)}), float(speed), self.fail_at, self.t_end)
             s = r.to_dict()["summary"]
             out["regime"][i] = REGIMES.index(s["regime"])
+            out["n_impacts"][i] = len(r.impacts)
+            if s["regime"] == "failed":
+                continue  # what it reached is no outcome: nan
             out["backward_whirl_onset_s"][i] = np.nan if s["backward_whirl_onset_s"] is None \
                 else s["backward_whirl_onset_s"]
             out["max_normal_impulse_Ns"][i] = 0.0 if s["max_normal_impulse_Ns"] is None else s["max_normal_impulse_Ns"]
             out["energy_dissipated_J"][i] = s["energy_dissipated_J"]
             out["final_spin_rpm"][i] = s["final_spin_rpm"]
-            out["n_impacts"][i] = len(r.impacts)
         return out
 
 
@@ -75,7 +80,7 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
     frictions : array_like, optional
         Friction coefficients (default: the machine's).
     fail_at, t_end : float
-        Failure and final time of each drop, s.
+        Failure and final time of each drop, s (``fail_at >= 0``, ``0 < t_end <=`` `MAX_T_END`).
     chunk_size : int
         Drops per chunk.
     out, resume, n_jobs, scheduler, processes, progress
@@ -86,24 +91,33 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
     StudyRun
         Its dataset has the variables ``regime`` (codes into `REGIMES`, listed in the attribute
         ``regimes``), ``backward_whirl_onset_s`` (nan: none), ``max_normal_impulse_Ns``,
-        ``energy_dissipated_J``, ``final_spin_rpm`` and ``n_impacts``.
+        ``energy_dissipated_J``, ``final_spin_rpm`` and ``n_impacts``; at a drop that failed, the regime
+        is ``"failed"`` (`failed_points`), ``n_impacts`` counts the impacts before the failure and the
+        other variables are nan.
+
+    Raises
+    ------
+    ParameterError
+        For a bad argument, before any drop: each speed is checked by
+        `rotorcontact.simulation.drop_run.check_drop_speed` (named ``speeds[i]``), each friction
+        coefficient must be >= 0 (``frictions[i]``).
     """
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     frictions = np.atleast_1d(np.asarray([machine.friction] if frictions is None else frictions, dtype=float))
     if speeds.ndim != 1 or speeds.size == 0 or frictions.ndim != 1 or frictions.size == 0:
         raise ParameterError("speeds and frictions must be non-empty lists of numbers")
-    for v in speeds:
-        check_range("speed", v, low=0.0, low_open=True)
-    for v in frictions:
-        check_range("friction", v, low=0.0)
+    for i, v in enumerate(speeds):
+        check_drop_speed(machine, v, f"speeds[{i}]")
+    for i, v in enumerate(frictions):
+        check_range(f"frictions[{i}]", v, low=0.0)
     fail_at = check_range("fail_at", fail_at, low=0.0)
-    t_end = check_range("t_end", t_end, low=0.0, low_open=True)
+    t_end = check_range("t_end", t_end, low=0.0, high=MAX_T_END, low_open=True)
     chunk_size = check_int("chunk_size", chunk_size, low=1)
     grid_mu, grid_speed = np.meshgrid(frictions, speeds, indexing="ij")
     flat_speed, flat_mu = grid_speed.ravel(), grid_mu.ravel()
     n = flat_speed.size
     manifest = {"study": "drop-map", "machine": machine.as_dict(), "speeds": speeds.tolist(),
-                "frictions": frictions.tolist(), "fail_at": fail_at, "t_end": t_end}
+                "frictions": frictions.tolist(), "fail_at": fail_at, "t_end": t_end, "regimes": list(REGIMES)}
 
     def keys(size: int) -> list[str]:
         return [f"drops-{i:06d}" for i in range(0, n, size)]
@@ -130,3 +144,9 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
     return run_study(manifest, study_digest(manifest), keys=keys, waves=waves, assemble=assemble, n_items=n,
                      desc="drop-map", chunk_size=chunk_size, out=out, resume=resume, n_jobs=n_jobs,
                      scheduler=scheduler, processes=processes, progress=progress)
+
+
+def failed_points(ds) -> list[tuple[float, float]]:
+    """The (speed in rpm, friction) of each drop of a drop map's dataset that failed, in grid order."""
+    rows, cols = np.nonzero(ds["regime"].values.astype(int) == FAILED)
+    return [(float(ds["speed_rpm"].values[j]), float(ds["friction"].values[i])) for i, j in zip(rows, cols)]
