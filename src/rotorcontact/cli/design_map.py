@@ -35,7 +35,7 @@ def register(sub) -> None:
     )
     p.add_argument("machine_file", nargs="?", default=None, metavar="MACHINE.toml", help="machine file (SI or units)")
     p.add_argument("--machine", default=None, metavar="FILE|reference", help="machine file, or 'reference'")
-    p.add_argument("--speed", default=None, metavar="A:B[unit]", help="speed range (default unit rpm)")
+    p.add_argument("--speed", default=None, metavar="A:Brpm", help="speed range with its unit (1000:6000rpm)")
     p.add_argument("--stiffness", default=None, metavar="A:B[unit]", help="bearing stiffness range (N/m)")
     p.add_argument("--damping", default=None, metavar="A:B[unit]", help="bearing damping range (N s/m)")
     p.add_argument("--n", default="200", metavar="N", help="points along each range (default 200; 60 for planes)")

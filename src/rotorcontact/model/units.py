@@ -20,8 +20,11 @@ _PINT_SPELLING = {"1": "dimensionless", "N s/m": "N*s/m", "rad/s": "rad/s"}
 _ANGULAR_SPEEDS = {"rad/s", "rpm"}
 
 # what a quantity of a unit is, and how one is written, for the message asking for its unit
-_WRITTEN = {"rad/s": ("an angular speed", "12000rpm or 1250rad/s"), "rpm": ("an angular speed", "12000rpm or 1250rad/s"),
-            "m/s": ("a speed", "5mm/s or 0.005m/s")}
+_WRITTEN = {
+    "rad/s": ("an angular speed", "12000rpm or 1250rad/s"),
+    "rpm": ("an angular speed", "12000rpm or 1250rad/s"),
+    "m/s": ("a speed", "5mm/s or 0.005m/s"),
+}
 
 # a quantity's text starts with its magnitude (pint alone would read "rpm" as 1 rpm)
 _MAGNITUDE = re.compile(r"\s*[-+]?(\d|\.\d|nan|inf)", re.IGNORECASE)

@@ -102,8 +102,8 @@ def check_drop_speed(machine: Machine, speed: Any, name: str = "speed") -> float
     """Check the spin speed (rad/s) a drop of ``machine`` starts at; return it as a float.
 
     Every drop (`drop`, each point of a drop map, ``rotorcontact drop`` and ``drop-map``) starts here: the speed
-    must be finite, above 0 and at most `rotorcontact.model.params.MAX_SPEED`, and its levitated whirl (`levitated_state`) must exist
-    and start inside the clearance.
+    must be finite, above 0 and at most `rotorcontact.model.params.MAX_SPEED` (the bound of a machine's own
+    speed), and its levitated whirl (`levitated_state`) must exist and start inside the clearance.
 
     Parameters
     ----------
@@ -302,8 +302,8 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
     machine : Machine
         The machine (its optional keys of MODEL.md §7 give gravity, anisotropy, spin inertia, race).
     speed : float, optional
-        Spin speed at the start in rad/s (default: ``machine.speed``), at most `rotorcontact.model.params.MAX_SPEED` and with a
-        levitated whirl inside the clearance (`check_drop_speed`).
+        Spin speed at the start in rad/s (default: ``machine.speed``), at most
+        `rotorcontact.model.params.MAX_SPEED` and with a levitated whirl inside the clearance (`check_drop_speed`).
     fail_at : float
         Time of the bearing failure, s (>= 0).
     t_end : float
