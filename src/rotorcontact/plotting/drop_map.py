@@ -15,7 +15,8 @@ _REGIME_COLORS = ("#9ecae1", "#fdd0a2", "#a1d99b", "#de2d26", "#000000")  # fail
 
 def plot_drop_map(ds):
     """Three panels over (speed, friction): the regime after the drop, the onset of backward whirl (s)
-    and the peak normal impulse (N s). Returns (fig, axes)."""
+    and the peak normal impulse (N s); over speed alone where the map has one friction coefficient.
+    Returns (fig, axes)."""
     regimes = ds.attrs["regimes"].split(",")
     speed = ds["speed_rpm"].values
     mu = ds["friction"].values
@@ -26,6 +27,18 @@ def plot_drop_map(ds):
               ("max_normal_impulse_Ns", "peak normal impulse (N s)")]
     for ax, (name, title) in zip(axes, panels):
         values = ds[name].values
+        ax.set_xlabel("speed at failure (rpm)")
+        if mu.size == 1:  # a single row of cells has no height to draw: the values over speed
+            ax.set_title(f"{title}, friction {mu[0]:g}")
+            if name == "regime":
+                ax.scatter(speed, values[0], c=values[0], cmap=cmap, norm=norm, edgecolors="k", zorder=2)
+                ax.set_yticks(range(len(regimes)), regimes)
+                ax.set_ylim(-0.5, len(regimes) - 0.5)
+            else:
+                ax.plot(speed, values[0], "o-")
+            continue
+        ax.set_title(title)
+        ax.set_ylabel("friction coefficient")
         if name == "regime":
             mesh = ax.pcolormesh(speed, mu, values, cmap=cmap, norm=norm, shading="nearest")
             bar = fig.colorbar(mesh, ax=ax, ticks=range(len(regimes)))
@@ -33,9 +46,6 @@ def plot_drop_map(ds):
         else:
             mesh = ax.pcolormesh(speed, mu, np.ma.masked_invalid(values), cmap="viridis", shading="nearest")
             fig.colorbar(mesh, ax=ax)
-        ax.set_xlabel("speed at failure (rpm)")
-        ax.set_ylabel("friction coefficient")
-        ax.set_title(title)
     fig.suptitle(f"drop map: bearing fails at {ds.attrs['fail_at_s']:g} s, followed to {ds.attrs['t_end_s']:g} s")
     fig.tight_layout()
     return fig, axes
