@@ -421,3 +421,20 @@ def compiled_kernels():
     simulate(p, 0j, 0j, 10.0)
     simulate_batch(p, np.array([0j, 0.1 + 0j]), 0j, n_transient=2, n_record=2)
     simulate_batch(p, np.array([0j, 0.1 + 0j]), 0j, n_transient=2, n_record=2, parallel=False)
+
+
+@pytest.fixture
+def failing_drops(monkeypatch):
+    """Every drop's run reports the status ``failed`` (its impacts and state as computed), to test how a
+    failure is reported wherever it comes from."""
+    from rotorcontact.interpreted import call_kernel
+    from rotorcontact.simulation import drop_run
+    from rotorcontact.simulation.drop import FAILED
+
+    real = drop_run.drop_kernel
+
+    def failing(*args):
+        impacts, contacts, _status, t_stop, state = call_kernel(real, *args)
+        return impacts, contacts, FAILED, t_stop, state
+
+    monkeypatch.setattr(drop_run, "drop_kernel", failing)

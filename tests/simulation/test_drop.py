@@ -449,10 +449,24 @@ def test_a_drop_refuses_a_speed_above_the_bound_whether_given_or_the_machines():
         check_drop_speed(m, 1e30 * RPM, "--speed")
 
 
-def test_a_failed_drop_has_the_regime_failed_never_levitated():
-    # a levitated flight of 5000 s at 9000 rpm is beyond the impact search's step budget (it ends as failed
-    # from about 200 s on): the run fails at once, before any impact
+def test_a_failed_drop_has_the_regime_failed_never_levitated(failing_drops):
     m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
-    r = drop(m, 9000 * RPM, 5000.0, 5000.01)
+    r = drop(m, 9000 * RPM, 0.0, 0.001)  # no impact yet: it would be "levitated" had it not failed
     assert r.status == "failed" and len(r.impacts) == 0 and len(r.contacts) == 0
     assert r.regime == "failed" and r.to_dict()["summary"]["regime"] == "failed"
+
+
+@pytest.mark.parametrize("fail_at", [300.0, 1000.0])
+def test_a_bearing_failing_after_a_long_levitated_run_drops_as_from_that_phase_of_the_whirl(fail_at):
+    """A levitated whirl of thousands of periods is longer than one impact search's step budget: the flight
+    goes on from where the search stopped. After the failure at T the drop is the one of a failure at 0 with
+    the unbalance phase advanced by Omega T (the steady whirl at T), shifted by T."""
+    m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
+    speed = 9000 * RPM
+    late = drop(m, speed, fail_at, fail_at + 0.02)
+    phase = math.remainder(m.unbalance_phase + speed * fail_at, 2.0 * math.pi)
+    early = drop(Machine(**{**m.as_dict(), "unbalance_phase": phase}), speed, 0.0, 0.02)
+    assert late.status == early.status == "completed" and len(late.impacts) == len(early.impacts) >= 2
+    # the phase of the whirl at T holds the rounding of Omega T (about 1e-16 Omega T rad)
+    np.testing.assert_allclose(late.column("t_s") - fail_at, early.column("t_s"), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(late.column("normal_impulse_Ns"), early.column("normal_impulse_Ns"), rtol=1e-5)

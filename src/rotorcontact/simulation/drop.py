@@ -366,9 +366,15 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
         else:
             code, s = next_impact(flight, spin, horizon, on_boundary, liftoff, stator)
         liftoff = False
+        resumed = False
         if code == ITERATION_LIMIT:
-            status = FAILED
-            break
+            if not s > 0.0:
+                status = FAILED
+                break
+            # the search's step budget ran out on a long flight (a levitated whirl of many periods): [0, s]
+            # is certified free of crossings, so the flight goes on from z(s) as a new one
+            code = NO_CROSSING
+            resumed = True
         if code == STUCK and compliant:
             # pressed outwards on the wall: an episode starts at once
             code = CROSSING
@@ -391,7 +397,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             zb, vb = flight_state(stator, 0.0, s)
             if stator_cx > 0.0 or stator_cy > 0.0:  # its support's damping (>= 0 but for rounding)
                 dissipated += max(0.0, e_stator - _stator_energy(zb, vb, cr, stator_mass, stator_kx, stator_ky))
-        if code == CROSSING:
+        if code == CROSSING or resumed:
             t = t + s
         else:  # the flight reached its horizon: the failure (exactly at t_fail) or the end
             t = t_fail if levitated and t_fail < t_end else t_end
