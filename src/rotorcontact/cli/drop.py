@@ -85,9 +85,8 @@ def run(args: argparse.Namespace) -> int:
 
     machine = load_machine(args.machine)
     fail_at, t_end = parse_drop_times(args)
-    if args.speed is None:
-        speed = check_drop_speed(machine, machine.speed)  # the machine file's key
-    else:
+    speed = None  # the machine's own speed, checked by `drop` under its key's name
+    if args.speed is not None:
         speed = check_drop_speed(machine, option_quantity("--speed", args.speed, "rad/s"), "--speed")
     max_events = parse_int("max-events", args.max_events, 1, MAX_EVENTS)
     if args.plot is not None:

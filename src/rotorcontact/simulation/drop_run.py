@@ -315,11 +315,12 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
     -------
     DropResult
     """
-    speed = check_drop_speed(machine, machine.speed if speed is None else speed)
+    # `check_drop_speed`, keeping the levitated state it computes
+    speed = check_machine_value("speed", machine.speed if speed is None else speed)
+    z0, v0 = levitated_state(machine, speed)
     fail_at = check_range("fail_at", fail_at, low=0.0)
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     max_events = check_int("max_events", max_events, low=1, high=MAX_COUNT)
-    z0, v0 = levitated_state(machine, speed)
     return run_general(machine, z0, v0, speed, fail_at, t_end, max_events=max_events)
 
 

@@ -374,13 +374,7 @@ class DaskExecutor(_Executor):
                 raise ParameterError(f"scheduler = {scheduler!r}: cannot connect ({exc})") from None
             try:
                 if not workers:
-                    try:
-                        self.client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
-                    except TimeoutError:
-                        raise ParameterError(
-                            f"scheduler = {scheduler!r} has no workers (none joined within {CONNECT_TIMEOUT_S:g} s); "
-                            f"start them with: dask worker {scheduler}"
-                        ) from None
+                    _await_worker(self.client, scheduler)
                 check_workers(self.client, self._where)
             except BaseException:
                 self.close(abort=True)
@@ -400,24 +394,8 @@ class DaskExecutor(_Executor):
         finished: queue.Queue = queue.Queue()
         for fut in futures:
             fut.add_done_callback(finished.put)
-        no_workers_since = None
         for _ in range(len(futures)):
-            while True:
-                try:
-                    fut = finished.get(timeout=_WORKER_POLL_S)
-                    break
-                except queue.Empty:
-                    # a cluster whose workers have all left (or never came) would keep the chunks for ever
-                    if _has_workers(self.client):
-                        no_workers_since = None
-                    elif no_workers_since is None:
-                        no_workers_since = time.monotonic()
-                    elif time.monotonic() - no_workers_since > NO_WORKERS_TIMEOUT_S:
-                        raise RuntimeError(
-                            f"the Dask cluster ({self._where}) has had no workers for {NO_WORKERS_TIMEOUT_S:g} s: "
-                            "they left or failed (see their logs); the chunks already written are resumed "
-                            "when the study is run again"
-                        )
+            fut = self._next_finished(finished)
             try:
                 result = fut.result()
             except KilledWorker as exc:
@@ -433,6 +411,25 @@ class DaskExecutor(_Executor):
         for fut in futures:
             fut.release()
         self._futures = []
+
+    def _next_finished(self, finished: queue.Queue) -> Any:
+        """The next future put in ``finished``; a `RuntimeError` once the cluster has had no workers for
+        `NO_WORKERS_TIMEOUT_S` (one whose workers have all left, or never came, would keep the chunks for ever)."""
+        no_workers_since = None
+        while True:
+            try:
+                return finished.get(timeout=_WORKER_POLL_S)
+            except queue.Empty:
+                pass
+            if _has_workers(self.client):
+                no_workers_since = None
+            elif no_workers_since is None:
+                no_workers_since = time.monotonic()
+            elif time.monotonic() - no_workers_since > NO_WORKERS_TIMEOUT_S:
+                raise RuntimeError(
+                    f"the Dask cluster ({self._where}) has had no workers for {NO_WORKERS_TIMEOUT_S:g} s: they left "
+                    "or failed (see their logs); the chunks already written are resumed when the study is run again"
+                )
 
     def close(self, abort: bool = False) -> None:
         if not abort:
@@ -458,6 +455,17 @@ class DaskExecutor(_Executor):
                     self._cluster.close(timeout=10)
         finally:
             quiet.setLevel(level)
+
+
+def _await_worker(client: Any, address: str) -> None:
+    """Wait `CONNECT_TIMEOUT_S` for the first worker of the cluster at ``address``; a `ParameterError` if none joins."""
+    try:
+        client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
+    except TimeoutError:
+        raise ParameterError(
+            f"scheduler = {address!r} has no workers (none joined within {CONNECT_TIMEOUT_S:g} s); "
+            f"start them with: dask worker {address}"
+        ) from None
 
 
 def _has_workers(client: Any) -> bool:
