@@ -70,7 +70,7 @@ def register(sub) -> None:
                    help=f"length of the Lyapunov run from each attractor (default 400, at most {MAX_T_LYAPUNOV:g})")
     g.add_argument("--no-lyapunov", dest="lyapunov", action="store_false",
                    help="do not compute the largest exponents (labels of irregular motion are then undetermined)")
-    add_scale_options(p, default_chunk="2048 simulations")
+    add_scale_options(p, default_chunk="2048 simulations", backend=True)
     o = p.add_argument_group("output")
     o.add_argument("--out", required=True, metavar="FILE.nc", help="NetCDF file to write")
     o.add_argument("--plot", default=None, metavar="FILE.png", help="also draw fractions and exponents")

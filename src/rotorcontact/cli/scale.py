@@ -35,9 +35,18 @@ def add_executor_options(parser: argparse.ArgumentParser) -> argparse._ArgumentG
     return g
 
 
-def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str) -> None:
-    """Add --n-jobs, --scheduler, --chunk-size, --no-resume, --keep-chunks, --no-progress."""
+#: --backend's values (`rotorcontact.studies.execution.BACKENDS`, not imported here to keep --help fast).
+BACKEND_CHOICES = ("cpu", "cuda")
+
+
+def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str, *, backend: bool = False) -> None:
+    """Add --n-jobs, --scheduler, --chunk-size, --no-resume, --keep-chunks, --no-progress (and --backend)."""
     g = add_executor_options(parser)
+    if backend:
+        g.add_argument("--backend", default="cpu", choices=BACKEND_CHOICES,
+                       help="'cuda' runs the simulations on this machine's NVIDIA GPU (needs numba-cuda: "
+                            "pip install 'rotorcontact[cuda]'); motion that enters continuous contact is "
+                            "finished on the CPU. Default: cpu")
     g.add_argument("--chunk-size", dest="chunk_size", default=None, metavar="K",
                    help=f"simulations per chunk written to disk (default {default_chunk}); results do not depend on "
                         "it, and an interrupted run resumes with the chunk size it was started with")
@@ -133,6 +142,17 @@ def scale_kwargs(args: argparse.Namespace) -> dict[str, Any]:
     """Keyword arguments of `sweep` / `basins` from the execution options (`add_scale_options`)."""
     out: dict[str, Any] = dict(executor_kwargs(args), resume=args.resume, keep_chunks=args.keep_chunks,
                                progress=args.progress)
+    backend = getattr(args, "backend", "cpu")
+    if backend != "cpu":
+        if args.n_jobs is not None or args.scheduler is not None:
+            raise ParameterError(
+                f"--backend {backend} runs in this process on its GPU; --n-jobs and --scheduler are invalid with "
+                "it; allowed: one or the other"
+            )
+        from ..studies.cuda_batch import require_cuda
+
+        require_cuda(f"--backend {backend}")
+        out["backend"] = backend
     if args.chunk_size is not None:
         out["chunk_size"] = parse_int("chunk-size", args.chunk_size, 1, MAX_CHUNK)
     return out

@@ -113,6 +113,67 @@ def _first_order_tail(t, theta, rd, tdp, n_force, t_cap, gamma, rho, mu, d, phi,
 
 
 @njit(cache=True)
+def flight_event(u, du, k, gamma, omega, d, mu, r_ratio, horizon, on_boundary, liftoff, leaves_at_once):
+    """The flight from (u, du) to its next event: an impact, a touch, contact, no crossing, or a failure.
+
+    ``leaves_at_once`` starts the flight with a crossing at s = 0 (a start on the
+    boundary moving outwards). Returns (code, tau, touch, ui, dv, du_plus, rd, td,
+    rdp, tdp, vrel, pn, pt, theta): `rotorcontact.simulation.roots.next_crossing`'s code and
+    time; for a crossing, the point ui on |U| = 1 and the velocity dv there, and
+    ``touch`` when its normal velocity is at rounding level (no impulse), else the
+    reset (`rotorcontact.model.impact_law.apply_reset`) and the impact angle.
+    """
+    if leaves_at_once:
+        code, tau = CROSSING, 0.0
+    else:
+        code, tau = next_crossing(u - k, du, k, gamma, omega, horizon, on_boundary, liftoff)
+    if code != CROSSING:
+        return code, tau, False, u, du, du, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    v, dv = propagate(u - k, du, tau, gamma, omega)
+    ui = k + v
+    ui = complex_quotient(ui, abs(ui))
+    if polar_velocity(ui, dv)[0] <= RDOT_MIN * (1.0 + abs(dv)):
+        return code, tau, True, ui, dv, dv, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    du_plus, rd, td, rdp, tdp, vrel, pn, pt = apply_reset(ui, dv, d, mu, r_ratio)
+    theta = wrap_angle(math.atan2(ui.imag, ui.real))
+    return code, tau, False, ui, dv, du_plus, rd, td, rdp, tdp, vrel, pn, pt, theta
+
+
+@njit(cache=True)
+def chain_step(t, theta, rd, rdp, tdp, n_force, chain, prev_rd, prev_t, prev_th, prev_td, short_before, gamma, rho,
+               mu, d, phi, r_ratio, chatter_tol, chatter_rdot, chatter_height, chatter_dt):
+    """Whether an impact with the rotor pressed outwards (N > 0) ends a sequence of impacts that accumulates.
+
+    Impacts accumulate (docs/contact.md): the first-order tail from this impact, A_n, is off by
+    c rd^2 + O(rd^3); with the ratio q of successive impact velocities, E = (A_n - A_{n-1}) q^2 / (1 - q^2)
+    estimates that error and A_n + E is off by O(rd^3). ``chain`` says the previous impact was one of the
+    sequence, with velocity ``prev_rd`` and tail ``(prev_t, prev_th, prev_td)``.
+
+    Returns (accumulates, converged, short_before, t_a, th_a, td_a, e_t, e_th, e_td): the first-order tail
+    A_n and the estimate E (0 where it does not apply).
+    """
+    t_a, th_a, td_a = _first_order_tail(t, theta, rd, tdp, n_force, math.inf, gamma, rho, mu, d, phi, r_ratio)
+    ratio = rd / prev_rd if chain else math.inf
+    estimate = math.inf
+    e_t = e_th = e_td = 0.0
+    if d < 1.0 and 0.0 < ratio < 1.0 and abs(ratio - d) <= RATIO_TOL * (1.0 - d):
+        w = ratio * ratio / (1.0 - ratio * ratio)
+        e_t = (t_a - prev_t) * w
+        e_th = wrap_angle(th_a - prev_th) * w
+        e_td = (td_a - prev_td) * w
+        estimate = max(abs(e_t), abs(e_th), abs(e_td)) * rd
+    bounce = 2.0 * d * rd / n_force
+    short = bounce < chatter_dt and short_before
+    short_before = bounce < chatter_dt
+    # micro-bouncing that does not contract towards chatter_rdot within MAX_RESOLVED impacts
+    # (elastic impacts, d = 1, never accumulate by themselves)
+    slow = chain and (ratio >= 1.0 or math.log(chatter_rdot / rd) < MAX_RESOLVED * math.log(ratio))
+    converged = estimate <= chatter_tol
+    accumulates = converged or rd < chatter_rdot or rdp * rdp < 2.0 * chatter_height * n_force or (short and slow)
+    return accumulates, converged, short_before, t_a, th_a, td_a, e_t, e_th, e_td
+
+
+@njit(cache=True)
 def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol,
                     chatter_rdot, chatter_height, chatter_dt, stop_on_chatter):
     """Run the rotor from (u0, du0) at t = 0 to t_end through flights, impacts and contact.
@@ -157,7 +218,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
     short_before = False
     chain = False  # the previous event was an impact of an accumulating sequence (N > 0)
     prev_rd = 0.0
-    prev_acc = np.zeros(3)
+    prev_t = prev_th = prev_td = 0.0
     next_mode = NO_MODE
     while True:
         events += 1
@@ -165,10 +226,10 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             status = MAX_EVENTS
             break
         if not in_contact:
-            if on_boundary and n_imp == 0 and events == 1 and polar_velocity(u, du)[0] > RDOT_MIN:
-                code, tau = CROSSING, 0.0
-            else:
-                code, tau = next_crossing(u - k, du, k, gamma, omega, t_end - t, on_boundary, liftoff)
+            leaves = on_boundary and n_imp == 0 and events == 1 and polar_velocity(u, du)[0] > RDOT_MIN
+            code, tau, touch, ui, dv, du_plus, rd, td, rdp, tdp, vrel, pn, pt, theta = flight_event(
+                u, du, k, gamma, omega, d, mu, r_ratio, t_end - t, on_boundary, liftoff, leaves
+            )
             liftoff = False
             if code == NO_CROSSING:
                 break
@@ -186,11 +247,8 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 thetadot_c = polar_velocity(u, du)[1]
                 in_contact = True
                 continue
-            v, dv = propagate(u - k, du, tau, gamma, omega)
-            ui = k + v
-            ui = complex_quotient(ui, abs(ui))
             t = t + tau
-            if polar_velocity(ui, dv)[0] <= RDOT_MIN * (1.0 + abs(dv)):
+            if touch:
                 # a touch at rounding level with no normal velocity: no impulse, flight goes on
                 chain = False
                 u = ui
@@ -198,8 +256,6 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 on_boundary = True
                 flights, n_fl = _push_state(flights, n_fl, t, u, du)
                 continue
-            du_plus, rd, td, rdp, tdp, vrel, pn, pt = apply_reset(ui, dv, d, mu, r_ratio)
-            theta = wrap_angle(math.atan2(ui.imag, ui.real))
             n_force = normal_force(theta, tdp, omega, rho, phi)
             row[0] = t
             row[1] = theta
@@ -224,28 +280,11 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 chain = False
                 short_before = False
                 continue
-            # Impacts accumulate (docs/contact.md): the first-order tail from this impact, A_n, is
-            # off by c rd^2 + O(rd^3); with the ratio q of successive impact velocities,
-            # E = (A_n - A_{n-1}) q^2 / (1 - q^2) estimates that error and A_n + E is off by O(rd^3).
-            t_a, th_a, td_a = _first_order_tail(t, theta, rd, tdp, n_force, math.inf, gamma, rho, mu, d,
-                                                phi, r_ratio)
-            ratio = rd / prev_rd if chain else math.inf
-            estimate = math.inf
-            e_t = e_th = e_td = 0.0
-            if d < 1.0 and 0.0 < ratio < 1.0 and abs(ratio - d) <= RATIO_TOL * (1.0 - d):
-                w = ratio * ratio / (1.0 - ratio * ratio)
-                e_t = (t_a - prev_acc[0]) * w
-                e_th = wrap_angle(th_a - prev_acc[1]) * w
-                e_td = (td_a - prev_acc[2]) * w
-                estimate = max(abs(e_t), abs(e_th), abs(e_td)) * rd
-            bounce = 2.0 * d * rd / n_force
-            short = bounce < chatter_dt and short_before
-            short_before = bounce < chatter_dt
-            # micro-bouncing that does not contract towards chatter_rdot within MAX_RESOLVED impacts
-            # (elastic impacts, d = 1, never accumulate by themselves)
-            slow = chain and (ratio >= 1.0 or math.log(chatter_rdot / rd) < MAX_RESOLVED * math.log(ratio))
-            converged = estimate <= chatter_tol
-            if converged or rd < chatter_rdot or rdp * rdp < 2.0 * chatter_height * n_force or (short and slow):
+            accumulates, converged, short_before, t_a, th_a, td_a, e_t, e_th, e_td = chain_step(
+                t, theta, rd, rdp, tdp, n_force, chain, prev_rd, prev_t, prev_th, prev_td, short_before, gamma, rho,
+                mu, d, phi, r_ratio, chatter_tol, chatter_rdot, chatter_height, chatter_dt
+            )
+            if accumulates:
                 # the corrected tail where the sequence has converged onto it, else the first order
                 # (as in the linearisation of `lyapunov.accumulation_saltation`)
                 if converged and t <= t_a + e_t <= t_end:
@@ -275,9 +314,9 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 continue
             chain = True
             prev_rd = rd
-            prev_acc[0] = t_a
-            prev_acc[1] = th_a
-            prev_acc[2] = td_a
+            prev_t = t_a
+            prev_th = th_a
+            prev_td = td_a
             continue
         # continuous contact from (theta_c, thetadot_c) at t
         if next_mode != NO_MODE:

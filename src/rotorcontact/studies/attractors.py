@@ -49,7 +49,7 @@ from ..model.validation import check_int, check_params
 from .basins import DEFAULT_CHUNK, BasinGrid, class_names, name_points, parse_grid
 from .batch import NSUM, PARAMETER_ORDER, BatchResult, BatchSettings, parameter_array
 from .driver import run_study
-from .execution import ChunkTask, study_digest
+from .execution import ChunkTask, backend_manifest, study_digest
 from .lyapunov_scan import SpectrumTask
 from .parameter_path import parameter_path
 
@@ -274,6 +274,7 @@ def attractors(
     n_jobs: int | None = None,
     scheduler: Any = None,
     processes: bool = True,
+    backend: str = "cpu",
     out: str | Path | None = None,
     resume: bool = True,
     keep_chunks: bool = False,
@@ -300,7 +301,7 @@ def attractors(
         Compute the largest Lyapunov exponent of each attractor at each value.
     t_lyapunov : float
         Length of those runs.
-    chunk_size, n_jobs, scheduler, processes, out, resume, keep_chunks, progress, machine
+    chunk_size, n_jobs, scheduler, processes, backend, out, resume, keep_chunks, progress, machine
         As for `rotorcontact.studies.basins.basins`.
 
     Returns
@@ -347,6 +348,7 @@ def attractors(
         "rows": rows,
         "grid": {"kind": grid.kind, "axis0": grid.axis0, "axis1": grid.axis1},
         "settings": settings.as_dict(),
+        **backend_manifest(backend),
     }
     digest = study_digest({**manifest, "match_tol": match_tol, "lyapunov": bool(lyapunov),
                            "t_lyapunov": t_lyapunov, "version": __version__,
@@ -415,7 +417,8 @@ def attractors(
     run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble,
                     n_items=n_items + (vals.size if lyapunov else 0),
                     desc="attractors", chunk_size=chunk_size, out=out, resume=resume, keep_chunks=keep_chunks,
-                    n_jobs=n_jobs, scheduler=scheduler, processes=processes, progress=progress)
+                    n_jobs=n_jobs, scheduler=scheduler, processes=processes, progress=progress,
+                    backend=backend)
     ds = run.dataset
     return AttractorsResult(dataset=ds, param=param, values=vals, attractors=attractors_of(ds), path=run.path,
                             chunks_computed=run.chunks_computed, chunks_reused=run.chunks_reused,

@@ -40,26 +40,15 @@ from typing import Any
 import numpy as np
 
 from .. import __version__
-from .batch import (
-    IRREGULAR,
-    MIXED,
-    NO_CONTACT,
-    PERIODIC,
-    ROLL,
-    RUB,
-    UNDETERMINED,
-    NSUM,
-    BatchResult,
-    BatchSettings,
-    parameter_array,
-)
+from ..simulation.motion import IRREGULAR, MIXED, NO_CONTACT, PERIODIC, ROLL, RUB, UNDETERMINED
+from .batch import NSUM, BatchResult, BatchSettings, parameter_array
 from ..errors import ParameterError
 from ..model.angles import angle_difference
 from ..model.params import Machine, Parameters, check_finite
 from ..model.validation import check_int, check_params
 from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 from .driver import run_study
-from .execution import ChunkTask, study_digest
+from .execution import ChunkTask, backend_manifest, study_digest
 from .grids import (  # noqa: F401  (offered here too, where they were first defined)
     _AXIS_ATTRS,
     GRID_KINDS,
@@ -229,6 +218,7 @@ def basins(
     n_jobs: int | None = None,
     scheduler: Any = None,
     processes: bool = True,
+    backend: str = "cpu",
     out: str | Path | None = None,
     resume: bool = True,
     keep_chunks: bool = False,
@@ -258,7 +248,7 @@ def basins(
         Grid points per chunk (it sets where files are written, not the
         results; an interrupted run is resumed with the chunk size it was
         started with).
-    n_jobs, scheduler, processes, out, resume, keep_chunks, progress, machine
+    n_jobs, scheduler, processes, backend, out, resume, keep_chunks, progress, machine
         As for `rotorcontact.studies.sweep.sweep`.
 
     Returns
@@ -290,6 +280,7 @@ def basins(
         "params": params.as_dict(),
         "grid": {"kind": grid.kind, "axis0": grid.axis0, "axis1": grid.axis1},
         "settings": settings.as_dict(),
+        **backend_manifest(backend),
     }
     # the finished file also depends on the naming of the orbits, the machine and the version
     digest = study_digest({**manifest, "match_tol": match_tol, "version": __version__,
@@ -330,7 +321,8 @@ def basins(
 
     run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n_valid, desc="basins",
                     chunk_size=chunk_size, out=out, resume=resume, keep_chunks=keep_chunks, n_jobs=n_jobs,
-                    scheduler=scheduler, processes=processes, progress=progress)
+                    scheduler=scheduler, processes=processes, progress=progress,
+                    backend=backend)
     ds = run.dataset
     names = tuple(str(n) for n in ds["class_name"].values)
     return BasinResult(

@@ -40,22 +40,39 @@ import numpy as np
 from numba import njit, prange
 
 from ..errors import ParameterError
-from ..model.flow import equilibrium_point, half_discriminant, propagate
+from .window import (
+    NSUM,
+    S_CONTACT_TIME,
+    S_DU_IM,
+    S_DU_RE,
+    S_FINAL_KIND,
+    S_N_CONTACTS,
+    S_N_IMPACTS,
+    S_P,
+    S_PERIOD,
+    S_REGIME,
+    S_STATUS,
+    S_T_TRANSIENT,
+    S_T_WINDOW,
+    S_TRANSIENT_IMPACTS,
+    S_TRANSIENT_STATUS,
+    S_U_IM,
+    S_U_RE,
+    detect_period_rows,
+    flight_final_state,
+    never_touches,
+    regime_of,
+)
+from ..model.flow import equilibrium_point, propagate
 # the regimes of the window: the codes and names of `rotorcontact.simulation.motion` (``"forward-rub"`` and
 # ``"backward-whirl"`` were formerly ``"rub"`` and ``"rolling"``, `rotorcontact.simulation.motion.REGIME_ALIASES`)
 from ..simulation.motion import (
     FAILED_REGIME,
-    IRREGULAR,
     MAX_PERIOD_IMPACTS,
     MIN_IRREGULAR,
-    MIXED,
     NO_CONTACT,
-    PERIODIC,
     REGIME_NAMES,
     REPEAT_TOL,
-    ROLL,
-    RUB,
-    UNDETERMINED,
     WINDOW,
 )
 from ..model.params import Parameters, check_range
@@ -70,7 +87,7 @@ from ..simulation.simulator import (
     STATUS_NAMES,
     simulate_kernel,
 )
-from ..simulation.contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_FORWARD
+from ..simulation.contact import ACCUMULATION, KIND_NAMES, SLIDE_FORWARD
 
 __all__ = [
     "PARAMETER_ORDER",
@@ -96,27 +113,7 @@ FINAL_KIND_NAMES = {-1: "flight", **{i: name for i, name in enumerate(KIND_NAMES
 
 
 
-#: Columns of the per-item summary array of the kernel (`run_lanes`), ``NSUM`` of them.
-S_STATUS = 0
-S_TRANSIENT_STATUS = 1
-S_REGIME = 2
-S_P = 3
-S_PERIOD = 4
-S_N_IMPACTS = 5
-S_N_CONTACTS = 6
-S_CONTACT_TIME = 7
-S_FINAL_KIND = 8
-S_U_RE = 9
-S_U_IM = 10
-S_DU_RE = 11
-S_DU_IM = 12
-S_T_TRANSIENT = 13
-S_T_WINDOW = 14
-S_TRANSIENT_IMPACTS = 15
-NSUM = 16
-
 DEFAULT_TIME_PER_EVENT = 5.0
-CERTIFICATE_MARGIN = 1e-9
 
 
 # ---------------------------------------------------------------------------
@@ -159,49 +156,8 @@ def _final_state(flights, contacts, path, t_stop, gamma, omega, rho, phi):
             return e, du, kind
     u_f = complex(flights[n_fl - 1, 1], flights[n_fl - 1, 2])
     du_f = complex(flights[n_fl - 1, 3], flights[n_fl - 1, 4])
-    dt = t_stop - t_fl
-    if dt <= 0.0:
-        return u_f, du_f, -1
-    k = equilibrium_point(gamma, omega, rho, phi)
-    v, dv = propagate(u_f - k, du_f, dt, gamma, omega)
-    u = k + v
-    r = abs(u)
-    if r > 1.0:
-        u = u / r
-    return u, dv, -1
-
-
-@njit(cache=True)
-def _angle_gap(a, b):
-    x = a - b
-    return abs(math.atan2(math.sin(x), math.cos(x)))
-
-
-@njit(cache=True)
-def _detect_period(imp, n, max_p, tol):
-    """`rotorcontact.simulation.motion.detect_period` on the first ``n`` rows of an impact table: (p, period) or (0, nan)."""
-    for p in range(1, max_p + 1):
-        m = max(2 * p, 6)
-        if n < m + p + 1:
-            break
-        ok = True
-        pmin = math.inf
-        pmax = -math.inf
-        for i in range(n - m, n):
-            j = i - p
-            if (
-                not (_angle_gap(imp[i, 1], imp[j, 1]) < tol)
-                or not (abs(imp[i, 2] - imp[j, 2]) < tol)
-                or not (abs(imp[i, 3] - imp[j, 3]) < tol)
-            ):
-                ok = False
-                break
-            dt = imp[i, 0] - imp[j, 0]
-            pmin = min(pmin, dt)
-            pmax = max(pmax, dt)
-        if ok and (pmax - pmin) < tol * max(1.0, pmax):
-            return p, imp[n - 1, 0] - imp[n - 1 - p, 0]
-    return 0, math.nan
+    u, du = flight_final_state(t_fl, u_f, du_f, t_stop, gamma, omega, rho, phi)
+    return u, du, -1
 
 
 @njit(cache=True)
@@ -211,14 +167,12 @@ def _classify_window(impacts, contacts, t_stop, status, window, max_p, tol, min_
     The rules are those of `rotorcontact.simulation.motion.classify` (`rotorcontact.simulation.motion.regime_code`
     of its summary is this code; the tests check the two on the same runs).
     """
-    if status == FAILED:
-        return FAILED_REGIME, 0, math.nan
     n = impacts.shape[0]
     t_win = t_stop * (1.0 - window)
-    late_impacts = 0
+    late_impacts = False
     for i in range(n):
         if impacts[i, 0] >= t_win:
-            late_impacts += 1
+            late_impacts = True
     n_late = 0
     forward_only = True
     last_kind = -1
@@ -229,49 +183,7 @@ def _classify_window(impacts, contacts, t_stop, status, window, max_p, tol, min_
             last_kind = kind
             if kind != SLIDE_FORWARD:
                 forward_only = False
-    if late_impacts == 0 and n_late == 0:
-        return NO_CONTACT, 0, math.nan
-    if late_impacts == 0:
-        if last_kind == ROLLING:
-            return ROLL, 0, math.nan
-        if forward_only:
-            return RUB, 0, math.nan
-        return MIXED, 0, math.nan
-    if n_late > 0:
-        return MIXED, 0, math.nan
-    p, period = _detect_period(impacts, n, max_p, tol)
-    if p > 0:
-        return PERIODIC, p, period
-    if n >= min_irregular:
-        return IRREGULAR, 0, math.nan
-    return UNDETERMINED, 0, math.nan
-
-
-@njit(cache=True)
-def _never_touches(u, du, gamma, omega, rho, phi):
-    """True when free flight from (u, du) provably never reaches |U| = 1 (for all t >= 0).
-
-    U(t) = k + c+ e^{l+ t} + c- e^{l- t} with Re l+- <= 0 for gamma >= 0, so
-    |U(t)| <= |k| + |c+| + |c-|; a margin covers rounding. Not used near
-    critical damping, where the two exponentials merge.
-    """
-    if gamma < 0.0:
-        return False
-    r = abs(u)
-    if r >= 1.0 - CERTIFICATE_MARGIN:
-        return False
-    k = equilibrium_point(gamma, omega, rho, phi)
-    h2 = half_discriminant(gamma, omega)
-    if abs(h2) < 1e-8:
-        return False
-    h = complex(math.sqrt(h2), 0.0) if h2 > 0.0 else complex(0.0, math.sqrt(-h2))
-    m = complex(-0.5 * gamma, -1.0)
-    lp = m + h
-    lm = m - h
-    v = u - k
-    cp = (du - lm * v) / (lp - lm)
-    cm = v - cp
-    return abs(k) + abs(cp) + abs(cm) < 1.0 - CERTIFICATE_MARGIN
+    return regime_of(status, late_impacts, n_late, last_kind, forward_only, impacts, n, n, max_p, tol, min_irregular)
 
 
 @njit(cache=True)
@@ -294,7 +206,7 @@ def _transient(p, u, du, n_transient, t_transient, settle, chatter):
     n_imp = 0
     status = COMPLETED
     while events_left > 0 and time_left > 0.0:
-        if _never_touches(u, du, gamma, omega, rho, phi):
+        if never_touches(u, du, gamma, omega, rho, phi):
             break
         imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
             gamma, omega, rho, mu, d, phi, rr, u, du, time_left, min(settle, events_left), *chatter,
@@ -307,7 +219,7 @@ def _transient(p, u, du, n_transient, t_transient, settle, chatter):
         n_imp += imp.shape[0]
         if status != MAX_EVENTS:
             break
-        per_p, period = _detect_period(imp, imp.shape[0], MAX_PERIOD_IMPACTS, REPEAT_TOL)
+        per_p, period = detect_period_rows(imp, imp.shape[0], MAX_PERIOD_IMPACTS, REPEAT_TOL)
         if per_p > 0:
             break
     return u, du, status, t_total, n_imp
@@ -337,7 +249,7 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
         summ[S_DU_IM] = du.imag
         summ[S_T_WINDOW] = 0.0
         return u, du
-    if settle > 0 and _never_touches(u, du, gamma, omega, rho, phi):
+    if settle > 0 and never_touches(u, du, gamma, omega, rho, phi):
         # the window is one free flight to t_record: the simulator's own result,
         # evaluated directly (the same closed-form flow from the same state)
         k = equilibrium_point(gamma, omega, rho, phi)

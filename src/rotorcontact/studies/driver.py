@@ -57,6 +57,9 @@ class StudyRun:
         Impacts computed (transients and windows, including reused chunks).
     reused_file : bool
         The output file already held this finished study and was returned as it is.
+    deferred_items : int
+        With ``backend="cuda"``: simulations of this call that entered continuous contact and were
+        finished on the CPU.
     """
 
     dataset: Any = field(repr=False)
@@ -66,6 +69,7 @@ class StudyRun:
     chunks_reused: int
     impacts_simulated: int
     reused_file: bool = False
+    deferred_items: int = 0
 
 
 def dataset_impacts(ds) -> int:
@@ -90,6 +94,7 @@ def run_study(
     scheduler: Any = None,
     processes: bool = True,
     progress: bool = True,
+    backend: str = "cpu",
 ) -> StudyRun:
     """Run a chunked study (see the module docstring).
 
@@ -120,7 +125,7 @@ def run_study(
         False computes afresh.
     keep_chunks : bool
         Keep the chunk folder after the merge.
-    n_jobs, scheduler, processes
+    n_jobs, scheduler, processes, backend
         The executor (`rotorcontact.studies.execution.make_executor`).
     progress : bool
         Show a progress bar on stderr.
@@ -139,7 +144,7 @@ def run_study(
                             chunks_reused=len(keys(used)), impacts_simulated=dataset_impacts(finished),
                             reused_file=True)
     # the executor first: a cluster that cannot be used leaves no chunk folder behind
-    with make_executor(n_jobs, scheduler, processes=processes) as executor:
+    with make_executor(n_jobs, scheduler, processes=processes, backend=backend) as executor:
         if out is not None:
             # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
             store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})
@@ -157,4 +162,4 @@ def run_study(
         if not keep_chunks:
             store.remove()
     return StudyRun(dataset=ds, path=out, chunk_size=chunk_size, chunks_computed=computed, chunks_reused=reused,
-                    impacts_simulated=int(impacts))
+                    impacts_simulated=int(impacts), deferred_items=int(getattr(executor, "deferred_items", 0)))

@@ -5,14 +5,17 @@ A large study (a brute-force diagram, a basin of attraction) is cut into
 kernel (`rotorcontact.studies.batch`). The cut is fixed by the study and its
 ``chunk_size`` alone, and every chunk is computed by the same compiled code
 from the same inputs, so the results are identical bit for bit whichever
-executor runs them:
+CPU executor runs them:
 
 * ``n_jobs=None`` and no scheduler: in this process, over all cores through
   numba's threads;
 * ``n_jobs=N``: N joblib worker processes, one core each;
 * ``scheduler="local"`` (a `distributed.LocalCluster` started and stopped here)
   or ``scheduler="tcp://host:port"`` (an existing Dask cluster, whose workers
-  must have the same version of rotorcontact installed: `check_workers`).
+  must have the same version of rotorcontact installed: `check_workers`);
+* ``backend="cuda"``: in this process, the lanes on its GPU (`CudaExecutor`,
+  `rotorcontact.studies.cuda_batch`), whose results agree with the others to
+  rounding rather than bit for bit.
 
 Nothing waits on a cluster for ever: a scheduler must answer within
 `CONNECT_TIMEOUT_S` and have a worker within as long again, and a study whose
@@ -61,8 +64,9 @@ from .batch import BatchSettings, run_lanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
 
-__all__ = ["ChunkTask", "ChunkStore", "StoredChunks", "available_cores", "check_workers", "local_workers",
-           "make_executor", "progress_bar", "run_task", "study_digest", "write_netcdf", "read_finished"]
+__all__ = ["BACKENDS", "ChunkTask", "ChunkStore", "CudaExecutor", "StoredChunks", "available_cores",
+           "backend_manifest", "check_backend", "check_workers", "local_workers", "make_executor", "progress_bar",
+           "run_task", "study_digest", "write_netcdf", "read_finished"]
 
 STORE_FORMAT = 2
 
@@ -72,6 +76,10 @@ CONNECT_TIMEOUT_S = 20.0
 NO_WORKERS_TIMEOUT_S = 60.0
 #: Seconds between two looks at a cluster's workers while no chunk finishes.
 _WORKER_POLL_S = 5.0
+#: Lanes of one launch of the GPU backend (chunks are stacked up to about this many).
+CUDA_LANES = 1 << 18
+#: The backends of the batch kernel.
+BACKENDS = ("cpu", "cuda")
 
 
 @dataclass(frozen=True)
@@ -218,46 +226,84 @@ class InProcessExecutor(_Executor):
         self.threads = int(numba.get_num_threads())
 
     def run(self, tasks):
-        i = 0
-        while i < len(tasks):
-            if not isinstance(tasks[i], ChunkTask):
-                yield i, run_task(tasks[i], parallel=True)
-                i += 1
-                continue
-            group = [i]
-            lanes = tasks[i].params.shape[0]
-            while (
-                lanes < self.threads
-                and group[-1] + 1 < len(tasks)
-                and _stackable(tasks[group[0]], tasks[group[-1] + 1])
-            ):
-                group.append(group[-1] + 1)
-                lanes += tasks[group[-1]].params.shape[0]
-            if len(group) == 1:
-                yield i, run_task(tasks[i], parallel=True)
-            else:
-                sub = [tasks[j] for j in group]
-                stacked = ChunkTask(
-                    key="stacked",
-                    params=np.concatenate([t.params for t in sub]),
-                    u0=np.concatenate([t.u0 for t in sub]),
-                    du0=np.concatenate([t.du0 for t in sub]),
-                    carry=sub[0].carry,
-                    settings=sub[0].settings,
-                )
-                res = run_task(stacked, parallel=True)
-                start = 0
-                for j, t in zip(group, sub):
-                    n = t.params.shape[0]
-                    yield j, {name: arr[start : start + n].copy() for name, arr in res.items()}
-                    start += n
-            i = group[-1] + 1
+        yield from _run_stacked(tasks, self.threads, lambda task: run_task(task, parallel=True))
+
+
+def _run_stacked(tasks: list, enough: int, compute) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+    """Run consecutive stackable chunk tasks together, each call growing until it holds ``enough`` lanes.
+
+    ``compute(task)`` runs one `ChunkTask` (a stack of several is one task); a task of another kind runs
+    by itself in this process. Yields (index, arrays) for every task, in order.
+    """
+    i = 0
+    while i < len(tasks):
+        if not isinstance(tasks[i], ChunkTask):
+            yield i, run_task(tasks[i], parallel=True)
+            i += 1
+            continue
+        group = [i]
+        lanes = tasks[i].params.shape[0]
+        while (
+            lanes < enough
+            and group[-1] + 1 < len(tasks)
+            and _stackable(tasks[group[0]], tasks[group[-1] + 1])
+        ):
+            group.append(group[-1] + 1)
+            lanes += tasks[group[-1]].params.shape[0]
+        if len(group) == 1:
+            yield i, compute(tasks[i])
+        else:
+            sub = [tasks[j] for j in group]
+            stacked = ChunkTask(
+                key="stacked",
+                params=np.concatenate([t.params for t in sub]),
+                u0=np.concatenate([t.u0 for t in sub]),
+                du0=np.concatenate([t.du0 for t in sub]),
+                carry=sub[0].carry,
+                settings=sub[0].settings,
+            )
+            res = compute(stacked)
+            start = 0
+            for j, t in zip(group, sub):
+                n = t.params.shape[0]
+                yield j, {name: arr[start : start + n].copy() for name, arr in res.items()}
+                start += n
+        i = group[-1] + 1
 
 
 def _stackable(a: ChunkTask, b: ChunkTask) -> bool:
     if not isinstance(b, ChunkTask):
         return False
     return a.params.shape[1] == b.params.shape[1] and a.carry == b.carry and a.settings == b.settings
+
+
+class CudaExecutor(_Executor):
+    """Chunks on an NVIDIA GPU (`rotorcontact.studies.cuda_batch`), stacked into launches of `CUDA_LANES` lanes.
+
+    Items whose motion enters continuous contact are finished by the CPU kernel in this process
+    (``deferred_items`` counts them). Tasks of another kind run in this process.
+    """
+
+    name = "cuda"
+
+    def __init__(self) -> None:
+        from .cuda_batch import require_cuda
+
+        require_cuda()
+        self.items = 0
+        self.deferred_items = 0
+
+    def _compute(self, task: ChunkTask) -> dict[str, np.ndarray]:
+        from .cuda_batch import run_lanes_cuda
+
+        sections, summary, deferred = run_lanes_cuda(task.params, task.u0, task.du0, task.settings,
+                                                     carry=task.carry)
+        self.items += task.n_items
+        self.deferred_items += int(np.where(deferred >= 0, task.params.shape[1] - deferred, 0).sum())
+        return {"sections": sections, "summary": summary}
+
+    def run(self, tasks):
+        yield from _run_stacked(tasks, CUDA_LANES, self._compute)
 
 
 class JoblibExecutor(_Executor):
@@ -622,18 +668,29 @@ def local_workers(n_jobs: int) -> tuple[int, bool]:
     return min(int(n_jobs), cores), int(n_jobs) > cores
 
 
-def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes: bool = True) -> _Executor:
-    """The executor for ``n_jobs`` / ``scheduler`` (see the module docstring).
+def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes: bool = True,
+                  backend: str = "cpu") -> _Executor:
+    """The executor for ``n_jobs`` / ``scheduler`` / ``backend`` (see the module docstring).
 
     Local workers (joblib, or ``scheduler="local"``) are at most as many as
     the cores (`local_workers`); asking for more gives that many, with a
-    `RuntimeWarning`.
+    `RuntimeWarning`. ``backend="cuda"`` runs the chunks on this machine's GPU
+    (`CudaExecutor`), in this process.
 
     Raises
     ------
     ParameterError
-        On an invalid ``n_jobs`` or ``scheduler``.
+        On an invalid ``n_jobs``, ``scheduler`` or ``backend``, or ``backend="cuda"`` where no GPU can
+        be used.
     """
+    check_backend(backend)
+    if backend == "cuda":
+        if n_jobs is not None or scheduler is not None:
+            raise ParameterError(
+                f"backend = 'cuda' runs in this process on its GPU; n_jobs = {n_jobs!r} and scheduler = "
+                f"{scheduler!r} are invalid with it; allowed: neither"
+            )
+        return CudaExecutor()
     if n_jobs is not None:
         if isinstance(n_jobs, bool) or not isinstance(n_jobs, (int, np.integer)) or n_jobs == 0 or n_jobs < -1:
             raise ParameterError(f"n_jobs = {n_jobs!r} is invalid; allowed: an integer >= 1, or -1 for all cores")
@@ -654,6 +711,19 @@ def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes
     if n_jobs is None:
         return InProcessExecutor()
     return JoblibExecutor(n_jobs)
+
+
+def backend_manifest(backend: str) -> dict[str, str]:
+    """The entry a study's manifest gets for its backend: none for the CPU (whose results do not depend on the
+    executor), ``{"backend": "cuda"}`` for the GPU, whose results differ in rounding."""
+    return {} if check_backend(backend) == "cpu" else {"backend": backend}
+
+
+def check_backend(backend: Any) -> str:
+    """Return ``backend`` if it is one of `BACKENDS`, else raise `ParameterError`."""
+    if not isinstance(backend, str) or backend not in BACKENDS:
+        raise ParameterError(f"backend = {backend!r} is invalid; allowed: {', '.join(map(repr, BACKENDS))}")
+    return backend
 
 
 # ---------------------------------------------------------------------------

@@ -57,7 +57,7 @@ from .batch import (
     parameter_array,
 )
 from .driver import run_study
-from .execution import ChunkTask, study_digest
+from .execution import ChunkTask, backend_manifest, study_digest
 
 __all__ = [
     "SWEEP_PARAMETERS",
@@ -220,6 +220,7 @@ def sweep(
     n_jobs: int | None = None,
     scheduler: Any = None,
     processes: bool = True,
+    backend: str = "cpu",
     out: str | Path | None = None,
     resume: bool = True,
     keep_chunks: bool = False,
@@ -260,6 +261,9 @@ def sweep(
         one per core) or a scheduler address ``"tcp://host:port"``.
     processes : bool
         With ``scheduler="local"``: workers as processes (True) or threads.
+    backend : {"cpu", "cuda"}
+        ``"cuda"`` runs the simulations on this machine's NVIDIA GPU
+        (`rotorcontact.studies.cuda_batch`; with neither ``n_jobs`` nor ``scheduler``).
     out : path, optional
         NetCDF file to write; chunks go to ``out + ".chunks"`` meanwhile.
     resume : bool
@@ -330,6 +334,7 @@ def sweep(
         "mode": mode,
         "starts": [list(s) for s in starts],
         "settings": settings.as_dict(),
+        **backend_manifest(backend),
     }
     # the finished file also records how the start was given and the machine, and depends on the version
     digest = study_digest({**manifest, "start": start_name, "version": __version__,
@@ -349,7 +354,8 @@ def sweep(
 
     run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n * len(directions),
                     desc=f"sweep {param}", chunk_size=chunk_size, out=out, resume=resume, keep_chunks=keep_chunks,
-                    n_jobs=n_jobs, scheduler=scheduler, processes=processes, progress=progress)
+                    n_jobs=n_jobs, scheduler=scheduler, processes=processes, progress=progress,
+                    backend=backend)
     return SweepResult(dataset=run.dataset, param=param, path=run.path, chunks_computed=run.chunks_computed,
                        chunks_reused=run.chunks_reused, impacts_simulated=run.impacts_simulated,
                        reused_file=run.reused_file)

@@ -1,0 +1,110 @@
+"""The GPU backend: its kernel through numba's CUDA simulator (no GPU needed), and its refusals.
+
+The simulator runs the kernel's threads on the CPU's arithmetic, so there the backend must give the CPU
+kernel's results bit for bit, deferred items included. It is switched on by an environment variable read
+when numba is imported, hence a separate process.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from rotorcontact import ParameterError
+from rotorcontact.cli.scale import BACKEND_CHOICES
+from rotorcontact.studies import cuda_batch
+from rotorcontact.studies.execution import BACKENDS, backend_manifest, make_executor
+
+TESTS = Path(__file__).resolve().parents[1]
+
+SIMULATED = textwrap.dedent("""
+    import json
+    import numpy as np
+    from reference_parameters import REF
+    from rotorcontact.studies.basins import basins, displacement_grid
+    from rotorcontact.studies.batch import BatchSettings, parameter_array, run_lanes
+    from rotorcontact.studies.cuda_batch import cuda_unavailable, run_lanes_cuda
+
+    out = {"unavailable": cuda_unavailable()}
+    # independent items: impacting, contact-free and rubbing ones (deferred to the CPU)
+    grid = displacement_grid((-0.9, 0.9, 4), (-0.9, 0.9, 4))
+    cpu = basins(REF.replace(gamma=0.1), grid, progress=False, n_transient=120, n_record=40, settle=20)
+    gpu = basins(REF.replace(gamma=0.1), grid, progress=False, n_transient=120, n_record=40, settle=20,
+                 backend="cuda")
+    out["classes"] = list(cpu.classes)
+    out["same_image"] = bool(np.array_equal(cpu.image, gpu.image))
+    names = [n for n in cpu.dataset.data_vars if n != "attractor"]
+    out["same_data"] = all(cpu.dataset[n].values.tobytes() == gpu.dataset[n].values.tobytes() for n in names)
+    # a carried lane deferred at its third step, with a short section
+    settings = BatchSettings(n_transient=150, n_record=40, settle=25, n_keep=6)
+    params = np.array([[parameter_array(REF.replace(gamma=g)) for g in (0.1, 0.08, 0.06, 0.05)]] * 2)
+    u0 = np.zeros(params.shape[:2], complex)
+    sec, summ, deferred = run_lanes_cuda(params, u0, u0, settings, carry=True)
+    ref_sec, ref_summ = run_lanes(params, u0, u0, settings, carry=True)
+    out["carried_deferred"] = deferred.tolist()
+    out["carried_same"] = bool(np.array_equal(sec, ref_sec, equal_nan=True)
+                               and np.array_equal(summ, ref_summ, equal_nan=True))
+    # a sweep with the state carried up and down (chains of chunks), and attractors followed over a parameter
+    from rotorcontact.studies.attractors import attractors
+    from rotorcontact.studies.sweep import sweep
+
+    def same(a, b):
+        return all(a[n].values.tobytes() == b[n].values.tobytes() for n in a.data_vars)
+
+    kw = dict(n_transient=150, n_record=30, chunk_size=2, progress=False)
+    out["sweep_same"] = same(sweep(REF, "gamma", [0.05, 0.06, 0.08, 0.1], **kw).dataset,
+                             sweep(REF, "gamma", [0.05, 0.06, 0.08, 0.1], backend="cuda", **kw).dataset)
+    kw = dict(n_transient=120, n_record=40, lyapunov=False, progress=False)
+    small = displacement_grid((-0.6, 0.6, 3), (0.0, 0.0, 1))
+    out["attractors_same"] = same(attractors(REF, "gamma", [0.1, 0.15], small, **kw).dataset,
+                                  attractors(REF, "gamma", [0.1, 0.15], small, backend="cuda", **kw).dataset)
+    # the executor stacks chunks into one launch and counts the items it left to the CPU
+    from rotorcontact.studies.execution import ChunkTask, CudaExecutor
+    tasks = [ChunkTask(key=str(i), params=params[i:i + 1], u0=u0[i:i + 1], du0=u0[i:i + 1], carry=True,
+                       settings=settings) for i in range(2)]
+    executor = CudaExecutor()
+    results = dict(executor.run(tasks))
+    out["executor_same"] = all(np.array_equal(results[i]["summary"], ref_summ[i:i + 1], equal_nan=True)
+                               for i in range(2))
+    out["executor_deferred_items"] = executor.deferred_items
+    print(json.dumps(out))
+""")
+
+
+def test_the_simulated_gpu_gives_the_cpu_kernels_results_bit_for_bit(tmp_path):
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", PYTHONPATH=os.pathsep.join(
+        [str(TESTS), *filter(None, [os.environ.get("PYTHONPATH")])]))
+    proc = subprocess.run([sys.executable, "-c", SIMULATED], capture_output=True, text=True, env=env,
+                          cwd=tmp_path, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    assert out["unavailable"] is None
+    # both paths ran: impacting items on the simulated GPU, rubbing ones deferred to the CPU
+    assert {"B1,d", "forward-rub"} <= set(out["classes"])
+    assert out["same_image"] and out["same_data"]
+    assert out["carried_deferred"] == [2, 2] and out["carried_same"]
+    assert out["executor_same"] and out["executor_deferred_items"] == 2 + 2
+    assert out["sweep_same"] and out["attractors_same"]
+
+
+def test_backend_names_and_manifest():
+    assert BACKEND_CHOICES == BACKENDS == ("cpu", "cuda")
+    # CPU studies keep the digests they had; GPU ones are told apart
+    assert backend_manifest("cpu") == {} and backend_manifest("cuda") == {"backend": "cuda"}
+    with pytest.raises(ParameterError, match=r"backend = 'gpu' is invalid; allowed: 'cpu', 'cuda'"):
+        make_executor(backend="gpu")
+    with pytest.raises(ParameterError, match=r"n_jobs = 2 .*invalid with it"):
+        make_executor(2, backend="cuda")
+
+
+def test_without_a_gpu_the_cuda_backend_is_refused_with_the_reason(monkeypatch):
+    monkeypatch.setattr(cuda_batch, "cuda_unavailable", lambda: "numba.cuda finds no usable CUDA GPU and driver")
+    with pytest.raises(ParameterError, match=r"backend = 'cuda' cannot run here: numba.cuda finds no usable CUDA "
+                                             r"GPU.*allowed: 'cpu'.*rotorcontact\[cuda\]"):
+        make_executor(backend="cuda")
