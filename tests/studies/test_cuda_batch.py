@@ -34,10 +34,20 @@ SIMULATED = textwrap.dedent("""
     out = {"unavailable": cuda_unavailable()}
     # independent items: impacting, contact-free and rubbing ones (deferred to the CPU)
     grid = displacement_grid((-0.9, 0.9, 4), (-0.9, 0.9, 4))
-    cpu = basins(REF.replace(gamma=0.1), grid, progress=False, n_transient=120, n_record=40, settle=20)
-    gpu = basins(REF.replace(gamma=0.1), grid, progress=False, n_transient=120, n_record=40, settle=20,
+    cpu = basins(REF.replace(gamma=0.1), grid, progress=False, n_transient=300, n_record=40, settle=25)
+    gpu = basins(REF.replace(gamma=0.1), grid, progress=False, n_transient=300, n_record=40, settle=25,
                  backend="cuda")
-    out["classes"] = list(cpu.classes)
+    out["fractions"] = cpu.fractions
+    out["handed_to_cpu"] = gpu.handed_to_cpu
+    # the command line says what ran where
+    import contextlib, io
+    from rotorcontact.cli.main import main
+    text, notes = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(text), contextlib.redirect_stderr(notes):
+        code = main(["basins", "--gamma", "0.1", "--grid", "x=-0.9:0.9:4,y=-0.9:0.9:4", "--transient", "300",
+                     "--record", "40", "--settle", "25", "--out", "b.nc", "--backend", "cuda", "--json",
+                     "--no-progress"])
+    out["cli"] = [code, json.loads(text.getvalue()), notes.getvalue()]
     out["same_image"] = bool(np.array_equal(cpu.image, gpu.image))
     names = [n for n in cpu.dataset.data_vars if n != "attractor"]
     out["same_data"] = all(cpu.dataset[n].values.tobytes() == gpu.dataset[n].values.tobytes() for n in names)
@@ -68,11 +78,23 @@ SIMULATED = textwrap.dedent("""
     from rotorcontact.studies.execution import ChunkTask, CudaExecutor
     tasks = [ChunkTask(key=str(i), params=params[i:i + 1], u0=u0[i:i + 1], du0=u0[i:i + 1], carry=True,
                        settings=settings) for i in range(2)]
+    import rotorcontact.studies.cuda_batch as cuda_batch
+    import rotorcontact.studies.execution as execution
+
+    launches = []
+    launch = cuda_batch.run_lanes_cuda
+    cuda_batch.run_lanes_cuda = lambda params, *a, **k: (launches.append(params.shape[0]), launch(params, *a, **k))[1]
     executor = CudaExecutor()
     results = dict(executor.run(tasks))
     out["executor_same"] = all(np.array_equal(results[i]["summary"], ref_summ[i:i + 1], equal_nan=True)
                                for i in range(2))
-    out["executor_deferred_items"] = executor.deferred_items
+    out["executor_handed_to_cpu"] = executor.handed_to_cpu
+    # launches are bounded by the bytes of their results: here one chunk each
+    execution.CUDA_RESULT_BYTES = 1
+    results = dict(CudaExecutor().run(tasks))
+    out["bounded_same"] = all(np.array_equal(results[i]["summary"], ref_summ[i:i + 1], equal_nan=True)
+                              for i in range(2))
+    out["launches"] = launches
     print(json.dumps(out))
 """)
 
@@ -86,10 +108,14 @@ def test_the_simulated_gpu_gives_the_cpu_kernels_results_bit_for_bit(tmp_path):
     out = json.loads(proc.stdout.strip().splitlines()[-1])
     assert out["unavailable"] is None
     # both paths ran: impacting items on the simulated GPU, rubbing ones deferred to the CPU
-    assert {"B1,d", "forward-rub"} <= set(out["classes"])
+    assert {"B1,d", "forward-rub"} <= set(out["fractions"])
     assert out["same_image"] and out["same_data"]
+    code, summary, notes = out["cli"]
+    assert code == 0 and summary["backend"] == "cuda" and summary["handed_to_cpu"] == out["handed_to_cpu"] > 0
+    assert f"note: {out['handed_to_cpu']} simulations entered continuous contact" in notes
     assert out["carried_deferred"] == [2, 2] and out["carried_same"]
-    assert out["executor_same"] and out["executor_deferred_items"] == 2 + 2
+    assert out["executor_same"] and out["executor_handed_to_cpu"] == 2 + 2
+    assert out["bounded_same"] and out["launches"] == [2, 1, 1]
     assert out["sweep_same"] and out["attractors_same"]
 
 

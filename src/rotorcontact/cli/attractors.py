@@ -19,7 +19,7 @@ from .options import (
     print_json,
 )
 from .outputs import check_output_file, check_plot_path, note_reuse
-from .scale import add_scale_options, batch_settings, check_study_size, scale_kwargs
+from .scale import add_scale_options, backend_summary, batch_settings, check_study_size, scale_kwargs
 
 #: Largest --n (values of the parameter).
 MAX_VALUES = 10_000
@@ -124,6 +124,7 @@ def run(args: argparse.Namespace) -> int:
         "impacts": res.impacts_simulated,
         "chunks_computed": res.chunks_computed,
         "chunks_reused": res.chunks_reused,
+        **backend_summary(res, execution),
         "seconds": elapsed,
         "plot": args.plot,
     }

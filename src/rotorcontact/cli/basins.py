@@ -15,7 +15,7 @@ from .options import (
     print_json,
 )
 from .outputs import check_output_file, check_plot_path, note_reuse
-from .scale import add_scale_options, batch_settings, check_study_size, scale_kwargs
+from .scale import add_scale_options, backend_summary, batch_settings, check_study_size, scale_kwargs
 
 DESCRIPTION = f"""\
 Basins of attraction: every initial state of a grid is simulated through a
@@ -106,6 +106,7 @@ def run(args: argparse.Namespace) -> int:
         "impacts": res.impacts_simulated,
         "chunks_computed": res.chunks_computed,
         "chunks_reused": res.chunks_reused,
+        **backend_summary(res, execution),
         "seconds": elapsed,
         "plot": args.plot,
     }

@@ -9,7 +9,8 @@ from typing import Any
 from ..errors import ParameterError
 from .options import parse_float, parse_int
 
-__all__ = ["add_scale_options", "batch_settings", "check_study_size", "parse_int", "scale_kwargs"]
+__all__ = ["add_scale_options", "backend_summary", "batch_settings", "check_study_size", "parse_int",
+           "scale_kwargs"]
 
 #: Limits of the options of the batch studies (sweep, basins). The batch kernel runs of the order
 #: of a million events per second per core; these keep each simulation within seconds and each
@@ -136,6 +137,18 @@ def executor_kwargs(args: argparse.Namespace) -> dict[str, Any]:
                       file=sys.stderr)
             n_jobs = n if n_jobs != -1 else -1
     return {"n_jobs": n_jobs, "scheduler": args.scheduler}
+
+
+def backend_summary(result: Any, execution: dict[str, Any]) -> dict[str, Any]:
+    """The JSON keys of a study run on the GPU (none on the CPU): ``backend`` and ``handed_to_cpu``.
+
+    Also notes on stderr how many simulations entered continuous contact and ran on the CPU.
+    """
+    if execution.get("backend", "cpu") == "cpu":
+        return {}
+    print(f"note: {result.handed_to_cpu} simulations entered continuous contact and were computed on the CPU",
+          file=sys.stderr)
+    return {"backend": execution["backend"], "handed_to_cpu": int(result.handed_to_cpu)}
 
 
 def scale_kwargs(args: argparse.Namespace) -> dict[str, Any]:

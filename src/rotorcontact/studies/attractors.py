@@ -155,7 +155,7 @@ class AttractorsResult:
         In order of first appearance.
     path : pathlib.Path or None
         The NetCDF file written.
-    chunks_computed, chunks_reused, impacts_simulated, reused_file
+    chunks_computed, chunks_reused, impacts_simulated, reused_file, handed_to_cpu
         As for `rotorcontact.studies.basins.BasinResult`.
     """
 
@@ -168,6 +168,7 @@ class AttractorsResult:
     chunks_reused: int
     impacts_simulated: int
     reused_file: bool = False
+    handed_to_cpu: int = 0
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -422,7 +423,8 @@ def attractors(
     ds = run.dataset
     return AttractorsResult(dataset=ds, param=param, values=vals, attractors=attractors_of(ds), path=run.path,
                             chunks_computed=run.chunks_computed, chunks_reused=run.chunks_reused,
-                            impacts_simulated=run.impacts_simulated, reused_file=run.reused_file)
+                            impacts_simulated=run.impacts_simulated, reused_file=run.reused_file,
+                            handed_to_cpu=run.handed_to_cpu)
 
 
 def _value_result(result: BatchResult, i: int) -> BatchResult:

@@ -111,6 +111,9 @@ class BasinResult:
         Impacts computed.
     reused_file : bool
         The output file already held this finished study and was returned as it is.
+    handed_to_cpu : int
+        With ``backend="cuda"``: simulations of this call whose motion entered continuous contact, computed
+        by the CPU kernel.
     """
 
     dataset: Any = field(repr=False)
@@ -121,6 +124,7 @@ class BasinResult:
     chunks_reused: int
     impacts_simulated: int
     reused_file: bool = False
+    handed_to_cpu: int = 0
 
     @property
     def image(self) -> np.ndarray:
@@ -334,6 +338,7 @@ def basins(
         chunks_reused=run.chunks_reused,
         impacts_simulated=run.impacts_simulated,
         reused_file=run.reused_file,
+        handed_to_cpu=run.handed_to_cpu,
     )
 
 

@@ -57,7 +57,7 @@ class StudyRun:
         Impacts computed (transients and windows, including reused chunks).
     reused_file : bool
         The output file already held this finished study and was returned as it is.
-    deferred_items : int
+    handed_to_cpu : int
         With ``backend="cuda"``: simulations of this call that entered continuous contact and were
         finished on the CPU.
     """
@@ -69,7 +69,7 @@ class StudyRun:
     chunks_reused: int
     impacts_simulated: int
     reused_file: bool = False
-    deferred_items: int = 0
+    handed_to_cpu: int = 0
 
 
 def dataset_impacts(ds) -> int:
@@ -162,4 +162,4 @@ def run_study(
         if not keep_chunks:
             store.remove()
     return StudyRun(dataset=ds, path=out, chunk_size=chunk_size, chunks_computed=computed, chunks_reused=reused,
-                    impacts_simulated=int(impacts), deferred_items=int(getattr(executor, "deferred_items", 0)))
+                    impacts_simulated=int(impacts), handed_to_cpu=int(getattr(executor, "handed_to_cpu", 0)))

@@ -60,7 +60,7 @@ from typing import Any, Iterable, Iterator
 
 import numpy as np
 
-from .batch import BatchSettings, run_lanes
+from .batch import NSUM, BatchSettings, run_lanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
 
@@ -76,8 +76,10 @@ CONNECT_TIMEOUT_S = 20.0
 NO_WORKERS_TIMEOUT_S = 60.0
 #: Seconds between two looks at a cluster's workers while no chunk finishes.
 _WORKER_POLL_S = 5.0
-#: Lanes of one launch of the GPU backend (chunks are stacked up to about this many).
+#: Lanes of one launch of the GPU backend (chunks are stacked up to about this many) ...
 CUDA_LANES = 1 << 18
+#: ... and bytes of results (sections and summaries) of one launch, on the GPU and here.
+CUDA_RESULT_BYTES = 1 << 30
 #: The backends of the batch kernel.
 BACKENDS = ("cpu", "cuda")
 
@@ -278,10 +280,11 @@ def _stackable(a: ChunkTask, b: ChunkTask) -> bool:
 
 
 class CudaExecutor(_Executor):
-    """Chunks on an NVIDIA GPU (`rotorcontact.studies.cuda_batch`), stacked into launches of `CUDA_LANES` lanes.
+    """Chunks on an NVIDIA GPU (`rotorcontact.studies.cuda_batch`), stacked into launches of `CUDA_LANES` lanes
+    and `CUDA_RESULT_BYTES` of results at most (a launch may pass them by its last chunk).
 
     Items whose motion enters continuous contact are finished by the CPU kernel in this process
-    (``deferred_items`` counts them). Tasks of another kind run in this process.
+    (``handed_to_cpu`` counts them). Tasks of another kind run in this process.
     """
 
     name = "cuda"
@@ -291,7 +294,7 @@ class CudaExecutor(_Executor):
 
         require_cuda()
         self.items = 0
-        self.deferred_items = 0
+        self.handed_to_cpu = 0
 
     def _compute(self, task: ChunkTask) -> dict[str, np.ndarray]:
         from .cuda_batch import run_lanes_cuda
@@ -299,11 +302,17 @@ class CudaExecutor(_Executor):
         sections, summary, deferred = run_lanes_cuda(task.params, task.u0, task.du0, task.settings,
                                                      carry=task.carry)
         self.items += task.n_items
-        self.deferred_items += int(np.where(deferred >= 0, task.params.shape[1] - deferred, 0).sum())
+        self.handed_to_cpu += int(np.where(deferred >= 0, task.params.shape[1] - deferred, 0).sum())
         return {"sections": sections, "summary": summary}
 
     def run(self, tasks):
-        yield from _run_stacked(tasks, CUDA_LANES, self._compute)
+        first = next((t for t in tasks if isinstance(t, ChunkTask)), None)
+        lanes = CUDA_LANES
+        if first is not None:
+            steps = first.params.shape[1]
+            per_lane = steps * (first.settings.keep * 4 + NSUM) * 8
+            lanes = max(1, min(CUDA_LANES, CUDA_RESULT_BYTES // per_lane))
+        yield from _run_stacked(tasks, lanes, self._compute)
 
 
 class JoblibExecutor(_Executor):

@@ -174,6 +174,9 @@ class SweepResult:
         Impacts computed (transients and windows, including reused chunks).
     reused_file : bool
         The output file already held this finished study and was returned as it is.
+    handed_to_cpu : int
+        With ``backend="cuda"``: simulations of this call whose motion entered continuous contact, computed
+        by the CPU kernel.
     """
 
     dataset: Any = field(repr=False)
@@ -183,6 +186,7 @@ class SweepResult:
     chunks_reused: int
     impacts_simulated: int
     reused_file: bool = False
+    handed_to_cpu: int = 0
 
     def regimes(self, direction: str) -> list[str]:
         """The regime at each value for one direction, as strings."""
@@ -358,7 +362,7 @@ def sweep(
                     backend=backend)
     return SweepResult(dataset=run.dataset, param=param, path=run.path, chunks_computed=run.chunks_computed,
                        chunks_reused=run.chunks_reused, impacts_simulated=run.impacts_simulated,
-                       reused_file=run.reused_file)
+                       reused_file=run.reused_file, handed_to_cpu=run.handed_to_cpu)
 
 
 def _blocks(n: int, chunk_size: int) -> list[slice]:
