@@ -50,6 +50,7 @@ SIMULATED = textwrap.dedent("""
     out["cli"] = [code, json.loads(text.getvalue()), notes.getvalue()]
     out["same_image"] = bool(np.array_equal(cpu.image, gpu.image))
     names = [n for n in cpu.dataset.data_vars if n != "attractor"]
+    out["backend_attr"] = [gpu.dataset.attrs.get("backend"), cpu.dataset.attrs.get("backend")]
     out["same_data"] = all(cpu.dataset[n].values.tobytes() == gpu.dataset[n].values.tobytes() for n in names)
     # a carried lane deferred at its third step, with a short section
     settings = BatchSettings(n_transient=150, n_record=40, settle=25, n_keep=6)
@@ -95,6 +96,20 @@ SIMULATED = textwrap.dedent("""
     out["bounded_same"] = all(np.array_equal(results[i]["summary"], ref_summ[i:i + 1], equal_nan=True)
                               for i in range(2))
     out["launches"] = launches
+    # a kernel that cannot be compiled or launched is one error, not numba-cuda's traceback
+    import rotorcontact.studies.cuda_kernel as cuda_kernel
+
+    class Broken:
+        def __getitem__(self, config):
+            def launch(*args):
+                raise OSError("libnvvm.so: cannot open" + chr(10) + "  shared object file")
+            return launch
+
+    cuda_kernel.lanes_kernel = Broken()
+    try:
+        launch(params, u0, u0, settings, carry=True)
+    except RuntimeError as exc:
+        out["broken"] = str(exc)
     print(json.dumps(out))
 """)
 
@@ -110,12 +125,15 @@ def test_the_simulated_gpu_gives_the_cpu_kernels_results_bit_for_bit(tmp_path):
     # both paths ran: impacting items on the simulated GPU, rubbing ones deferred to the CPU
     assert {"B1,d", "forward-rub"} <= set(out["fractions"])
     assert out["same_image"] and out["same_data"]
+    assert out["backend_attr"] == ["cuda", None]
     code, summary, notes = out["cli"]
     assert code == 0 and summary["backend"] == "cuda" and summary["handed_to_cpu"] == out["handed_to_cpu"] > 0
-    assert f"note: {out['handed_to_cpu']} simulations entered continuous contact" in notes
+    assert f"note: {out['handed_to_cpu']} simulations were computed on the CPU" in notes
     assert out["carried_deferred"] == [2, 2] and out["carried_same"]
     assert out["executor_same"] and out["executor_handed_to_cpu"] == 2 + 2
     assert out["bounded_same"] and out["launches"] == [2, 1, 1]
+    assert out["broken"] == ("the GPU kernel could not be compiled or launched (OSError: libnvvm.so: cannot open "
+                             "shared object file)")
     assert out["sweep_same"] and out["attractors_same"]
 
 
@@ -127,6 +145,16 @@ def test_backend_names_and_manifest():
         make_executor(backend="gpu")
     with pytest.raises(ParameterError, match=r"n_jobs = 2 .*invalid with it"):
         make_executor(2, backend="cuda")
+
+
+def test_a_gpu_without_the_cuda_compiler_is_refused_with_the_reason(monkeypatch):
+    from numba import cuda
+    from numba.cuda.cudadrv import nvvm
+
+    monkeypatch.setattr(cuda, "is_available", lambda: True)
+    monkeypatch.setattr(nvvm, "is_available", lambda: False)
+    reason = cuda_batch.cuda_unavailable()
+    assert reason.startswith("numba.cuda finds no NVVM") and "numba-cuda[cu12]" in reason
 
 
 def test_without_a_gpu_the_cuda_backend_is_refused_with_the_reason(monkeypatch):

@@ -47,7 +47,9 @@ def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str, *, ba
         g.add_argument("--backend", default="cpu", choices=BACKEND_CHOICES,
                        help="'cuda' runs the simulations on this machine's NVIDIA GPU (needs numba-cuda: "
                             "pip install 'rotorcontact[cuda]'); motion that enters continuous contact is "
-                            "finished on the CPU. Default: cpu")
+                            "finished on the CPU. It pays with many independent simulations (basins, "
+                            "attractors, independent sweeps), not for a sweep that carries its state "
+                            "(it keeps two GPU threads busy). Default: cpu")
     g.add_argument("--chunk-size", dest="chunk_size", default=None, metavar="K",
                    help=f"simulations per chunk written to disk (default {default_chunk}); results do not depend on "
                         "it, and an interrupted run resumes with the chunk size it was started with")
@@ -142,12 +144,14 @@ def executor_kwargs(args: argparse.Namespace) -> dict[str, Any]:
 def backend_summary(result: Any, execution: dict[str, Any]) -> dict[str, Any]:
     """The JSON keys of a study run on the GPU (none on the CPU): ``backend`` and ``handed_to_cpu``.
 
-    Also notes on stderr how many simulations entered continuous contact and ran on the CPU.
+    Also notes on stderr how many simulations the GPU handed to the CPU (none when the output file already
+    held the study).
     """
     if execution.get("backend", "cpu") == "cpu":
         return {}
-    print(f"note: {result.handed_to_cpu} simulations entered continuous contact and were computed on the CPU",
-          file=sys.stderr)
+    if not result.reused_file:
+        print(f"note: {result.handed_to_cpu} simulations were computed on the CPU: their motion entered "
+              "continuous contact (in a carried chain, from that step on)", file=sys.stderr)
     return {"backend": execution["backend"], "handed_to_cpu": int(result.handed_to_cpu)}
 
 

@@ -112,8 +112,8 @@ class BasinResult:
     reused_file : bool
         The output file already held this finished study and was returned as it is.
     handed_to_cpu : int
-        With ``backend="cuda"``: simulations of this call whose motion entered continuous contact, computed
-        by the CPU kernel.
+        With ``backend="cuda"``: simulations of this call computed on the CPU because their motion entered
+        continuous contact (in a carried chain, that step and the chain's later ones).
     """
 
     dataset: Any = field(repr=False)

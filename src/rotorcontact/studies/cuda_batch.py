@@ -35,9 +35,9 @@ THREADS_PER_BLOCK = 128
 
 
 def cuda_unavailable() -> str | None:
-    """Why the GPU backend cannot run here, or None when it can."""
+    """Why the GPU backend cannot run here, or None when it can (a GPU, its driver, and NVVM to compile for it)."""
     try:
-        from numba import cuda
+        from numba import config, cuda
     except Exception as exc:  # numba-cuda missing or broken: its own words
         return f"numba.cuda cannot be imported ({type(exc).__name__}: {exc})"
     try:
@@ -45,6 +45,16 @@ def cuda_unavailable() -> str | None:
             return "numba.cuda finds no usable CUDA GPU and driver"
     except Exception as exc:
         return f"numba.cuda cannot reach a GPU ({type(exc).__name__}: {exc})"
+    if not config.ENABLE_CUDASIM:
+        try:
+            from numba.cuda.cudadrv import nvvm
+
+            compiler = nvvm.is_available()
+        except Exception:
+            compiler = False
+        if not compiler:
+            return ("numba.cuda finds no NVVM, the CUDA toolkit's compiler library (numba-cuda's extra brings "
+                    "one: pip install 'numba-cuda[cu12]')")
     return None
 
 
@@ -105,20 +115,26 @@ def launch_lanes(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, settings: 
     from .cuda_kernel import lanes_kernel
 
     n_lanes, n_steps = params.shape[:2]
-    d_sections = cuda.device_array((n_lanes, n_steps, settings.keep, 4), dtype=np.float64)
-    d_summary = cuda.device_array((n_lanes, n_steps, NSUM), dtype=np.float64)
-    d_deferred = cuda.device_array(n_lanes, dtype=np.int64)
-    d_start_u = cuda.device_array(n_lanes, dtype=np.complex128)
-    d_start_du = cuda.device_array(n_lanes, dtype=np.complex128)
     blocks = max(1, -(-n_lanes // THREADS_PER_BLOCK))
     c_tol, c_rdot, c_height, c_dt = settings.chatter_values
-    lanes_kernel[blocks, THREADS_PER_BLOCK](
-        cuda.to_device(np.require(params, dtype=np.float64, requirements=["C"])),
-        cuda.to_device(np.require(u0, dtype=np.complex128, requirements=["C"])),
-        cuda.to_device(np.require(du0, dtype=np.complex128, requirements=["C"])), bool(carry),
-        settings.n_transient, settings.n_record, settings.transient_time, settings.record_time, settings.settle,
-        c_tol, c_rdot, c_height, c_dt, d_sections, d_summary, d_deferred, d_start_u, d_start_du,
-    )
+    try:
+        d_sections = cuda.device_array((n_lanes, n_steps, settings.keep, 4), dtype=np.float64)
+        d_summary = cuda.device_array((n_lanes, n_steps, NSUM), dtype=np.float64)
+        d_deferred = cuda.device_array(n_lanes, dtype=np.int64)
+        d_start_u = cuda.device_array(n_lanes, dtype=np.complex128)
+        d_start_du = cuda.device_array(n_lanes, dtype=np.complex128)
+        lanes_kernel[blocks, THREADS_PER_BLOCK](
+            cuda.to_device(np.require(params, dtype=np.float64, requirements=["C"])),
+            cuda.to_device(np.require(u0, dtype=np.complex128, requirements=["C"])),
+            cuda.to_device(np.require(du0, dtype=np.complex128, requirements=["C"])), bool(carry),
+            settings.n_transient, settings.n_record, settings.transient_time, settings.record_time,
+            settings.settle, c_tol, c_rdot, c_height, c_dt, d_sections, d_summary, d_deferred, d_start_u,
+            d_start_du,
+        )
+    except Exception as exc:  # compiling, memory or launch: numba-cuda's own words, on one line
+        raise RuntimeError(
+            f"the GPU kernel could not be compiled or launched ({type(exc).__name__}: {' '.join(str(exc).split())})"
+        ) from exc
     return (d_sections.copy_to_host(), d_summary.copy_to_host(), d_deferred.copy_to_host(),
             d_start_u.copy_to_host(), d_start_du.copy_to_host())
 

@@ -58,8 +58,8 @@ class StudyRun:
     reused_file : bool
         The output file already held this finished study and was returned as it is.
     handed_to_cpu : int
-        With ``backend="cuda"``: simulations of this call that entered continuous contact and were
-        finished on the CPU.
+        With ``backend="cuda"``: simulations of this call computed on the CPU because their motion entered
+        continuous contact (in a lane of several steps, that step and the lane's later ones).
     """
 
     dataset: Any = field(repr=False)
@@ -157,6 +157,8 @@ def run_study(
     # assemble from the chunk files when there are any, so that a resumed run is identical
     ds, impacts = assemble(chunk_size, store.load if store is not None else sink.__getitem__)
     ds.attrs["study_digest"] = digest
+    if backend != "cpu":
+        ds.attrs["backend"] = backend  # the GPU's results differ from the CPU's in rounding
     if out is not None:
         write_netcdf(ds, out)
         if not keep_chunks:
