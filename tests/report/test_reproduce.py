@@ -304,6 +304,14 @@ def test_report_renders_in_headless_chromium(reproduction):
     browser = webdriver.Chrome(service=Service(driver_path), options=opts)
     try:
         browser.get((out / "report.html").resolve().as_uri())
+        # the page embeds its figures (megabytes of base64); on a loaded machine the driver can hand it back
+        # before the document has been parsed to its end, so wait (boundedly) for the whole document
+        from selenium.webdriver.support.ui import WebDriverWait
+
+        WebDriverWait(browser, 60).until(
+            lambda b: b.execute_script("return document.readyState") == "complete"
+            and b.execute_script("return document.images.length") >= len(rep.figures)
+        )
         images = browser.execute_script(
             "return Array.from(document.images).map(i => [i.complete, i.naturalWidth]);"
         )
