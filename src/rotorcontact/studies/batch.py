@@ -59,11 +59,11 @@ from .window import (
     S_U_IM,
     S_U_RE,
     detect_period_rows,
+    fill_summary,
     flight_final_state,
     never_touches,
     regime_of,
 )
-from ..model.flow import equilibrium_point, propagate
 # the regimes of the window: the codes and names of `rotorcontact.simulation.motion` (``"forward-rub"`` and
 # ``"backward-whirl"`` were formerly ``"rub"`` and ``"rolling"``, `rotorcontact.simulation.motion.REGIME_ALIASES`)
 from ..simulation.motion import (
@@ -231,31 +231,13 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
     gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
     u, du, tr_status, t_tr, tr_impacts = _transient(p, u0, du0, n_transient, t_transient, settle, chatter)
     sec[:, :] = math.nan
-    summ[S_TRANSIENT_STATUS] = tr_status
-    summ[S_T_TRANSIENT] = t_tr
-    summ[S_TRANSIENT_IMPACTS] = tr_impacts
     if tr_status == FAILED:
-        summ[S_STATUS] = FAILED
-        summ[S_REGIME] = FAILED_REGIME
-        summ[S_P] = 0
-        summ[S_PERIOD] = math.nan
-        summ[S_N_IMPACTS] = 0
-        summ[S_N_CONTACTS] = 0
-        summ[S_CONTACT_TIME] = 0.0
-        summ[S_FINAL_KIND] = -1
-        summ[S_U_RE] = u.real
-        summ[S_U_IM] = u.imag
-        summ[S_DU_RE] = du.real
-        summ[S_DU_IM] = du.imag
-        summ[S_T_WINDOW] = 0.0
+        fill_summary(summ, FAILED, tr_status, FAILED_REGIME, 0, math.nan, 0, 0, 0.0, -1, u, du, t_tr, 0.0, tr_impacts)
         return u, du
     if settle > 0 and never_touches(u, du, gamma, omega, rho, phi):
         # the window is one free flight to t_record: the simulator's own result,
         # evaluated directly (the same closed-form flow from the same state)
-        k = equilibrium_point(gamma, omega, rho, phi)
-        v, dv = propagate(u - k, du, t_record, gamma, omega)
-        u = k + v
-        du = dv
+        u, du = flight_final_state(0.0, u, du, t_record, gamma, omega, rho, phi)
         status = COMPLETED
         t_stop = t_record
         regime, per_p, period = NO_CONTACT, 0, math.nan
@@ -282,19 +264,8 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
             if int(ct[j, 2]) != ACCUMULATION:  # the tail of a chatter sequence is not a contact phase
                 n_ct += 1
                 contact_time += min(ct[j, 1], t_stop) - ct[j, 0]
-    summ[S_STATUS] = status
-    summ[S_REGIME] = regime
-    summ[S_P] = per_p
-    summ[S_PERIOD] = period
-    summ[S_N_IMPACTS] = n_imp
-    summ[S_N_CONTACTS] = n_ct
-    summ[S_CONTACT_TIME] = contact_time
-    summ[S_FINAL_KIND] = kind
-    summ[S_U_RE] = u.real
-    summ[S_U_IM] = u.imag
-    summ[S_DU_RE] = du.real
-    summ[S_DU_IM] = du.imag
-    summ[S_T_WINDOW] = t_stop
+    fill_summary(summ, status, tr_status, regime, per_p, period, n_imp, n_ct, contact_time, kind, u, du, t_tr, t_stop,
+                 tr_impacts)
     return u, du
 
 

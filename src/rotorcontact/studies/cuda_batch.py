@@ -75,13 +75,12 @@ def require_cuda(name: str = "backend = 'cuda'") -> None:
 
 def complete_deferred(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, settings: BatchSettings, carry: bool,
                       sections: np.ndarray, summary: np.ndarray, deferred: np.ndarray, start_u: np.ndarray,
-                      start_du: np.ndarray) -> int:
-    """Compute the deferred steps of each lane with the CPU kernel, in place; returns how many items that was.
+                      start_du: np.ndarray) -> None:
+    """Compute the deferred steps of each lane with the CPU kernel, in place.
 
     A lane deferred at step s is run from s on: with ``carry`` from the state where step s - 1 ended
     (``start_u``, ``start_du``), else from each step's own initial state.
     """
-    items = 0
     for step in np.unique(deferred[deferred >= 0]):
         lanes = np.flatnonzero(deferred == step)
         u = np.ascontiguousarray(u0[lanes, step:])
@@ -93,8 +92,6 @@ def complete_deferred(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, setti
                               parallel=True)
         sections[lanes, step:] = sec
         summary[lanes, step:] = summ
-        items += sec.shape[0] * sec.shape[1]
-    return items
 
 
 def launch_lanes(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, settings: BatchSettings, *,

@@ -26,7 +26,7 @@ from numba import njit
 
 from ..interpreted import complex_quotient
 from ..model.contact_law import normal_force
-from ..model.flow import equilibrium_point, propagate
+from ..model.flow import equilibrium_point
 from ..model.impact_law import polar_velocity
 from ..simulation.motion import FAILED_REGIME, MAX_PERIOD_IMPACTS, MIN_IRREGULAR, NO_CONTACT, REPEAT_TOL, WINDOW
 from ..simulation.roots import ITERATION_LIMIT, NO_CROSSING, STUCK
@@ -39,29 +39,7 @@ from ..simulation.simulator import (
     chain_step,
     flight_event,
 )
-from .window import (
-    NSUM,
-    S_CONTACT_TIME,
-    S_DU_IM,
-    S_DU_RE,
-    S_FINAL_KIND,
-    S_N_CONTACTS,
-    S_N_IMPACTS,
-    S_P,
-    S_PERIOD,
-    S_REGIME,
-    S_STATUS,
-    S_T_TRANSIENT,
-    S_T_WINDOW,
-    S_TRANSIENT_IMPACTS,
-    S_TRANSIENT_STATUS,
-    S_U_IM,
-    S_U_RE,
-    detect_period_rows,
-    flight_final_state,
-    never_touches,
-    regime_of,
-)
+from .window import NSUM, detect_period_rows, fill_summary, flight_final_state, never_touches, regime_of
 
 __all__ = ["RING", "flight_lane", "flight_lanes", "ring_buffer"]
 
@@ -251,26 +229,6 @@ def _flight_transient(p, u, du, n_transient, t_transient, settle, c_tol, c_rdot,
 
 
 @njit(cache=True)
-def _fill_summary(summ, status, tr_status, regime, per_p, period, n_imp, u, du, t_tr, t_window, tr_impacts):
-    summ[S_STATUS] = status
-    summ[S_TRANSIENT_STATUS] = tr_status
-    summ[S_REGIME] = regime
-    summ[S_P] = per_p
-    summ[S_PERIOD] = period
-    summ[S_N_IMPACTS] = n_imp
-    summ[S_N_CONTACTS] = 0
-    summ[S_CONTACT_TIME] = 0.0
-    summ[S_FINAL_KIND] = -1
-    summ[S_U_RE] = u.real
-    summ[S_U_IM] = u.imag
-    summ[S_DU_RE] = du.real
-    summ[S_DU_IM] = du.imag
-    summ[S_T_TRANSIENT] = t_tr
-    summ[S_T_WINDOW] = t_window
-    summ[S_TRANSIENT_IMPACTS] = tr_impacts
-
-
-@njit(cache=True)
 def flight_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot, c_height, c_dt,
                 ring, sec, summ):
     """`rotorcontact.studies.batch._run_item` in flight: (deferred, u, du), filling ``sec`` and ``summ``."""
@@ -285,14 +243,12 @@ def flight_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle
         for c in range(4):
             sec[i, c] = math.nan
     if tr_status == FAILED:
-        _fill_summary(summ, FAILED, tr_status, FAILED_REGIME, 0, math.nan, 0, u, du, t_tr, 0.0, tr_impacts)
+        fill_summary(summ, FAILED, tr_status, FAILED_REGIME, 0, math.nan, 0, 0, 0.0, -1, u, du, t_tr, 0.0, tr_impacts)
         return False, u, du
     if settle > 0 and never_touches(u, du, gamma, omega, rho, phi):
-        k = equilibrium_point(gamma, omega, rho, phi)
-        v, dv = propagate(u - k, du, t_record, gamma, omega)
-        u = k + v
-        du = dv
-        _fill_summary(summ, COMPLETED, tr_status, NO_CONTACT, 0, math.nan, 0, u, du, t_tr, t_record, tr_impacts)
+        u, du = flight_final_state(0.0, u, du, t_record, gamma, omega, rho, phi)
+        fill_summary(summ, COMPLETED, tr_status, NO_CONTACT, 0, math.nan, 0, 0, 0.0, -1, u, du, t_tr, t_record,
+                     tr_impacts)
         return False, u, du
     deferred, status, t_stop, n_imp, n_fl, u, du, t_last = flight_run(
         gamma, omega, rho, mu, d, phi, rr, u, du, t_record, n_record, c_tol, c_rdot, c_height, c_dt, ring, sec
@@ -304,7 +260,7 @@ def flight_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle
     late = n_imp > 0 and t_last >= t_stop * (1.0 - WINDOW)
     regime, per_p, period = regime_of(status, late, 0, -1, True, last, rows, n_imp, MAX_PERIOD_IMPACTS, REPEAT_TOL,
                                       MIN_IRREGULAR)
-    _fill_summary(summ, status, tr_status, regime, per_p, period, n_imp, u, du, t_tr, t_stop, tr_impacts)
+    fill_summary(summ, status, tr_status, regime, per_p, period, n_imp, 0, 0.0, -1, u, du, t_tr, t_stop, tr_impacts)
     return False, u, du
 
 

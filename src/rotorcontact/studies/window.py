@@ -142,3 +142,25 @@ def never_touches(u, du, gamma, omega, rho, phi):
     cp = (du - lm * v) / (lp - lm)
     cm = v - cp
     return abs(k) + abs(cp) + abs(cm) < 1.0 - CERTIFICATE_MARGIN
+
+
+@njit(cache=True)
+def fill_summary(summ, status, tr_status, regime, per_p, period, n_imp, n_contacts, contact_time, final_kind, u, du,
+                 t_transient, t_window, tr_impacts):
+    """Write an item's summary row, every one of its ``NSUM`` columns."""
+    summ[S_STATUS] = status
+    summ[S_TRANSIENT_STATUS] = tr_status
+    summ[S_REGIME] = regime
+    summ[S_P] = per_p
+    summ[S_PERIOD] = period
+    summ[S_N_IMPACTS] = n_imp
+    summ[S_N_CONTACTS] = n_contacts
+    summ[S_CONTACT_TIME] = contact_time
+    summ[S_FINAL_KIND] = final_kind
+    summ[S_U_RE] = u.real
+    summ[S_U_IM] = u.imag
+    summ[S_DU_RE] = du.real
+    summ[S_DU_IM] = du.imag
+    summ[S_T_TRANSIENT] = t_transient
+    summ[S_T_WINDOW] = t_window
+    summ[S_TRANSIENT_IMPACTS] = tr_impacts
