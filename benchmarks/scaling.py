@@ -17,7 +17,10 @@ speed-up that T fully independent single-core runs reach on this machine
 neighbours), the ceiling for any threads or workers.
 
 Prints, per run: wall time, speed-up over the first run (one thread by
-default), parallel efficiency, impacts per second; the executors' wall times
+default), parallel efficiency, impacts per second, the CPU time of this
+process's threads in user and in system (kernel) mode and its minor page
+faults (time spent in the kernel, on page faults or locks, grows with
+contention between threads); the executors' wall times
 against the in-process run on the same cores; the load average; and a last
 line ``json: {...}`` with the same figures. Targets (issue: start-up and
 speed): at least 13x over one core on 16 cores; executors within 15 % of the
@@ -36,6 +39,7 @@ import json
 import multiprocessing
 import os
 import queue
+import resource
 import time
 
 import numba
@@ -148,18 +152,22 @@ def main() -> None:
               f"{allowed:.2f}x is what {threads[-1]} independent single-core runs reach on this machine")
     for t in threads:
         numba.set_num_threads(t)
-        t0, load0 = time.perf_counter(), os.getloadavg()[0]
+        t0, load0, use0 = time.perf_counter(), os.getloadavg()[0], resource.getrusage(resource.RUSAGE_SELF)
         res = sweep(p, "gamma", values, **run)
         wall = time.perf_counter() - t0
+        use = resource.getrusage(resource.RUSAGE_SELF)
         identical = True if first is None else same_bits(first.dataset, res.dataset)
         if first is None:
             first, base = res, wall
         row = dict(runner="threads", workers=t, wall_s=round(wall, 3), speedup=round(base / wall, 2),
                    efficiency=round(base / wall * threads[0] / t, 3), impacts_per_s=round(res.impacts_simulated / wall),
-                   load=round(max(load0, os.getloadavg()[0]), 1), identical=identical)
+                   load=round(max(load0, os.getloadavg()[0]), 1), identical=identical,
+                   user_s=round(use.ru_utime - use0.ru_utime, 2), system_s=round(use.ru_stime - use0.ru_stime, 2),
+                   minor_faults=use.ru_minflt - use0.ru_minflt)
         rows.append(row)
         print(f"threads {t:3d}  wall {wall:8.2f} s  speed-up {row['speedup']:6.2f}x  efficiency "
               f"{row['efficiency']:5.3f}  {row['impacts_per_s']:>10d} impacts/s  load {row['load']:.1f}  "
+              f"cpu user {row['user_s']:.1f} s, system {row['system_s']:.1f} s, {row['minor_faults']} minor faults  "
               f"identical: {identical}")
 
     if args.executors:

@@ -6,6 +6,8 @@ Claims checked here:
   recorded window from the state where the transient stopped), bit for bit;
 * a chain with the state carried along is the same runs one after the other;
 * the parallel (prange) and single-core kernels agree bit for bit;
+* the simulations of a lane share one set of tables, and an item gives the same
+  bits wherever it runs in a lane, after long or short, impacting or contact runs;
 * the window's regime is `rotorcontact.simulation.motion.classify`'s verdict on the same
   window, and the period detection is `motion.detect_period`;
 * ending the transient early (``settle``) changes nothing about where the
@@ -22,9 +24,11 @@ from rotorcontact import ParameterError, simulate
 from rotorcontact.studies.batch import (
     PARAMETER_ORDER,
     REGIME_NAMES,
+    BatchResult,
     BatchSettings,
     final_state,
     parameter_array,
+    run_lanes,
     simulate_batch,
 )
 from rotorcontact.studies.window import never_touches
@@ -118,6 +122,25 @@ def test_parallel_and_single_core_kernels_agree_bit_for_bit():
     b = simulate_batch([REF.replace(gamma=g) for g in gammas], u0, 0j, settings=st, parallel=False)
     for name in ("t", "theta", "rdot", "thetadot", "regime", "final_u", "final_du", "period", "contact_time"):
         assert _same(getattr(a, name), getattr(b, name)), name
+
+
+@pytest.mark.parametrize("settle", [0, 30])
+def test_an_item_gives_the_same_bits_wherever_it_runs_in_a_lane(settle):
+    # the items of CASES run one per lane, then all in one lane (in both orders): the tables the lane's
+    # simulations share then hold the rows of longer runs, rolling and rubbing before each item
+    st = BatchSettings(n_transient=400, n_record=100, settle=settle)
+    rows = parameter_array([REF.replace(gamma=g) for g, _, _ in CASES])
+    u0 = np.array([c[1] for c in CASES], dtype=complex)
+    du0 = np.array([c[2] for c in CASES], dtype=complex)
+    n = len(CASES)
+    alone = run_lanes(rows[:, None], u0[:, None], du0[:, None], st, carry=False)
+    for order in (np.arange(n), np.arange(n)[::-1]):
+        lane = run_lanes(rows[None, order], u0[None, order], du0[None, order], st, carry=False, parallel=False)
+        for got, ref in zip(lane, alone):
+            assert _same(got[0], ref[order, 0])
+    summary = alone[1][:, 0]
+    res = BatchResult.from_arrays(alone[0][:, 0], summary, st)
+    assert {"periodic-impacting", "forward-rub", "backward-whirl"} <= set(res.regime_names)
 
 
 def test_carried_chain_is_the_runs_one_after_the_other():

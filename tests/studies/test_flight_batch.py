@@ -15,6 +15,7 @@ from rotorcontact.studies.batch import (
     _run_item,
     REGIME_NAMES, S_DU_IM, S_DU_RE, S_N_CONTACTS, S_REGIME, S_U_IM, S_U_RE, BatchSettings, parameter_array, run_lanes,
 )
+from rotorcontact.simulation.simulator import new_tables
 from rotorcontact.studies.cuda_batch import complete_deferred
 from rotorcontact.studies.flight_batch import RING, flight_lanes
 from reference_parameters import REF
@@ -24,7 +25,7 @@ REGIME_CODES = {name: code for code, name in enumerate(REGIME_NAMES)}
 
 
 def _reference(params, u0, du0, settings, carry):
-    """Every item through the simulator's kernel alone, lane by lane."""
+    """Every item through the simulator's kernel alone (tables of its own), lane by lane."""
     sections = np.empty(params.shape[:2] + (settings.keep, 4))
     summary = np.empty(params.shape[:2] + (16,))
     for lane in range(params.shape[0]):
@@ -32,9 +33,9 @@ def _reference(params, u0, du0, settings, carry):
         for s in range(params.shape[1]):
             if not carry:
                 u, du = u0[lane, s], du0[lane, s]
-            u, du = _run_item(params[lane, s], u, du, settings.n_transient, settings.n_record,
-                              settings.transient_time, settings.record_time, settings.settle,
-                              settings.chatter_values, sections[lane, s], summary[lane, s])
+            u, du, _ = _run_item(params[lane, s], u, du, settings.n_transient, settings.n_record,
+                                 settings.transient_time, settings.record_time, settings.settle,
+                                 settings.chatter_values, sections[lane, s], summary[lane, s], new_tables())
     return sections, summary
 
 

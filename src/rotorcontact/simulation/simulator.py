@@ -174,6 +174,12 @@ def chain_step(t, theta, rd, rdp, tdp, n_force, chain, prev_rd, prev_t, prev_th,
 
 
 @njit(cache=True)
+def new_tables():
+    """Empty tables for `simulate_into`: impacts, flights, contacts, path (grown as they fill)."""
+    return np.empty((64, NCOL)), np.empty((64, 5)), np.empty((16, 5)), np.empty((256, 4))
+
+
+@njit(cache=True)
 def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol,
                     chatter_rdot, chatter_height, chatter_dt, stop_on_chatter):
     """Run the rotor from (u0, du0) at t = 0 to t_end through flights, impacts and contact.
@@ -189,16 +195,29 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
     status, reason : int
     t_stop : float
     """
+    impacts, flights, contacts, path = new_tables()
+    impacts, flights, contacts, path, n_imp, n_fl, n_ct, n_path, status, reason, t_stop = simulate_into(
+        gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol, chatter_rdot,
+        chatter_height, chatter_dt, stop_on_chatter, impacts, flights, contacts, path
+    )
+    return (impacts[:n_imp].copy(), flights[:n_fl].copy(), contacts[:n_ct].copy(), path[:n_path].copy(),
+            status, reason, t_stop)
+
+
+@njit(cache=True)
+def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol,
+                  chatter_rdot, chatter_height, chatter_dt, stop_on_chatter, impacts, flights, contacts, path):
+    """`simulate_kernel` writing into the tables it is given (`new_tables`), from their first row.
+
+    A caller that runs many simulations (the batch kernel) hands the same tables to each, so that they
+    are allocated and grown once rather than once per simulation. Returns the tables (grown where they
+    filled), the numbers of rows used in each, then status, reason and t_stop as `simulate_kernel`.
+    """
     k = equilibrium_point(gamma, omega, rho, phi)
-    impacts = np.empty((64, NCOL))
-    flights = np.empty((64, 5))
-    contacts = np.empty((16, 5))
-    path = np.empty((256, 4))
     n_imp = np.int64(0)  # not a literal: one specialisation of the helpers it is passed to
     n_fl = np.int64(0)  # not a literal: one specialisation of the helpers it is passed to
     n_ct = np.int64(0)  # not a literal: one specialisation of the helpers it is passed to
     n_path = np.int64(0)  # not a literal: one specialisation of the helpers it is passed to
-    row = np.empty(NCOL)
     roll_dot = -(1.0 + r_ratio)
     status = COMPLETED
     reason = NO_FAILURE
@@ -257,21 +276,22 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
                 flights, n_fl = _push_state(flights, n_fl, t, u, du)
                 continue
             n_force = normal_force(theta, tdp, omega, rho, phi)
-            row[0] = t
-            row[1] = theta
-            row[2] = rd
-            row[3] = td
-            row[4] = rdp
-            row[5] = tdp
-            row[6] = vrel
-            row[7] = pn
-            row[8] = pt
-            row[9] = ui.real
-            row[10] = ui.imag
-            row[11] = du_plus.real
-            row[12] = du_plus.imag
-            row[13] = n_force
-            impacts, n_imp = push_row(impacts, n_imp, row)
+            impacts = grow_rows(impacts, n_imp)
+            impacts[n_imp, 0] = t
+            impacts[n_imp, 1] = theta
+            impacts[n_imp, 2] = rd
+            impacts[n_imp, 3] = td
+            impacts[n_imp, 4] = rdp
+            impacts[n_imp, 5] = tdp
+            impacts[n_imp, 6] = vrel
+            impacts[n_imp, 7] = pn
+            impacts[n_imp, 8] = pt
+            impacts[n_imp, 9] = ui.real
+            impacts[n_imp, 10] = ui.imag
+            impacts[n_imp, 11] = du_plus.real
+            impacts[n_imp, 12] = du_plus.imag
+            impacts[n_imp, 13] = n_force
+            n_imp += 1
             u = ui
             du = du_plus
             on_boundary = True
@@ -373,8 +393,7 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
             chain = False
             flights, n_fl = _push_state(flights, n_fl, t, u, du)
     t_stop = t_end if status == COMPLETED else min(t, t_end)
-    return (impacts[:n_imp].copy(), flights[:n_fl].copy(), contacts[:n_ct].copy(), path[:n_path].copy(),
-            status, reason, t_stop)
+    return impacts, flights, contacts, path, n_imp, n_fl, n_ct, n_path, status, reason, t_stop
 
 
 def _as_complex(name: str, value) -> complex:

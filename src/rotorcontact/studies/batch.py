@@ -1,9 +1,10 @@
 """Batch simulation: many (parameters, initial state) pairs in one compiled call.
 
-Every item is run by the simulator's own kernel (`rotorcontact.simulation.simulator.simulate_kernel`):
-the same closed-form flight, guaranteed impact location, reset and continuous
-contact, so a batch is exactly as exact as single runs. An item is two runs of
-that kernel:
+Every item is run by the simulator's own kernel (`rotorcontact.simulation.simulator.simulate_into`, the
+loop of `rotorcontact.simulation.simulator.simulate_kernel`): the same closed-form flight, guaranteed impact
+location, reset and continuous contact, so a batch is exactly as exact as single runs. The simulations of
+a lane write into one set of tables, allocated once and grown as they need. An item is two runs of that
+kernel:
 
 1. the *transient*: from the initial state for ``n_transient`` events (flights
    and contact phases; each flight ends in one impact, so in impacting motion
@@ -85,7 +86,8 @@ from ..simulation.simulator import (
     FAILED,
     MAX_EVENTS,
     STATUS_NAMES,
-    simulate_kernel,
+    new_tables,
+    simulate_into,
 )
 from ..simulation.contact import ACCUMULATION, KIND_NAMES, SLIDE_FORWARD
 
@@ -123,7 +125,7 @@ DEFAULT_TIME_PER_EVENT = 5.0
 
 @njit(cache=True)
 def _final_state(flights, contacts, path, t_stop, gamma, omega, rho, phi):
-    """State (U, U') where a run of `simulate_kernel` stopped, and what it was doing (-1 flight, else contact kind).
+    """State (U, U') where a run of `simulate_into` stopped, and what it was doing (-1 flight, else contact kind).
 
     The simulator records the state at the start of every flight (the start of
     the run, after each impact, touch and lift-off) and every contact phase
@@ -187,17 +189,29 @@ def _classify_window(impacts, contacts, t_stop, status, window, max_p, tol, min_
 
 
 @njit(cache=True)
-def _transient(p, u, du, n_transient, t_transient, settle, chatter):
-    """Run the transient; returns (u, du, status, duration, impacts)."""
-    gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
+def _simulate(p, u, du, t_end, max_events, chatter, tables):
+    """`simulate_into` for a parameter row, into ``tables`` (`new_tables`).
+
+    Returns the tables (grown where they filled), views of their rows used (impacts, flights, contacts,
+    path), status and t_stop.
+    """
+    imp, fl, ct, path = tables
+    imp, fl, ct, path, n_imp, n_fl, n_ct, n_path, status, reason, t_stop = simulate_into(
+        p[0], p[1], p[2], p[3], p[4], p[5], p[6], u, du, t_end, max_events, *chatter, False, imp, fl, ct, path
+    )
+    return (imp, fl, ct, path), imp[:n_imp], fl[:n_fl], ct[:n_ct], path[:n_path], status, t_stop
+
+
+@njit(cache=True)
+def _transient(p, u, du, n_transient, t_transient, settle, chatter, tables):
+    """Run the transient; returns (u, du, status, duration, impacts, tables)."""
+    gamma, omega, rho, phi = p[0], p[1], p[2], p[5]
     if n_transient <= 0:
-        return u, du, COMPLETED, 0.0, 0
+        return u, du, COMPLETED, 0.0, 0, tables
     if settle <= 0:
-        imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
-            gamma, omega, rho, mu, d, phi, rr, u, du, t_transient, n_transient, *chatter, False
-        )
+        tables, imp, fl, ct, path, status, t_stop = _simulate(p, u, du, t_transient, n_transient, chatter, tables)
         u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
-        return u, du, status, t_stop, imp.shape[0]
+        return u, du, status, t_stop, imp.shape[0], tables
     # in segments of ``settle`` events, ending early once the motion repeats
     # (periodic impacts) or provably never touches the stator again
     events_left = n_transient
@@ -208,10 +222,8 @@ def _transient(p, u, du, n_transient, t_transient, settle, chatter):
     while events_left > 0 and time_left > 0.0:
         if never_touches(u, du, gamma, omega, rho, phi):
             break
-        imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
-            gamma, omega, rho, mu, d, phi, rr, u, du, time_left, min(settle, events_left), *chatter,
-            False
-        )
+        tables, imp, fl, ct, path, status, t_stop = _simulate(p, u, du, time_left, min(settle, events_left),
+                                                              chatter, tables)
         u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
         events_left -= max(1, fl.shape[0] + ct.shape[0])
         time_left -= t_stop
@@ -222,18 +234,22 @@ def _transient(p, u, du, n_transient, t_transient, settle, chatter):
         per_p, period = detect_period_rows(imp, imp.shape[0], MAX_PERIOD_IMPACTS, REPEAT_TOL)
         if per_p > 0:
             break
-    return u, du, status, t_total, n_imp
+    return u, du, status, t_total, n_imp, tables
 
 
 @njit(cache=True, nogil=True)
-def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, chatter, sec, summ):
-    """Transient and window of one item; fills ``sec`` (n_keep, 4) and ``summ`` (NSUM,). Returns the final state."""
-    gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
-    u, du, tr_status, t_tr, tr_impacts = _transient(p, u0, du0, n_transient, t_transient, settle, chatter)
+def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, chatter, sec, summ, tables):
+    """Transient and window of one item; fills ``sec`` (n_keep, 4) and ``summ`` (NSUM,).
+
+    Its simulations write into ``tables`` (`new_tables`). Returns the final state and the tables.
+    """
+    gamma, omega, rho, phi = p[0], p[1], p[2], p[5]
+    u, du, tr_status, t_tr, tr_impacts, tables = _transient(p, u0, du0, n_transient, t_transient, settle, chatter,
+                                                            tables)
     sec[:, :] = math.nan
     if tr_status == FAILED:
         fill_summary(summ, FAILED, tr_status, FAILED_REGIME, 0, math.nan, 0, 0, 0.0, -1, u, du, t_tr, 0.0, tr_impacts)
-        return u, du
+        return u, du, tables
     if settle > 0 and never_touches(u, du, gamma, omega, rho, phi):
         # the window is one free flight to t_record: the simulator's own result,
         # evaluated directly (the same closed-form flow from the same state)
@@ -246,9 +262,7 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
         contact_time = 0.0
         kind = -1
     else:
-        imp, fl, ct, path, status, reason, t_stop = simulate_kernel(
-            gamma, omega, rho, mu, d, phi, rr, u, du, t_record, n_record, *chatter, False
-        )
+        tables, imp, fl, ct, path, status, t_stop = _simulate(p, u, du, t_record, n_record, chatter, tables)
         u, du, kind = _final_state(fl, ct, path, t_stop, gamma, omega, rho, phi)
         regime, per_p, period = _classify_window(imp, ct, t_stop, status, WINDOW, MAX_PERIOD_IMPACTS, REPEAT_TOL,
                                                  MIN_IRREGULAR)
@@ -266,7 +280,7 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
                 contact_time += min(ct[j, 1], t_stop) - ct[j, 0]
     fill_summary(summ, status, tr_status, regime, per_p, period, n_imp, n_ct, contact_time, kind, u, du, t_tr, t_stop,
                  tr_impacts)
-    return u, du
+    return u, du, tables
 
 
 @njit(cache=True, nogil=True)
@@ -274,12 +288,13 @@ def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, 
               sections, summary):
     u = u0[lane, 0]
     du = du0[lane, 0]
+    tables = new_tables()  # one set for the lane's simulations, grown as they need
     for s in range(params.shape[1]):
         if not carry:
             u = u0[lane, s]
             du = du0[lane, s]
-        u, du = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record, settle,
-                          chatter, sections[lane, s], summary[lane, s])
+        u, du, tables = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record, settle,
+                                  chatter, sections[lane, s], summary[lane, s], tables)
 
 
 @njit(cache=True, parallel=True)
