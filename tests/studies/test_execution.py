@@ -310,3 +310,19 @@ def test_chunks_cancelled_on_the_cluster_stop_the_study_with_an_error(monkeypatc
         exc = _raised_within(60, lambda: sweep(Parameters.reference(), "gamma", [0.1, 0.11], scheduler=client,
                                                 n_transient=1, n_record=1, progress=False))
     assert isinstance(exc, RuntimeError) and "cancelled the study's chunks" in str(exc)
+
+
+
+def test_a_worker_loads_only_what_a_chunk_needs():
+    """A joblib or Dask worker imports the chunk runner and its kernel's module. numba brings scipy's base
+    package (and scipy.linalg when it loads a kernel); the interpolation, optimisation and data libraries,
+    half a second or more of every worker's start, wait until something uses them."""
+    import subprocess
+    import sys
+
+    code = "import sys, rotorcontact.studies.execution\nprint(' '.join(sys.modules))"
+    loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert "rotorcontact.studies.batch" in loaded and "numba" in loaded
+    heavy = {"xarray", "matplotlib", "dask", "distributed", "pandas", "pint", "scipy.interpolate", "scipy.optimize",
+             "scipy.special", "scipy.integrate"}
+    assert sorted(m for m in loaded if m in heavy or m.split(".")[0] in heavy) == []

@@ -8,7 +8,6 @@ from typing import Any
 
 import numpy as np
 from numba import njit
-from scipy.interpolate import BPoly
 
 from .contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_BACKWARD, SLIDE_FORWARD
 
@@ -202,6 +201,8 @@ class Trajectory:
 
     @cached_property
     def _contact_splines(self) -> list:
+        from scipy.interpolate import BPoly  # here, not at import: a batch worker never needs scipy
+
         out = []
         for c in self.contacts:
             rows = self.path[int(c[3]) : int(c[4]) + 1]
