@@ -160,6 +160,11 @@ def test_drop_refuses_absurd_machine_values(cli, tmp_path, lines, word):
     assert code == 2 and out == "" and word in err and "allowed" in err and len(err.strip().splitlines()) == 1
 
 
+def test_drop_echoes_a_speed_out_of_range_as_given(cli, machine_file):
+    code, out, err = cli.run("drop", machine_file, "--speed=-12000rpm")
+    assert code == 2 and out == "" and "--speed = '-12000rpm' (-1256.64 rad/s) is out of range" in err
+
+
 def test_drop_refuses_an_absurd_speed(cli, machine_file):
     code, _out, err = cli.run("drop", machine_file, "--speed", "1e30rpm")
     assert code == 2 and "--speed = " in err and "allowed: (0, 1e+06]" in err

@@ -120,3 +120,27 @@ def test_an_options_angular_speed_must_carry_its_unit(unit):
     assert option_quantity("--speed", "3000rpm", unit) == quantity_in("--speed", "3000rpm", unit)
     # other quantities of an option may be bare, in their unit
     assert option_quantity("--t-end", "2", "s") == 2.0
+
+
+@pytest.mark.parametrize("key, text, fragment", [
+    ("speed", "12000", "has no unit"),             # rpm or rad/s? a string must say
+    ("unbalance_phase", "30", "has no unit"),      # degrees or radians?
+    ("clearance", "0.0007", "has no unit"),
+])
+def test_a_machine_value_written_as_a_string_carries_its_unit(tmp_path, key, text, fragment):
+    """A number is in SI units; a string is a quantity, and one without its unit is refused, not guessed."""
+    with pytest.raises(ParameterError) as err:
+        Machine(**{**REF_MACHINE, key: text})
+    assert f"{key} = {text!r} {fragment}" in str(err.value)
+    m = Machine(**{**REF_MACHINE, "speed": "12000 rpm", "unbalance_phase": "90 deg", "friction": "0.2"})
+    assert m.speed == pytest.approx(12000 * math.pi / 30, rel=1e-15)
+    assert m.unbalance_phase == pytest.approx(math.pi / 2, rel=1e-15) and m.friction == 0.2
+
+
+def test_a_machine_values_range_error_shows_the_text_given_and_its_si_value():
+    from rotorcontact.model.params import check_machine_value
+
+    with pytest.raises(ParameterError) as err:
+        check_machine_value("speed", "-12000rpm", label="--speed")
+    assert str(err.value) == "--speed = '-12000rpm' (-1256.64 rad/s) is out of range; allowed: (0, 1e+06] rad/s"
+    assert check_machine_value("speed", "12000 rpm") == quantity_in("speed", "12000 rpm", "rad/s")

@@ -449,6 +449,22 @@ def test_a_drop_refuses_a_speed_above_the_bound_whether_given_or_the_machines():
         check_drop_speed(m, 1e30 * RPM, "--speed")
 
 
+def test_a_drops_speed_is_rad_per_s_or_a_string_with_its_unit():
+    from rotorcontact.simulation.drop_run import check_drop_speed
+    from rotorcontact.studies.drop_map import drop_map
+
+    m = reference_machine()
+    assert check_drop_speed(m, "12000 rpm") == check_drop_speed(m, 12000 * RPM) == 12000 * RPM
+    a, b = drop(m, "12000 rpm", 0.0, 0.01), drop(m, 12000 * RPM, 0.0, 0.01)
+    assert a.speed == b.speed and np.array_equal(a.impacts, b.impacts)
+    with pytest.raises(ParameterError, match="^speed = '12000' has no unit"):
+        drop(m, "12000", 0.0, 0.01)
+    with pytest.raises(ParameterError, match=r"^speeds\[1\] = '12000' has no unit"):  # before any drop
+        drop_map(m, ["6000 rpm", "12000"])
+    with pytest.raises(ParameterError, match=r"^frictions\[0\] = 'x' is not a number"):
+        drop_map(m, ["6000 rpm"], ["x"])
+
+
 def test_a_failed_drop_has_the_regime_failed_never_levitated(failing_drops):
     m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
     r = drop(m, 9000 * RPM, 0.0, 0.001)  # no impact yet: it would be "levitated" had it not failed

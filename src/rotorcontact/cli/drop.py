@@ -8,7 +8,7 @@ import sys
 
 from ..errors import ParameterError
 from ..model.params import load_machine
-from ..model.units import option_quantity, quantity_in
+from ..model.units import quantity_in
 from .outputs import check_plot_path
 from .options import parse_int, print_json
 
@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
     fail_at, t_end = parse_drop_times(args)
     speed = None  # the machine's own speed, checked by `drop` under its key's name
     if args.speed is not None:
-        speed = check_drop_speed(machine, option_quantity("--speed", args.speed, "rad/s"), "--speed")
+        speed = check_drop_speed(machine, args.speed, "--speed")  # the text: its errors show it
     max_events = parse_int("max-events", args.max_events, 1, MAX_EVENTS)
     if args.plot is not None:
         check_plot_path(args.plot)

@@ -83,6 +83,8 @@ def check_range(
     low_open: bool = False,
     high_open: bool = False,
     why: str | None = None,
+    unit: str | None = None,
+    given: str | None = None,
 ) -> float:
     """Check that ``value`` is finite and lies in the given interval; return it as a float.
 
@@ -99,6 +101,10 @@ def check_range(
     why : str, optional
         Reason for the upper bound, appended in parentheses to the error of
         a value above it.
+    unit : str, optional
+        Unit of ``value`` and of the bounds, shown in the error.
+    given : str, optional
+        The text the value was parsed from (``"-12000rpm"``), shown in the error beside the value.
 
     Returns
     -------
@@ -124,7 +130,9 @@ def check_range(
         if high is None:
             right = ")"
         reason = f" ({why})" if why and hi_bad else ""
-        raise ParameterError(f"{name} = {v!r} is out of range; allowed: {left}{lo}, {hi}{right}{reason}")
+        units = f" {unit}" if unit else ""
+        shown = f"{v!r}" if given is None else f"{given!r} ({v:g}{units})"
+        raise ParameterError(f"{name} = {shown} is out of range; allowed: {left}{lo}, {hi}{right}{units}{reason}")
     return v
 
 
@@ -300,9 +308,10 @@ RACE_KEYS = ("race_inertia", "race_drag_torque", "race_drag_coefficient")
 
 
 def check_machine_value(name: str, value: Any, label: str | None = None) -> float:
-    """Check one SI value of a machine key against its range (`Machine`'s rules); return it as a float.
+    """Check one value of a machine key against its range (`Machine`'s rules); return it in SI units.
 
-    ``label``: the value's name in errors where it is not the key itself (a command-line option such as
+    ``value`` is a number in the key's SI unit, or a string with its unit (``"12000 rpm"``; a unit is
+    required unless the key has none). ``label``: the value's name in errors where it is not the key itself (a command-line option such as
     ``"--speed"``, or ``"speeds[3]"``).
 
     Raises
@@ -311,6 +320,13 @@ def check_machine_value(name: str, value: Any, label: str | None = None) -> floa
         Naming the key (or ``label``), the value and the allowed range.
     """
     rule = {k: v for k, v in _MACHINE_RULES[name].items() if k != "unit"}
+    if isinstance(value, str):
+        from .units import quantity_in
+
+        unit = _si_unit(name)
+        text = value
+        value = quantity_in(label or name, text, unit, unit_required=unit != "1")
+        return check_range(label or name, value, **rule, unit=None if unit == "1" else unit, given=text)
     return check_range(label or name, value, **rule)
 
 
@@ -341,7 +357,8 @@ def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
         return float(raw)
     from .units import quantity_in
 
-    return quantity_in(f"{source}: {name}", raw, unit)
+    # a number is in SI units; a string carries its own (a bare "12000" could as well be meant in rpm)
+    return quantity_in(f"{source}: {name}", raw, unit, unit_required=unit != "1")
 
 
 @dataclass(frozen=True)

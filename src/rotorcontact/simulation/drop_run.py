@@ -108,8 +108,8 @@ def check_drop_speed(machine: Machine, speed: Any, name: str = "speed") -> float
     Parameters
     ----------
     machine : Machine
-    speed : float
-        Spin speed, rad/s.
+    speed : float or str
+        Spin speed: a number in rad/s, or a string with units (``"12000 rpm"``).
     name : str
         The speed's name in errors: ``"speed"``, ``"speeds[3]"`` or a command-line option such as ``"--speed"``.
 
@@ -293,7 +293,7 @@ class DropResult:
         }
 
 
-def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_end: float = 2.0, *,
+def drop(machine: Machine, speed: float | str | None = None, fail_at: float = 0.0, t_end: float = 2.0, *,
          max_events: int = 1_000_000) -> DropResult:
     """Drop the machine: levitated at ``speed``, the magnetic bearing failing at ``fail_at`` (MODEL.md §7).
 
@@ -301,8 +301,9 @@ def drop(machine: Machine, speed: float | None = None, fail_at: float = 0.0, t_e
     ----------
     machine : Machine
         The machine (its optional keys of MODEL.md §7 give gravity, anisotropy, spin inertia, race).
-    speed : float, optional
-        Spin speed at the start in rad/s (default: ``machine.speed``), at most
+    speed : float or str, optional
+        Spin speed at the start: a number in rad/s, or a string with units such as ``"12000 rpm"``
+        (default: ``machine.speed``); at most
         `rotorcontact.model.params.MAX_SPEED` and with a levitated whirl inside the clearance (`check_drop_speed`).
     fail_at : float
         Time of the bearing failure, s (>= 0).

@@ -76,7 +76,7 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
     ----------
     machine : Machine
     speeds : array_like
-        Spin speeds at the start, rad/s (> 0).
+        Spin speeds at the start: numbers in rad/s (> 0), or strings with units (``"12000 rpm"``).
     frictions : array_like, optional
         Friction coefficients (default: the machine's).
     fail_at, t_end : float
@@ -102,14 +102,12 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
         `rotorcontact.simulation.drop_run.check_drop_speed` (named ``speeds[i]``), each friction
         coefficient must be >= 0 (``frictions[i]``).
     """
-    speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
-    frictions = np.atleast_1d(np.asarray([machine.friction] if frictions is None else frictions, dtype=float))
+    speeds = np.atleast_1d(np.asarray(speeds, dtype=object))
+    frictions = np.atleast_1d(np.asarray([machine.friction] if frictions is None else frictions, dtype=object))
     if speeds.ndim != 1 or speeds.size == 0 or frictions.ndim != 1 or frictions.size == 0:
         raise ParameterError("speeds and frictions must be non-empty lists of numbers")
-    for i, v in enumerate(speeds):
-        check_drop_speed(machine, v, f"speeds[{i}]")
-    for i, v in enumerate(frictions):
-        check_range(f"frictions[{i}]", v, low=0.0)
+    speeds = np.array([check_drop_speed(machine, v, f"speeds[{i}]") for i, v in enumerate(speeds)])
+    frictions = np.array([check_range(f"frictions[{i}]", v, low=0.0) for i, v in enumerate(frictions)])
     fail_at = check_range("fail_at", fail_at, low=0.0)
     t_end = check_range("t_end", t_end, low=0.0, high=MAX_T_END, low_open=True)
     chunk_size = check_int("chunk_size", chunk_size, low=1)
