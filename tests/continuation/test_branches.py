@@ -20,7 +20,9 @@ from scipy.optimize import fsolve
 
 from rotorcontact import ParameterError, simulate
 from rotorcontact.maps import impact_map as im
-from rotorcontact.continuation.branches import EVENT_TYPES, orbit_branches
+from rotorcontact.continuation.branches import (
+    DEFAULT_RANGES, DEFAULT_SEEDS, EVENT_TYPES, MAX_SEEDS, default_seeds, orbit_branches,
+)
 from rotorcontact.analysis.equilibria import boundary_gamma
 from reference_parameters import REF
 
@@ -299,3 +301,30 @@ def test_bad_input_is_rejected(kw):
     args.update(kw)
     with pytest.raises(ParameterError):
         orbit_branches(REF.replace(gamma=0.1), **args)
+
+
+# ---------------------------------------------------------------------------
+# the seeds keep their spacing when the range widens
+# ---------------------------------------------------------------------------
+
+
+def test_the_default_seeds_keep_the_spacing_of_the_default_range():
+    lo, hi = DEFAULT_RANGES["gamma"]
+    assert default_seeds("gamma", lo, hi) == DEFAULT_SEEDS
+    assert default_seeds("gamma", 0.0, 0.01) == DEFAULT_SEEDS
+    n = default_seeds("gamma", -5.0, 0.2)
+    assert (0.2 + 5.0) / (n - 1) <= (hi - lo) / (DEFAULT_SEEDS - 1) < (0.2 + 5.0) / (n - 2)
+    assert default_seeds("d", 0.0, 1e6) == MAX_SEEDS
+
+
+def test_widening_the_range_loses_no_branch_or_event(ref_branches):
+    """A curve confined between two seed values is not seen: with 41 seeds over [-5, 0.2] the B3 fold and
+    period doubling near gamma = 0.03 and 0.01 were lost. The default seeds keep their spacing instead."""
+    wide = orbit_branches(REF.replace(gamma=0.1), "gamma", -5.0, 0.2)
+
+    def inner(b):
+        return sorted((e.type, e.orbits, round(e.value, 7)) for e in b.events if -0.55 <= e.value <= 0.15)
+
+    ref = inner(ref_branches)
+    assert any(t == "fold" and 0.0 < v < 0.05 and any(o.startswith("B3") for o in orbits) for t, orbits, v in ref)
+    assert inner(wide) == ref

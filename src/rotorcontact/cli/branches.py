@@ -31,16 +31,6 @@ if TYPE_CHECKING:
 #: Largest --rdot-max: impact velocities of the model are of order one (clearances per unit time).
 MAX_RDOT = 1e3
 
-#: Default range of each parameter.
-DEFAULT_RANGES = {
-    "gamma": (-0.6, 0.25),
-    "omega": (0.6, 1.25),
-    "rho": (0.05, 1.0),
-    "mu": (0.0, 0.5),
-    "d": (0.5, 1.0),
-}
-
-
 def register(sub) -> None:
     p = sub.add_parser(
         "branches",
@@ -60,8 +50,9 @@ def register(sub) -> None:
     p.add_argument("--t-max", dest="t_max", default="12", metavar="T", help="largest period followed (default 12)")
     p.add_argument("--rdot-max", dest="rdot_max", default="5", metavar="V",
                    help="branches are followed while |rdot-| <= V (default 5)")
-    p.add_argument("--seeds", default="41", metavar="N",
-                   help="parameter values at which orbits are searched to start branches (default 41)")
+    p.add_argument("--seeds", default=None, metavar="N",
+                   help="parameter values at which orbits are searched to start branches (default: as dense as "
+                        "41 over the default range, at least 41, at most 2000)")
     p.add_argument("--impacts", default=None, metavar="P",
                    help="follow the orbits with P impacts per period found at the base parameters (default: the "
                         "one-impact orbits B_n,m); P >= 2 seeds come from long simulations and a grid of impact "
@@ -206,6 +197,8 @@ def param_range(args: argparse.Namespace) -> tuple[float, float]:
         raise ParameterError(
             f"--param = {args.param!r} is not a branch parameter; allowed: {', '.join(BRANCH_PARAMETERS)}"
         )
+    from ..continuation.branches import DEFAULT_RANGES
+
     lo, hi = DEFAULT_RANGES[args.param]
     start = lo if args.start is None else parse_float("from", args.start)
     stop = hi if args.stop is None else parse_float("to", args.stop)
@@ -221,7 +214,8 @@ def run(args: argparse.Namespace) -> int:
     t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)
     rdot_max = parse_float("rdot-max", args.rdot_max, low=0.0, high=MAX_RDOT, low_open=True,
                            why="impact velocities of the model are of order one")
-    seeds = parse_int("seeds", args.seeds, 2, MAX_SEEDS, why="each seed value is a search for orbits")
+    seeds = None if args.seeds is None else parse_int("seeds", args.seeds, 2, MAX_SEEDS,
+                                                      why="each seed value is a search for orbits")
     p = None if args.impacts is None else parse_int(
         "impacts", args.impacts, 1, MAX_PERIOD_IMPACTS, why="the longest period, in impacts, that is followed")
     doublings = parse_int("doublings", args.doublings, 0, MAX_DOUBLINGS,

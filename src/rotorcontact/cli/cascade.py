@@ -47,7 +47,9 @@ def register(sub) -> None:
     p.add_argument("--depth", default="5", metavar="K", help=f"doublings followed, 1..{MAX_DOUBLINGS} (default 5)")
     p.add_argument("--t-max", dest="t_max", default="12", metavar="T",
                    help="largest period of the one-impact orbits followed (default 12)")
-    p.add_argument("--seeds", default="41", metavar="N", help="seed values of the one-impact branches (default 41)")
+    p.add_argument("--seeds", default=None, metavar="N",
+                   help="seed values of the one-impact branches (default: as for branches, as dense as 41 over the "
+                        "default range)")
     p.add_argument("--grid", default=None, metavar="NT,NR,ND",
                    help="grid of impact states seeding the orbits of --impacts P >= 2 (default 12,4,4)")
     p.add_argument("--json", action="store_true", help="print the cascades as JSON on stdout")
@@ -78,7 +80,8 @@ def run(args: argparse.Namespace) -> int:
     p = parse_int("impacts", args.impacts, 1, MAX_PERIOD_IMPACTS, why="the longest period, in impacts, followed")
     depth = parse_int("depth", args.depth, 1, MAX_DOUBLINGS, why="each level doubles the impacts per period")
     t_max = parse_t_max(args.t_max, MAX_CONTINUATION_PERIOD)
-    seeds = parse_int("seeds", args.seeds, 2, MAX_SEEDS, why="each seed value is a search for orbits")
+    seeds = None if args.seeds is None else parse_int("seeds", args.seeds, 2, MAX_SEEDS,
+                                                      why="each seed value is a search for orbits")
     grid = parse_section_grid(args.grid)
     try:
         found = cascades(params, args.param, start, stop, impacts=p, depth=depth, t_max=t_max, n_seeds=seeds,

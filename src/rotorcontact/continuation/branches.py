@@ -19,7 +19,9 @@ directions; every crossing of a seed value by a branch is corrected onto the
 curve and marks the orbit it meets. Every solution curve that crosses a seed
 value inside the box (start <= param <= stop, t_min <= T <= t_max,
 |rdot| <= rdot_max) is therefore computed exactly once; a curve confined
-strictly between two seed values is not seen.
+strictly between two seed values is not seen. The seeds' default spacing is
+that of 41 over the parameter's default range, whatever the range followed
+(`default_seeds`), so that widening the range loses no curve.
 
 Events
 ------
@@ -50,6 +52,7 @@ and on admissible orbits (rdot > 0):
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -89,10 +92,36 @@ __all__ = [
     "OrbitBranches",
     "orbit_branches",
     "default_settings",
+    "default_seeds",
+    "DEFAULT_RANGES",
+    "DEFAULT_SEEDS",
 ]
 
 
 MAX_SEEDS = 2000  # seed values along the parameter; bounds the run time
+#: The range of each parameter that `branches` follows by default.
+DEFAULT_RANGES = {
+    "gamma": (-0.6, 0.25),
+    "omega": (0.6, 1.25),
+    "rho": (0.05, 1.0),
+    "mu": (0.0, 0.5),
+    "d": (0.5, 1.0),
+}
+#: Seed values over a parameter's default range; other ranges get seeds at least as dense (`default_seeds`).
+DEFAULT_SEEDS = 41
+
+
+def default_seeds(param: str, start: float, stop: float) -> int:
+    """Seed values for ``[start, stop]``: spaced no wider than `DEFAULT_SEEDS` over the default range of
+    ``param`` (`DEFAULT_RANGES`), at least `DEFAULT_SEEDS` and at most `MAX_SEEDS`.
+
+    A curve confined between two seed values is not seen, so a wider range keeps the spacing rather
+    than the count.
+    """
+    lo, hi = DEFAULT_RANGES[param]
+    spacing = (hi - lo) / (DEFAULT_SEEDS - 1)
+    return int(min(MAX_SEEDS, max(DEFAULT_SEEDS, math.ceil((stop - start) / spacing - 1e-9) + 1)))
+
 
 
 def default_settings() -> ContinuationSettings:
@@ -172,7 +201,7 @@ def orbit_branches(
     t_max: float = 12.0,
     t_min: float = 0.02,
     rdot_max: float = 5.0,
-    n_seeds: int = 41,
+    n_seeds: int | None = None,
     settings: ContinuationSettings | None = None,
     events_on_virtual: bool = False,
 ) -> OrbitBranches:
@@ -192,9 +221,11 @@ def orbit_branches(
     rdot_max : float
         Branches are followed while |rdot| <= rdot_max (some run off to
         infinite impact velocity where a12(T) = 0).
-    n_seeds : int
+    n_seeds : int, optional
         Number of parameter values at which orbits are found to seed the
-        continuation (>= 2).
+        continuation (2 to `MAX_SEEDS`). Default: `default_seeds`, as dense
+        as 41 over the parameter's default range (`DEFAULT_RANGES`), however
+        wide the range; a curve confined between two seed values is not seen.
     settings : ContinuationSettings, optional
         Continuation settings; the arclength is measured in
         (T, rdot, (param - start) / (stop - start)).
@@ -218,7 +249,7 @@ def orbit_branches(
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     t_min = check_range("t_min", t_min, low=0.0, low_open=True, high=t_max, high_open=True)
     rdot_max = check_range("rdot_max", rdot_max, low=0.0, low_open=True)
-    n_seeds = check_int("n_seeds", n_seeds, 2, MAX_SEEDS)
+    n_seeds = default_seeds(param, start, stop) if n_seeds is None else check_int("n_seeds", n_seeds, 2, MAX_SEEDS)
     span = stop - start
     settings = settings or default_settings()
     weights = np.array([1.0, 1.0, 1.0 / span])

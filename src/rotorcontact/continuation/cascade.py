@@ -184,7 +184,7 @@ def cascades(
     impacts: int = 1,
     depth: int = 5,
     t_max: float = 12.0,
-    n_seeds: int = 41,
+    n_seeds: int | None = None,
     grid: tuple[int, int, int] | None = None,
 ) -> tuple[Cascade, ...]:
     """The period-doubling cascades of the orbits with ``impacts`` impacts per period in [start, stop].
@@ -200,7 +200,7 @@ def cascades(
         p >= 1; for p = 1 the cascades start at the period doublings of the one-impact branches.
     depth : int
         Levels of branch switching followed (1 to `MAX_DOUBLINGS`).
-    t_max, n_seeds : float, int
+    t_max, n_seeds : float, int or None
         Options of `rotorcontact.continuation.branches.orbit_branches` (p = 1).
     grid : (int, int, int), optional
         Grid of seeds (p >= 2).
