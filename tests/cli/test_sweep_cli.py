@@ -52,6 +52,12 @@ def test_progress_bar_on_stderr(tmp_path, cli):
         (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "3", "--start", "B7,q"], "B7,q"),
         (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "3", "--u0", "2,0"], "outside"),
         (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "3", "--record", "0"], "--record"),
+        # options that would be ignored are refused
+        (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "1"], "--n = 1 is a single value"),
+        (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "3", "--start", "B1,d", "--u0", "0.1,0"],
+         "--start = 'B1,d' and --u0/--du0"),
+        (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "3", "--overlay-doublings", "2"],
+         "--overlay-doublings"),
     ],
 )
 def test_bad_input_exits_2(tmp_path, cli, extra, message):

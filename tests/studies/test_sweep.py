@@ -283,6 +283,11 @@ def test_invalid_input():
         sweep(REF, "gamma", values, scheduler="nowhere", n_transient=1, n_record=1)
     with pytest.raises(ParameterError, match="smaller"):
         sweep_values(0.2, 0.1, 3)
+    with pytest.raises(ParameterError, match="^n = 1 is a single value"):
+        sweep_values(0.1, 0.2, 1)
+    assert sweep_values(0.1, 0.1, 1).tolist() == [0.1]
+    with pytest.raises(ParameterError, match="^start = 'B1,d' and an explicit u0/du0"):
+        sweep(REF, "gamma", values, start="B1,d", du0=0.1j, n_transient=1, n_record=1)
 
 
 def test_a_chunk_folder_without_chunks_does_not_block_another_study(tmp_path):

@@ -18,6 +18,7 @@ from .options import (
     parse_int,
     parse_velocity,
     print_json,
+    renamed,
 )
 from .outputs import check_output_file, check_plot_path, note_reuse
 from .scale import add_scale_options, backend_summary, batch_settings, check_study_size, scale_kwargs
@@ -59,11 +60,11 @@ def register(sub) -> None:
     g.add_argument("--n", dest="n_values", required=True, metavar="N", help="number of values (A and B included)")
     g.add_argument("--mode", default="both", choices=("both", "up", "down", "independent"),
                    help="directions with the state carried along (default both), or every value from the start")
-    g.add_argument("--start", default="rest", metavar="STATE",
+    g.add_argument("--start", default=None, metavar="STATE",
                    help="initial state at the first value of each direction: rest (default), equilibrium (x_R), "
                         "or an admissible one-impact orbit such as B1,d")
-    g.add_argument("--u0", default=None, metavar="RE,IM", help="explicit initial position (instead of --start)")
-    g.add_argument("--du0", default=None, metavar="RE,IM", help="explicit initial velocity (instead of --start)")
+    g.add_argument("--u0", default=None, metavar="RE,IM", help="explicit initial position (instead of --start, not with it)")
+    g.add_argument("--du0", default=None, metavar="RE,IM", help="explicit initial velocity (instead of --start, not with it)")
     g.add_argument("--transient", default="4000", metavar="N",
                    help="events of transient per value (impacts in impacting motion; default 4000)")
     g.add_argument("--record", default="1000", metavar="N", help="events recorded per value (default 1000)")
@@ -118,7 +119,13 @@ def run(args: argparse.Namespace) -> int:
     start_value = parameter_value("from", params, args.param, parse_float("from", args.start_value))
     stop_value = parameter_value("to", params, args.param, parse_float("to", args.stop_value))
     n_values = parse_int("n", args.n_values, 1, MAX_VALUES, why="split a longer sweep into ranges")
-    values = sweep_values(start_value, stop_value, n_values)
+    try:
+        values = sweep_values(start_value, stop_value, n_values)
+    except ParameterError as exc:
+        raise renamed(exc, {"from": "--from", "to": "--to", "n": "--n"}) from None
+    if args.start is not None and (args.u0 is not None or args.du0 is not None):
+        raise ParameterError(f"--start = {args.start!r} and --u0/--du0 both give the initial state; allowed: one "
+                             "of them")
     settings = batch_settings(args)
     directions = len(MODES[args.mode])
     check_study_size(n_values * directions, settings, f"--n {n_values} values x {directions} direction(s)")
@@ -136,6 +143,9 @@ def run(args: argparse.Namespace) -> int:
                                          why="the longest period, in impacts, that is followed")
     args.overlay_doublings = parse_int("overlay-doublings", args.overlay_doublings, 0, MAX_DOUBLINGS,
                                        why="each level doubles the impacts per period")
+    if args.overlay_doublings and args.overlay_impacts is None:
+        raise ParameterError("--overlay-doublings follows the period doublings of the --overlay-impacts family; "
+                             "allowed: with --overlay-impacts P")
     check_output_file("--out", args.out, (".nc",))
     execution = scale_kwargs(args)
     t0 = time.perf_counter()

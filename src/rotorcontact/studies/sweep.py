@@ -90,12 +90,15 @@ SECTION_ATTRS = {
 
 
 def sweep_values(start: float, stop: float, n: int) -> np.ndarray:
-    """``n`` equally spaced values from ``start`` to ``stop`` (both included)."""
+    """``n`` equally spaced values from ``start`` to ``stop`` (both included; one value needs start = stop)."""
     start = check_finite("from", start)
     stop = check_finite("to", stop)
     n = check_int("n", n, 1)
     if n > 1 and not start < stop:
         raise ParameterError(f"from = {start!r} must be smaller than to = {stop!r}")
+    if n == 1 and start != stop:
+        raise ParameterError(f"n = 1 is a single value, but from = {start!r} and to = {stop!r} differ; allowed: "
+                             "n >= 2, or from = to")
     return np.linspace(start, stop, int(n))
 
 
@@ -212,7 +215,7 @@ def sweep(
     values: Any,
     *,
     mode: str = "both",
-    start: str = "rest",
+    start: str | None = None,
     u0: complex | None = None,
     du0: complex | None = None,
     settings: BatchSettings | None = None,
@@ -244,11 +247,11 @@ def sweep(
     mode : {"both", "up", "down", "independent"}
         Directions with the state carried along from value to value, or
         every value from the start state.
-    start : str
+    start : str, optional
         Initial state at the first value of each direction (`start_state`):
-        ``"rest"``, ``"equilibrium"`` or an orbit label such as ``"B1,d"``.
+        ``"rest"`` (default), ``"equilibrium"`` or an orbit label such as ``"B1,d"``.
     u0, du0 : complex, optional
-        An explicit initial state instead of ``start``.
+        An explicit initial state instead of ``start`` (not both).
     settings : BatchSettings, optional
         Transient and window; otherwise built from ``n_transient``,
         ``n_record``, ``t_transient`` and ``t_record`` (defaults: 4000 and
@@ -310,6 +313,8 @@ def sweep(
     orders = _lane_orders(directions, n)
 
     # initial states: explicit, or named, at the first value of each direction
+    if start is not None and (u0 is not None or du0 is not None):
+        raise ParameterError(f"start = {start!r} and an explicit u0/du0 were both given; allowed: one of them")
     if u0 is not None or du0 is not None:
         from ..simulation.simulator import _as_complex
 
@@ -320,6 +325,7 @@ def sweep(
         starts = [(z0, dz0)] * (len(directions) if carry else n)
         start_name = "explicit"
     else:
+        start = "rest" if start is None else start
         if not isinstance(start, str):
             raise ParameterError(f"start = {start!r} is invalid; allowed: 'rest', 'equilibrium' or an orbit label")
         if carry:
