@@ -62,6 +62,35 @@ def test_an_unwritable_plot_path_is_refused_before_computing(capsys, tmp_path, m
     assert "is a folder" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("args", PLOTTING[:1], ids=lambda a: a[0])
+def test_a_file_system_that_refuses_the_file_is_found_before_computing(capsys, tmp_path, monkeypatch, args):
+    """Permissions do not tell everything (a read-only mount, /proc as root): the file is created and removed."""
+    from rotorcontact.cli import outputs
+
+    monkeypatch.setattr(COMPUTE[args[0]], _never)
+
+    def refusing(path, mode="r", *a, **k):
+        raise OSError(30, "Read-only file system")
+
+    monkeypatch.setattr(outputs, "open", refusing, raising=False)
+    assert main([*_args(args, tmp_path), "--plot", str(tmp_path / "fig.png")]) == 2
+    err = capsys.readouterr().err
+    assert "--plot = " in err and "cannot be written (Read-only file system)" in err and "Traceback" not in err
+
+
+def test_the_check_of_an_output_file_leaves_no_trace(tmp_path):
+    from rotorcontact.cli.outputs import check_plot_path
+
+    new = tmp_path / "new.png"
+    check_plot_path(str(new))
+    assert not new.exists()
+    old = tmp_path / "old.png"
+    old.write_bytes(b"figure")
+    before = old.stat().st_mtime_ns
+    check_plot_path(str(old))
+    assert old.read_bytes() == b"figure" and old.stat().st_mtime_ns == before
+
+
 def test_a_missing_folder_of_a_figure_is_created_with_a_note(capsys, tmp_path):
     fig = tmp_path / "new" / "deeper" / "fig.png"
     assert main(["simulate", "--t-end", "5", "--plot", str(fig)]) == 0

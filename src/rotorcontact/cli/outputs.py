@@ -70,6 +70,16 @@ def check_output_file(option: str, path: str | os.PathLike, suffixes: tuple[str,
     if out.exists() and not os.access(out, os.W_OK):
         raise ParameterError(f"{option} = {text!r} exists and cannot be written")
     _check_parent(option, out.parent, text)
+    # the permissions do not tell everything (a read-only or special file system): create the file, empty,
+    # and remove it again (an existing file is opened to append nothing, and left as it was)
+    existed = out.exists()
+    try:
+        with open(out, "ab"):
+            pass
+    except OSError as exc:
+        raise ParameterError(f"{option} = {text!r} cannot be written ({exc.strerror or exc})") from None
+    if not existed:
+        out.unlink(missing_ok=True)
     return out
 
 
