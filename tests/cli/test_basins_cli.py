@@ -47,13 +47,16 @@ def test_help_documents_the_grid_syntax(cli):
         ("x=0:1:3", "both x and y"),
         ("nonsense", "NAME=START:STOP:COUNT"),
         ("plane:0", ">= 1"),
+        ("plane:-3", "the count must be >= 1"),
+        ("shock:many", "the count 'many' is not an integer"),
         ("x=-1:1:3,y=-1:1:two", "integer"),
+        ("", "is empty"),
     ],
 )
 def test_bad_grid_exits_2(tmp_path, cli, grid, message):
     code, _, err = cli.run("basins", "--grid", grid, "--out", tmp_path / "x.nc", "--no-progress")
     assert code == 2
-    assert message in err and "Traceback" not in err
+    assert message in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
 
 
 def test_bad_grid_from_the_shell_has_no_traceback(tmp_path, cli):

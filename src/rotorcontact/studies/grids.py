@@ -146,6 +146,9 @@ def shock_grid(amplitude: tuple[float, float, int] = (0.0, 1.0, 101),
     return BasinGrid("shock", _axis("amplitude", *amplitude), _axis("direction", *direction))
 
 
+#: The forms of a grid, in one line (the syntax in full: `GRID_SYNTAX`, shown by ``--help``).
+_FORMS = "plane:N, shock:N, x=X0:X1:NX,y=Y0:Y1:NY or amplitude=A0:A1:NA,direction=B0:B1:NB (see --help)"
+
 _PI = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+)?)\*?pi(?:/(\d+\.?\d*))?$")
 
 
@@ -172,14 +175,17 @@ def parse_grid(text: str) -> BasinGrid:
     Raises
     ------
     ParameterError
-        With a message that names the faulty part and shows the syntax.
+        With a one-line message that names the faulty part and the forms allowed.
     """
     if not isinstance(text, str) or not text.strip():
-        raise ParameterError(f"--grid = {text!r} is empty\n{GRID_SYNTAX}")
+        raise ParameterError(f"--grid = {text!r} is empty; allowed: {_FORMS}")
     s = text.strip().replace(" ", "")
-    short = re.fullmatch(r"(plane|shock):(\d+)", s)
+    short = re.fullmatch(r"(plane|shock):(.*)", s)
     if short:
-        n = int(short.group(2))
+        try:
+            n = int(short.group(2))
+        except ValueError:
+            raise ParameterError(f"--grid = {text!r}: the count {short.group(2)!r} is not an integer") from None
         if n < 1:
             raise ParameterError(f"--grid = {text!r}: the count must be >= 1")
         if short.group(1) == "plane":
@@ -189,7 +195,7 @@ def parse_grid(text: str) -> BasinGrid:
     axes: dict[str, tuple[float, float, int]] = {}
     for part in parts:
         if "=" not in part:
-            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT\n{GRID_SYNTAX}")
+            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT; allowed: {_FORMS}")
         name, spec = part.split("=", 1)
         if name not in ("x", "y", "amplitude", "direction"):
             raise ParameterError(
@@ -200,7 +206,7 @@ def parse_grid(text: str) -> BasinGrid:
             raise ParameterError(f"--grid = {text!r}: axis {name!r} given twice")
         fields_ = spec.split(":")
         if len(fields_) != 3:
-            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT\n{GRID_SYNTAX}")
+            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT; allowed: {_FORMS}")
         lo = _number(fields_[0], name)
         hi = _number(fields_[1], name)
         try:
@@ -212,7 +218,5 @@ def parse_grid(text: str) -> BasinGrid:
         return displacement_grid(axes["x"], axes["y"])
     if set(axes) == {"amplitude", "direction"}:
         return shock_grid(axes["amplitude"], axes["direction"])
-    raise ParameterError(
-        f"--grid = {text!r}: give both x and y, or both amplitude and direction\n{GRID_SYNTAX}"
-    )
+    raise ParameterError(f"--grid = {text!r}: give both x and y, or both amplitude and direction; allowed: {_FORMS}")
 
