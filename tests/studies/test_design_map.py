@@ -170,3 +170,20 @@ def test_recovery_of_a_map_is_one_study_equal_to_the_basins_of_each_point():
     assert np.array_equal(recovery_probabilities(machines, shock, chunk_size=3, n_jobs=2), serial)
     with pytest.raises(ParameterError, match="chunk_size"):
         recovery_probabilities(machines, shock, chunk_size=0)
+
+
+def test_a_speed_too_low_to_search_names_the_lowest_speed_that_can_be_mapped():
+    import re
+
+    from rotorcontact.model.params import reference_machine
+    from rotorcontact.studies.design_map import speed_map
+
+    m = reference_machine()
+    with pytest.raises(ParameterError) as err:
+        speed_map(m, [1.0, 2.0])
+    text = str(err.value)
+    assert text.startswith("at speed = 1 rpm") and "to the period 12" in text
+    lowest = float(re.search(r"speeds from ([0-9.e+-]+) rpm$", text).group(1))
+    assert speed_map(m, [lowest]).points[0].regime == "safe"
+    with pytest.raises(ParameterError, match=f"speeds from {lowest:.4g} rpm"):
+        speed_map(m, [0.99 * lowest])

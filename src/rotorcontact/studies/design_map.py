@@ -32,8 +32,8 @@ import numpy as np
 
 from ..analysis.equilibria import equilibria
 from ..errors import ParameterError
-from ..maps.impact_map import one_impact_orbits
-from ..model.params import Machine, check_range
+from ..maps.impact_map import one_impact_orbits, period_limit
+from ..model.params import MAX_SPEED, Machine, check_range
 from ..model.validation import check_int
 from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
 from ..model.units import RPM
@@ -447,6 +447,32 @@ def _check_grid(name: str, values: Sequence[float], positive: bool = True) -> np
     return arr
 
 
+def _check_search(machine: Machine, t_max: float) -> None:
+    """Refuse a setting where the impacting orbits cannot be searched to the period ``t_max``.
+
+    There the free flight grows or decays too fast for the guaranteed search (`period_limit`): at low
+    speed, where the dimensionless damping c / (m Omega) is large. The message gives the lowest speed
+    that can be mapped at the setting's stiffness and damping (the limit grows with the speed).
+    """
+    if t_max <= period_limit(machine.parameters()):
+        return
+    lo, hi = math.log(machine.speed), math.log(MAX_SPEED)
+    if t_max > period_limit(machine.with_speed(MAX_SPEED).parameters()):
+        lowest = "none"
+    else:
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if t_max > period_limit(machine.with_speed(math.exp(mid)).parameters()) else (lo, mid)
+        rpm = math.exp(hi) / RPM
+        step = 10.0 ** (math.floor(math.log10(rpm)) - 3)
+        lowest = f"speeds from {math.ceil(rpm / step) * step:.4g} rpm"  # rounded up: that speed can be mapped
+    raise ParameterError(
+        f"at speed = {machine.speed / RPM:.6g} rpm (stiffness = {machine.stiffness:.6g} N/m, damping = "
+        f"{machine.damping:.6g} N s/m) the free flight changes too fast to search impacting orbits to the period "
+        f"{t_max:g} (up to {period_limit(machine.parameters()):.3g}); allowed at this stiffness and damping: {lowest}"
+    )
+
+
 def _classify_all(machines: list[Machine], shock: float | None, t_max: float, progress: bool,
                   **scale: Any) -> tuple[MapPoint, ...]:
     """Classify each setting, with a progress bar on stderr if asked; the recovery probabilities of the
@@ -454,6 +480,8 @@ def _classify_all(machines: list[Machine], shock: float | None, t_max: float, pr
     (`recovery_probabilities`)."""
     from .execution import progress_bar
 
+    for m in machines:
+        _check_search(m, t_max)
     pts = []
     with progress_bar(len(machines), "design map", progress, unit="point") as bar:
         for m in machines:
