@@ -65,6 +65,11 @@ def test_bad_input_exits_2_without_traceback(cli, args):
     assert "error" in err and "Traceback" not in err
 
 
+def test_details_without_json_is_refused(cli):
+    code, out, err = cli.run("lyapunov", "--details", "--t-end", "10")
+    assert code == 2 and out == "" and "--details adds fields to the JSON output; allowed: with --json" in err
+
+
 def test_bad_input_from_the_shell(cli):
     code, _, err = cli.exe("lyapunov", "--du0", "x,1")
     assert code == 2

@@ -41,6 +41,7 @@ BAD_OPTIONS = [
     (["--t-end=-5"], ["t-end", "-5"]),
     (["--t-end", "nan"], ["t-end", "nan"]),
     (["--t-end", "soon"], ["t-end", "soon"]),
+    (["--all-impacts"], ["--all-impacts", "allowed: with --json"]),  # it would change nothing
 ]
 
 

@@ -73,11 +73,16 @@ def parse_time(option: str, text: str, *, low_open: bool = False, high: float | 
 
 
 def parse_drop_times(args: argparse.Namespace) -> tuple[float, float]:
-    """``--fail-at`` and ``--t-end`` of ``drop`` and ``drop-map``, s: fail_at >= 0 and 0 < t_end <=
+    """``--fail-at`` and ``--t-end`` of ``drop`` and ``drop-map``, s: 0 <= fail_at < t_end <=
     `rotorcontact.simulation.drop_run.MAX_T_END`."""
     from ..simulation.drop_run import MAX_T_END
 
-    return parse_time("fail-at", args.fail_at), parse_time("t-end", args.t_end, low_open=True, high=MAX_T_END)
+    fail_at = parse_time("fail-at", args.fail_at)
+    t_end = parse_time("t-end", args.t_end, low_open=True, high=MAX_T_END)
+    if fail_at >= t_end:
+        raise ParameterError(f"--fail-at = {args.fail_at!r} is not before --t-end = {args.t_end!r}: the bearing "
+                             "would not fail in the run; allowed: --fail-at < --t-end")
+    return fail_at, t_end
 
 
 def run(args: argparse.Namespace) -> int:

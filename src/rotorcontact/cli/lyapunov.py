@@ -90,6 +90,8 @@ def run(args: argparse.Namespace) -> int:
             "--t-transient", parse_float("t-transient", args.t_transient), low=0.0, high=t_end, high_open=True
         )
     qr_interval = check_range("--qr-interval", parse_float("qr-interval", args.qr_interval), low=0.0, low_open=True)
+    if args.details and not args.json:
+        raise ParameterError("--details adds fields to the JSON output; allowed: with --json")
     scan_options = [o for o, v in (("--from", args.start_value), ("--to", args.stop_value), ("--n", args.n_values),
                                    ("--out", args.out)) if v is not None]
     if args.param is not None:

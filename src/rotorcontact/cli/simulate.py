@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ..errors import ParameterError
 from .options import (
     add_parameter_options,
     ignored_keys,
@@ -67,6 +68,8 @@ def run(args: argparse.Namespace) -> int:
                         why="beyond it double precision cannot resolve the impact times")
     max_events = parse_int("max-events", args.max_events, 1, MAX_EVENTS,
                            why="each event is kept in memory, about 150 bytes each")
+    if args.all_impacts and not args.json:
+        raise ParameterError("--all-impacts lists every impact in the JSON output; allowed: with --json")
     if args.plot is not None:
         check_plot_path(args.plot)
     if machine is not None and machine.needs_general_model:
