@@ -255,6 +255,8 @@ def call_kernel(kernel, *args, budget_s: float | None = None):
     """
     if not _is_kernel(kernel) or getattr(_state, "compiled_only", False):
         return kernel(*args)  # (not a kernel: numba's JIT is disabled, NUMBA_DISABLE_JIT)
+    if budget_s is None and kernel in _compiled:
+        return kernel(*args)  # compiled from now on: the budget no longer matters
     if budget_s is None:
         budget = interpret_budget()
     elif isinstance(budget_s, (int, float)) and 0.0 <= budget_s < math.inf:

@@ -354,3 +354,26 @@ def test_simulate_refuses_absurd_parameters_and_initial_states():
 def test_a_machine_whose_groups_are_out_of_range_names_them():
     with pytest.raises(ParameterError, match=r"gamma = .* is out of range; allowed: \[-1e\+06, 1e\+06\]"):
         Machine(**dict(REF_MACHINE, speed=1e-6)).parameters()
+
+
+def test_replace_is_the_constructor_with_the_changes():
+    """replace validates only what changes, as the constructor does, and computes its own k."""
+    from dataclasses import asdict
+
+    base = Parameters.reference()
+    _ = base.k  # cached on the base
+    for changes in ({"gamma": 0.3}, {"omega": 2, "phi": -1.0}, {"d": 1.0, "mu": 0}):
+        new = base.replace(**changes)
+        ref = Parameters(**{**asdict(base), **changes})
+        assert new == ref and asdict(new) == asdict(ref) and all(type(v) is float for v in asdict(new).values())
+        assert new.k == ref.k
+    assert base.replace(gamma=0.3).k != base.k  # not the base's cached value
+    for changes in ({"d": 1.5}, {"omega": 0.0}, {"gamma": float("nan")}, {"mu": "x"}, {"rho": True}):
+        name, value = next(iter(changes.items()))
+        with pytest.raises(ParameterError) as by_replace:
+            base.replace(**changes)
+        with pytest.raises(ParameterError) as by_constructor:
+            Parameters(**{**asdict(base), name: value})
+        assert str(by_replace.value) == str(by_constructor.value)
+    with pytest.raises(ParameterError, match="unknown parameter 'k'"):
+        base.replace(k=1.0)

@@ -153,6 +153,18 @@ def check_velocity(name: str, value: complex) -> complex:
     return complex(value)
 
 
+_WHY = "dimensionless groups of a rotor are of order one; larger magnitudes are beyond the model's numerics"
+#: The range of each dimensionless parameter (`check_range` keywords), in the order of `Parameters`' fields.
+_PARAMETER_RULES: dict[str, dict[str, Any]] = {
+    "gamma": dict(low=-MAX_MAGNITUDE, high=MAX_MAGNITUDE, why=_WHY),
+    "omega": dict(low=0.0, high=MAX_MAGNITUDE, low_open=True, why=_WHY),
+    "rho": dict(low=0.0, high=MAX_MAGNITUDE, why=_WHY),
+    "mu": dict(low=0.0, high=MAX_MAGNITUDE, why=_WHY),
+    "d": dict(low=0.0, high=1.0),
+    "phi": dict(low=-MAX_MAGNITUDE, high=MAX_MAGNITUDE, why=_WHY),
+    "r_ratio": dict(low=0.0, high=MAX_MAGNITUDE, why=_WHY),
+}
+
 #: The parameters a branch, a curve or a scan may be followed in (phi and r_ratio enter the model too, but no
 #: continuation varies them).
 BRANCH_PARAMETERS = ("gamma", "omega", "rho", "mu", "d")
@@ -193,17 +205,11 @@ class Parameters:
     r_ratio: float = 0.0
 
     def __post_init__(self) -> None:
-        for f in fields(self):
-            object.__setattr__(self, f.name, check_finite(f.name, getattr(self, f.name)))
-        big = MAX_MAGNITUDE
-        why = "dimensionless groups of a rotor are of order one; larger magnitudes are beyond the model's numerics"
-        check_range("gamma", self.gamma, low=-big, high=big, why=why)
-        check_range("omega", self.omega, low=0.0, high=big, low_open=True, why=why)
-        check_range("rho", self.rho, low=0.0, high=big, why=why)
-        check_range("mu", self.mu, low=0.0, high=big, why=why)
-        check_range("d", self.d, low=0.0, high=1.0)
-        check_range("phi", self.phi, low=-big, high=big, why=why)
-        check_range("r_ratio", self.r_ratio, low=0.0, high=big, why=why)
+        values = {name: check_finite(name, getattr(self, name)) for name in _PARAMETER_RULES}
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+        for name, value in values.items():
+            check_range(name, value, **_PARAMETER_RULES[name])
 
     @classmethod
     def reference(cls) -> "Parameters":
@@ -211,14 +217,18 @@ class Parameters:
         return reference_machine().parameters()
 
     def replace(self, **changes: float) -> "Parameters":
-        """Return a copy with some parameters changed (validated again)."""
-        unknown = set(changes) - {f.name for f in fields(self)}
+        """Return a copy with some parameters changed (the changed ones validated as by the constructor)."""
+        unknown = set(changes) - set(_PARAMETER_RULES)
         if unknown:
             name = sorted(unknown)[0]
-            raise ParameterError(
-                f"unknown parameter {name!r}; allowed: {', '.join(f.name for f in fields(self))}"
-            )
-        return replace(self, **changes)
+            raise ParameterError(f"unknown parameter {name!r}; allowed: {', '.join(_PARAMETER_RULES)}")
+        checked = {name: check_finite(name, changes[name]) for name in _PARAMETER_RULES if name in changes}
+        for name, value in checked.items():
+            check_range(name, value, **_PARAMETER_RULES[name])
+        # the others were checked when this object was made; the copy computes its own k
+        new = object.__new__(type(self))
+        new.__dict__.update({name: getattr(self, name) for name in _PARAMETER_RULES}, **checked)
+        return new
 
     def as_dict(self) -> dict[str, float]:
         """The parameters as a plain dict of floats."""
