@@ -251,7 +251,8 @@ def call_kernel(kernel, *args, budget_s: float | None = None):
     Raises
     ------
     ParameterError
-        For a ``budget_s`` that is not a number of seconds >= 0, or an invalid ``ROTORCONTACT_INTERPRET_S``.
+        For a ``budget_s`` that is not a number of seconds >= 0, or an invalid ``ROTORCONTACT_INTERPRET_S``
+        (read until the kernel runs compiled for good).
     """
     if not _is_kernel(kernel) or getattr(_state, "compiled_only", False):
         return kernel(*args)  # (not a kernel: numba's JIT is disabled, NUMBA_DISABLE_JIT)

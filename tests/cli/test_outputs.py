@@ -65,20 +65,26 @@ def test_an_unwritable_plot_path_is_refused_before_computing(capsys, tmp_path, m
 @pytest.mark.parametrize("args", PLOTTING[:1], ids=lambda a: a[0])
 def test_a_file_system_that_refuses_the_file_is_found_before_computing(capsys, tmp_path, monkeypatch, args):
     """Permissions do not tell everything (a read-only mount, /proc as root): the file is created and removed."""
-    from rotorcontact.cli import outputs
+    import os
 
     monkeypatch.setattr(COMPUTE[args[0]], _never)
+    target = tmp_path / "fig.png"
+    real_open = os.open
 
-    def refusing(path, mode="r", *a, **k):
-        raise OSError(30, "Read-only file system")
+    def refusing(path, *a, **k):
+        if os.fspath(path) == str(target):
+            raise OSError(30, "Read-only file system")
+        return real_open(path, *a, **k)
 
-    monkeypatch.setattr(outputs, "open", refusing, raising=False)
-    assert main([*_args(args, tmp_path), "--plot", str(tmp_path / "fig.png")]) == 2
+    monkeypatch.setattr(os, "open", refusing)
+    assert main([*_args(args, tmp_path), "--plot", str(target)]) == 2
     err = capsys.readouterr().err
     assert "--plot = " in err and "cannot be written (Read-only file system)" in err and "Traceback" not in err
 
 
 def test_the_check_of_an_output_file_leaves_no_trace(tmp_path):
+    import os
+
     from rotorcontact.cli.outputs import check_plot_path
 
     new = tmp_path / "new.png"
@@ -89,6 +95,16 @@ def test_the_check_of_an_output_file_leaves_no_trace(tmp_path):
     before = old.stat().st_mtime_ns
     check_plot_path(str(old))
     assert old.read_bytes() == b"figure" and old.stat().st_mtime_ns == before
+    # a link to a file not written yet stays a link, and its target is not created
+    link = tmp_path / "link.png"
+    link.symlink_to(tmp_path / "later" / "fig.png")
+    check_plot_path(str(link))
+    assert os.path.islink(link) and not (tmp_path / "later").exists()
+    if hasattr(os, "mkfifo"):  # a named pipe is not opened (that would wait for a reader)
+        pipe = tmp_path / "pipe.png"
+        os.mkfifo(pipe)
+        check_plot_path(str(pipe))
+        assert pipe.is_fifo()
 
 
 def test_a_missing_folder_of_a_figure_is_created_with_a_note(capsys, tmp_path):

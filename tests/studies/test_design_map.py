@@ -187,3 +187,12 @@ def test_a_speed_too_low_to_search_names_the_lowest_speed_that_can_be_mapped():
     assert speed_map(m, [lowest]).points[0].regime == "safe"
     with pytest.raises(ParameterError, match=f"speeds from {lowest:.4g} rpm"):
         speed_map(m, [0.99 * lowest])
+
+
+@pytest.mark.parametrize("t_max", [float("nan"), float("inf"), 0.0, "x"])
+def test_a_bad_t_max_is_named_before_the_settings_are_checked(t_max):
+    from rotorcontact.model.params import reference_machine
+    from rotorcontact.studies.design_map import speed_map
+
+    with pytest.raises(ParameterError, match="^t_max = "):
+        speed_map(reference_machine(), [3000.0], t_max=t_max)

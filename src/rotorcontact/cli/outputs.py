@@ -70,17 +70,25 @@ def check_output_file(option: str, path: str | os.PathLike, suffixes: tuple[str,
     if out.exists() and not os.access(out, os.W_OK):
         raise ParameterError(f"{option} = {text!r} exists and cannot be written")
     _check_parent(option, out.parent, text)
-    # the permissions do not tell everything (a read-only or special file system): create the file, empty,
-    # and remove it again (an existing file is opened to append nothing, and left as it was)
-    existed = out.exists()
+    if not os.path.lexists(out):
+        _probe(option, out, text)
+    return out
+
+
+def _probe(option: str, out: Path, text: str) -> None:
+    """Create ``out`` (which does not exist), empty, and remove it again.
+
+    Permissions do not tell everything (a read-only or special file system). The file is created
+    exclusively and without following a link, so only what this call created is removed.
+    """
     try:
-        with open(out, "ab"):
-            pass
+        fd = os.open(out, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0), 0o600)
+    except FileExistsError:  # made by someone else meanwhile: theirs, left alone
+        return
     except OSError as exc:
         raise ParameterError(f"{option} = {text!r} cannot be written ({exc.strerror or exc})") from None
-    if not existed:
-        out.unlink(missing_ok=True)
-    return out
+    os.close(fd)
+    os.unlink(out)
 
 
 def check_plot_path(path: str | os.PathLike, option: str = "--plot") -> Path:

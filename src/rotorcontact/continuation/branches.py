@@ -20,8 +20,9 @@ curve and marks the orbit it meets. Every solution curve that crosses a seed
 value inside the box (start <= param <= stop, t_min <= T <= t_max,
 |rdot| <= rdot_max) is therefore computed exactly once; a curve confined
 strictly between two seed values is not seen. The seeds' default spacing is
-that of 41 over the parameter's default range, whatever the range followed
-(`default_seeds`), so that widening the range loses no curve.
+no wider than that of 41 over the parameter's default range, whatever the range
+followed (`default_seeds`, up to `MAX_SEEDS` values), so that a wider range does
+not thin them out.
 
 Events
 ------
@@ -116,7 +117,8 @@ def default_seeds(param: str, start: float, stop: float) -> int:
     ``param`` (`DEFAULT_RANGES`), at least `DEFAULT_SEEDS` and at most `MAX_SEEDS`.
 
     A curve confined between two seed values is not seen, so a wider range keeps the spacing rather
-    than the count.
+    than the count (the seeds of two ranges need not coincide; a curve narrower than the spacing can
+    still fall between them).
     """
     lo, hi = DEFAULT_RANGES[param]
     spacing = (hi - lo) / (DEFAULT_SEEDS - 1)

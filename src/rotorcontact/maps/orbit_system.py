@@ -44,7 +44,6 @@ thetadot = -Im(q P / D) rdot.
 from __future__ import annotations
 
 import cmath
-import copy
 import math
 from dataclasses import dataclass
 
@@ -120,9 +119,9 @@ def with_parameters(base: Parameters, changes: dict[str, float], *, extend: bool
         unknown = set(changes) - set(base.as_dict())
         if unknown:
             raise
-        p = copy.copy(base)
-        for name, value in changes.items():
-            object.__setattr__(p, name, float(value))
+        # a new object, not a copy: a copy would keep the base's cached k
+        p = object.__new__(type(base))
+        p.__dict__.update(base.as_dict(), **{name: float(value) for name, value in changes.items()})
         return p
 
 

@@ -480,6 +480,7 @@ def _classify_all(machines: list[Machine], shock: float | None, t_max: float, pr
     (`recovery_probabilities`)."""
     from .execution import progress_bar
 
+    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     for m in machines:
         _check_search(m, t_max)
     pts = []
