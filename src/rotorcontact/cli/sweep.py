@@ -63,8 +63,10 @@ def register(sub) -> None:
     g.add_argument("--start", default=None, metavar="STATE",
                    help="initial state at the first value of each direction: rest (default), equilibrium (x_R), "
                         "or an admissible one-impact orbit such as B1,d")
-    g.add_argument("--u0", default=None, metavar="RE,IM", help="explicit initial position (instead of --start, not with it)")
-    g.add_argument("--du0", default=None, metavar="RE,IM", help="explicit initial velocity (instead of --start, not with it)")
+    g.add_argument("--u0", default=None, metavar="RE,IM",
+                   help="explicit initial position (instead of --start, not with it)")
+    g.add_argument("--du0", default=None, metavar="RE,IM",
+                   help="explicit initial velocity (instead of --start, not with it)")
     g.add_argument("--transient", default="4000", metavar="N",
                    help="events of transient per value (impacts in impacting motion; default 4000)")
     g.add_argument("--record", default="1000", metavar="N", help="events recorded per value (default 1000)")

@@ -321,8 +321,8 @@ def check_machine_value(name: str, value: Any, label: str | None = None) -> floa
     """Check one value of a machine key against its range (`Machine`'s rules); return it in SI units.
 
     ``value`` is a number in the key's SI unit, or a string with its unit (``"12000 rpm"``; a unit is
-    required unless the key has none). ``label``: the value's name in errors where it is not the key itself (a command-line option such as
-    ``"--speed"``, or ``"speeds[3]"``).
+    required unless the key has none). ``label``: the value's name in errors where it is not the key
+    itself (a command-line option such as ``"--speed"``, or ``"speeds[3]"``).
 
     Raises
     ------

@@ -369,7 +369,8 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
                 theta_c, thetadot_c, t, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio, path, n_path
             )
             kind = SLIDE_FORWARD if sgn > 0.0 else SLIDE_BACKWARD
-            contacts, n_ct = push_row(contacts, n_ct, np.array([t_start, t, float(kind), float(p_start), float(n_path - 1)]))
+            contacts, n_ct = push_row(contacts, n_ct,
+                                      np.array([t_start, t, float(kind), float(p_start), float(n_path - 1)]))
         stalls = stalls + 1 if t == t_start else 0
         if stalls > MAX_STALLS:
             status = FAILED
