@@ -328,3 +328,18 @@ def test_widening_the_range_loses_no_branch_or_event(ref_branches):
     ref = inner(ref_branches)
     assert any(t == "fold" and 0.0 < v < 0.05 and any(o.startswith("B3") for o in orbits) for t, orbits, v in ref)
     assert inner(wide) == ref
+
+
+def test_a_range_that_starts_at_the_undamped_resonance_keeps_to_its_box():
+    """At gamma = 0 the b-branches pass the resonance point, where no point can be corrected onto the curve:
+    a curve leaving the range there ends at its last point inside, rather than running on past the bound."""
+    at_zero = orbit_branches(REF.replace(gamma=0.1), "gamma", 0.0, 0.2, t_max=5.0)
+    wider = orbit_branches(REF.replace(gamma=0.1), "gamma", -0.05, 0.2, t_max=5.0)
+    tol = 1e-10  # the location tolerance of a curve's end on its bound
+    assert all(-tol <= o.params.gamma <= 0.2 + tol for c in at_zero.curves for o in c.orbits)
+    assert all(-tol <= e.value <= 0.2 + tol for e in at_zero.events)
+
+    def inner(b):
+        return sorted((e.type, e.orbits, round(e.value, 7)) for e in b.events if 0.01 <= e.value <= 0.19)
+
+    assert inner(at_zero) == inner(wider) and inner(wider)

@@ -44,7 +44,10 @@ through a pole is recognised (|g| at the located point is not below its
 values at the bracket's ends) and flagged ``continuous=False``.
 
 A *terminal* event ends the continuation at its located point; that is how
-a domain boundary (a parameter bound, a bound on an unknown) is handled.
+a domain boundary (a parameter bound, a bound on an unknown) is handled. A
+terminal event that changes sign within a step but cannot be located (no trial
+point can be corrected onto the curve: a singular point, such as where two
+curves cross) ends the continuation at the step's start, inside the domain.
 """
 
 from __future__ import annotations
@@ -690,12 +693,15 @@ def continue_curve(
         g_new = [ev.function(prob.y(z_new)) for ev in events]
         changes = [i for i, ev in enumerate(events) if _sign_change(ev.kind, gvals[i], g_new[i])]
         step_events: list[tuple[float, LocatedEvent]] = []
+        unlocated_end = None  # a terminal event that changed sign but could not be located on the curve
         if changes:
             loc = _Locator(prob, z, t, z_new, step_taken, settings)
             for i in changes:
                 ev = events[i]
                 res = _locate(ev, loc, gvals[i], g_new[i], pidx, w[pidx], settings)
                 if res is None:
+                    if ev.terminal and unlocated_end is None:
+                        unlocated_end = ev.name
                     continue
                 gv, y_ev, ga, ya, gb, yb, gap, conv, cont = res
                 s_ev = float(t @ (w * y_ev - z))
@@ -721,6 +727,13 @@ def continue_curve(
                 )
         step_events.sort(key=lambda item: item[0])
         terminal = next((item for item in step_events if item[1].terminal and item[1].continuous), None)
+        if terminal is None and unlocated_end is not None:
+            # the curve leaves its domain within this step, where no trial point could be corrected (a
+            # singular point such as a crossing of curves): it ends at the step's start, inside
+            status = "terminal"
+            message = (f"terminal event {unlocated_end!r} between parameter {prob.y(z)[pidx]:.12g} and "
+                       f"{prob.y(z_new)[pidx]:.12g} (not located: the curve is singular there)")
+            break
         if terminal is not None:
             s_term = terminal[0]
             # events at the terminal point itself (within the location accuracy) belong to this piece
