@@ -620,3 +620,11 @@ def test_branches_reject_bad_input():
     with pytest.raises(ParameterError, match="n = "):
         equilibrium_branches(p, "gamma", 0.0, 1.0, 1)
     assert set(BRANCH_PARAMETERS) == {"gamma", "omega", "rho", "mu", "d"}
+
+
+def test_equilibrium_branches_bound_their_grid():
+    from rotorcontact.model.validation import MAX_EQUILIBRIUM_POINTS
+
+    allowed = f"allowed: an integer from 2 to {MAX_EQUILIBRIUM_POINTS}"
+    with pytest.raises(ParameterError, match=f"^n = {10**9} is invalid; {allowed}"):
+        equilibrium_branches(REF, "gamma", 0.0, 0.2, n=10**9)

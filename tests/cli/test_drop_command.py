@@ -208,7 +208,7 @@ def test_a_speed_above_the_bound_is_refused_at_once(cli, machine_file, tmp_path,
     (("--t-end", "0s"), ("--t-end = '0s'", "(0, 10000] s")),
     (("--fail-at=-1s",), ("--fail-at = '-1s'", "[0, inf) s")),
     (("--fail-at", "inf"), ("--fail-at = 'inf'", "not finite")),
-    (("--fail-at", "1s", "--t-end", "0.1s"), ("--fail-at = '1s' is not before --t-end = '0.1s'",)),
+    (("--fail-at", "1s", "--t-end", "0.1s"), ("--fail-at = 1.0 s is not before --t-end = 0.1 s",)),
 ])
 @pytest.mark.parametrize("command", ["drop", "drop-map"])
 def test_time_options_are_refused_by_their_option_names(cli, machine_file, tmp_path, command, argv, words):

@@ -465,6 +465,16 @@ def test_a_drops_speed_is_rad_per_s_or_a_string_with_its_unit():
         drop_map(m, ["6000 rpm"], ["x"])
 
 
+def test_a_drop_whose_bearing_fails_after_the_end_is_refused():
+    from rotorcontact.studies.drop_map import drop_map
+
+    m = reference_machine()
+    with pytest.raises(ParameterError, match="^fail_at = 1.0 s is not before t_end = 0.05 s"):
+        drop(m, 1000.0, 1.0, 0.05)
+    with pytest.raises(ParameterError, match="^fail_at = 0.05 s is not before t_end = 0.05 s"):
+        drop_map(m, [1000.0], fail_at=0.05, t_end=0.05)
+
+
 def test_a_failed_drop_has_the_regime_failed_never_levitated(failing_drops):
     m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
     r = drop(m, 9000 * RPM, 0.0, 0.001)  # no impact yet: it would be "levitated" had it not failed

@@ -306,3 +306,14 @@ def test_the_chatter_criteria_are_the_kernel_arguments_with_the_defaults_of_simu
     front = inspect.signature(simulate).parameters
     assert {name: front[name].default for name in CHATTER_DEFAULTS} == CHATTER_DEFAULTS
     assert dict(BatchSettings().chatter) == CHATTER_DEFAULTS
+
+
+def test_bad_batches_are_refused_by_name():
+    from rotorcontact.model.params import MAX_VELOCITY
+
+    with pytest.raises(ParameterError, match="^du0 = .* is too fast"):  # the bound of simulate
+        simulate_batch(REF, du0=[0j, 2 * MAX_VELOCITY + 0j], n_transient=2, n_record=1)
+    with pytest.raises(ParameterError, match="^the batch is empty"):
+        simulate_batch(REF, u0=[], n_transient=2, n_record=1)
+    with pytest.raises(ParameterError, match="^unknown setting 'foo'; allowed: n_transient"):
+        simulate_batch(REF, foo=3)

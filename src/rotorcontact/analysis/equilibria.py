@@ -55,7 +55,7 @@ from ..model import contact_law
 from ..model.flow import flight_coefficients, has_regular_equilibrium
 from ..model.impact_law import impact_q, relative_velocity
 from ..model.params import BRANCH_PARAMETERS, Parameters, check_finite
-from ..model.validation import check_int, check_params
+from ..model.validation import MAX_EQUILIBRIUM_POINTS, check_int, check_params
 
 __all__ = [
     "STATE_NAMES",
@@ -1029,7 +1029,7 @@ def equilibrium_branches(
     stop = check_finite("stop", stop)
     if not start < stop:
         raise ParameterError(f"range {start!r} .. {stop!r} is empty; allowed: start < stop")
-    n = check_int("n", n, 2)
+    n = check_int("n", n, 2, MAX_EQUILIBRIUM_POINTS)
     base.replace(**{param: start})  # validates both ends (every range of validity is an interval)
     base.replace(**{param: stop})
 

@@ -10,7 +10,7 @@ from ..errors import ParameterError
 from ..model.params import load_machine
 from ..model.units import quantity_in
 from .outputs import check_plot_path
-from .options import parse_int, print_json
+from .options import parse_int, print_json, renamed
 
 #: Default and largest --max-events.
 DEFAULT_MAX_EVENTS = 1_000_000
@@ -75,13 +75,14 @@ def parse_time(option: str, text: str, *, low_open: bool = False, high: float | 
 def parse_drop_times(args: argparse.Namespace) -> tuple[float, float]:
     """``--fail-at`` and ``--t-end`` of ``drop`` and ``drop-map``, s: 0 <= fail_at < t_end <=
     `rotorcontact.simulation.drop_run.MAX_T_END`."""
-    from ..simulation.drop_run import MAX_T_END
+    from ..simulation.drop_run import MAX_T_END, check_failure_before_end
 
     fail_at = parse_time("fail-at", args.fail_at)
     t_end = parse_time("t-end", args.t_end, low_open=True, high=MAX_T_END)
-    if fail_at >= t_end:
-        raise ParameterError(f"--fail-at = {args.fail_at!r} is not before --t-end = {args.t_end!r}: the bearing "
-                             "would not fail in the run; allowed: --fail-at < --t-end")
+    try:
+        check_failure_before_end(fail_at, t_end)
+    except ParameterError as exc:
+        raise renamed(exc, {"fail_at": "--fail-at", "t_end": "--t-end"}) from None
     return fail_at, t_end
 
 

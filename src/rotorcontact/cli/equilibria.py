@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 from ..errors import ParameterError
 from ..model.params import BRANCH_PARAMETERS, Machine
 from ..model.si import equilibria_si, parameter_si
+from ..model.validation import MAX_EQUILIBRIUM_POINTS
 from .options import (
     add_parameter_options,
     ignored_keys,
@@ -23,8 +24,8 @@ from .outputs import check_plot_path
 if TYPE_CHECKING:
     from ..analysis.equilibria import Equilibria, EquilibriumBranches
 
-#: Largest --points: about a millisecond each, so 10000 take seconds (the default is 401).
-MAX_POINTS = 10_000
+#: Largest --points (the default is 401).
+MAX_POINTS = MAX_EQUILIBRIUM_POINTS
 
 
 def register(sub) -> None:

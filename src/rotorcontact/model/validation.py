@@ -26,6 +26,8 @@ def check_params(params: Any, name: str = "params"):
 
 #: The largest count a kernel takes (numba's int64).
 MAX_COUNT = 2**63 - 1
+#: Most grid points of an equilibrium branch scan: about a millisecond each, so 10000 take seconds.
+MAX_EQUILIBRIUM_POINTS = 10_000
 
 
 def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:

@@ -98,6 +98,13 @@ def levitated_state(machine: Machine, speed: float, *, name: str = "speed") -> t
     return z, v
 
 
+def check_failure_before_end(fail_at: float, t_end: float) -> None:
+    """Refuse a drop whose bearing fails at or after its final time (it would stay levitated)."""
+    if fail_at >= t_end:
+        raise ParameterError(f"fail_at = {fail_at!r} s is not before t_end = {t_end!r} s: the bearing would not "
+                             "fail in the run; allowed: fail_at < t_end")
+
+
 def check_drop_speed(machine: Machine, speed: Any, name: str = "speed") -> float:
     """Check the spin speed (rad/s) a drop of ``machine`` starts at; return it as a float.
 
@@ -321,6 +328,7 @@ def drop(machine: Machine, speed: float | str | None = None, fail_at: float = 0.
     z0, v0 = levitated_state(machine, speed)
     fail_at = check_range("fail_at", fail_at, low=0.0)
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
+    check_failure_before_end(fail_at, t_end)
     max_events = check_int("max_events", max_events, low=1, high=MAX_COUNT)
     return run_general(machine, z0, v0, speed, fail_at, t_end, max_events=max_events)
 

@@ -76,7 +76,7 @@ from ..simulation.motion import (
     REPEAT_TOL,
     WINDOW,
 )
-from ..model.params import Parameters, check_range
+from ..model.params import MAX_VELOCITY, Parameters, check_range, check_velocity
 from ..model.validation import check_int
 from ..model.impact_law import polar_velocity
 from ..simulation.simulator import (
@@ -579,7 +579,11 @@ def _complex_array(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
 
 
 def check_initial_states(u0: np.ndarray, du0: np.ndarray) -> None:
-    """Raise `ParameterError` unless every |u0| <= 1 (the rotor starts inside the clearance)."""
+    """Raise `ParameterError` unless every |u0| <= 1 (the rotor starts inside the clearance) and every
+    |du0| is at most `rotorcontact.model.params.MAX_VELOCITY` (as `simulate` requires)."""
+    fast = np.abs(du0) > MAX_VELOCITY
+    if fast.any():
+        check_velocity("du0", du0.ravel()[int(np.flatnonzero(fast.ravel())[0])])  # raises, with its message
     outside = np.abs(u0) > 1.0 + BOUNDARY_TOL
     if outside.any():
         i = int(np.flatnonzero(outside.ravel())[0])
@@ -690,6 +694,10 @@ def simulate_batch(
     ['periodic-impacting', 'periodic-impacting']
     """
     if settings is None:
+        unknown = sorted(set(kwargs) - {f.name for f in fields(BatchSettings)})
+        if unknown:
+            raise ParameterError(f"unknown setting {unknown[0]!r}; allowed: "
+                                 f"{', '.join(f.name for f in fields(BatchSettings))}")
         settings = BatchSettings(**kwargs)
     elif kwargs:
         raise ParameterError(f"give either settings or keyword settings, not both ({', '.join(kwargs)})")
@@ -723,6 +731,8 @@ def simulate_batch(
             squeeze = True
         u0c = _complex_array("u0", u0, shape)
         du0c = _complex_array("du0", du0, shape)
+    if 0 in shape:
+        raise ParameterError(f"the batch is empty (shape {shape}); allowed: at least one item")
     parr = np.broadcast_to(parr, shape + (len(PARAMETER_ORDER),))
     check_initial_states(u0c, du0c)
     if carry:
