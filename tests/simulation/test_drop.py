@@ -496,3 +496,8 @@ def test_a_bearing_failing_after_a_long_levitated_run_drops_as_from_that_phase_o
     # the phase of the whirl at T holds the rounding of Omega T (about 1e-16 Omega T rad)
     np.testing.assert_allclose(late.column("t_s") - fail_at, early.column("t_s"), rtol=0, atol=1e-9)
     np.testing.assert_allclose(late.column("normal_impulse_Ns"), early.column("normal_impulse_Ns"), rtol=1e-5)
+
+
+def test_a_drop_needs_a_machine():
+    with pytest.raises(ParameterError, match="^machine = None is not a Machine object; allowed: rotorcontact.Machine$"):
+        drop(None, 1000.0, 0.0, 0.05)

@@ -436,3 +436,18 @@ def test_liftoff_at_rounding_level_does_not_stall():
     traj = simulate(p, 1 + 0j, -0.2717020802885477 + 1.8969756864730352j, 98.61433052120861, max_events=1000)
     assert traj.status == "completed", traj.message
     assert any(c.kind == "sliding-forward" for c in traj.contact_intervals)
+
+
+def test_an_initial_state_or_machine_of_the_wrong_kind_is_refused_by_name():
+    import numpy as np
+
+    from rotorcontact import ParameterError, simulate
+    from reference_parameters import REF
+
+    with pytest.raises(ParameterError, match="^u0 = True is a bool"):
+        simulate(REF, u0=True, t_end=1.0)
+    with pytest.raises(ParameterError, match="^machine = 'x' is not a Machine object"):
+        simulate(REF, t_end=1.0, machine="x")
+    a = simulate(REF, u0=np.array(0.1 + 0.1j), t_end=5.0)  # a 0-d array is its number
+    b = simulate(REF, u0=0.1 + 0.1j, t_end=5.0)
+    assert np.array_equal(a.records, b.records)

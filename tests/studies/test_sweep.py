@@ -316,3 +316,11 @@ def test_a_missing_output_folder_is_refused_before_any_computation(tmp_path, mon
         sweep(REF, "gamma", sweep_values(0.1, 0.11, 2), mode="up", n_transient=20, n_record=5, progress=False,
               out=tmp_path / "missing" / "s.nc")
     assert not (tmp_path / "missing").exists()
+
+
+@pytest.mark.parametrize("values", [np.array([0.1, 0.2]) + 0j, [[0.1, 0.2]], ["0.1", "0.2"], [True, False]])
+def test_sweep_values_must_be_a_list_of_real_numbers(values):
+    with pytest.raises(ParameterError, match="are not a list of real numbers"):
+        sweep(REF, "gamma", values, n_transient=1, n_record=1)
+    with pytest.raises(ParameterError, match="^machine = 'x' is not a Machine object"):
+        sweep(REF, "gamma", [0.1, 0.2], n_transient=1, n_record=1, machine="x")

@@ -24,6 +24,17 @@ def check_params(params: Any, name: str = "params"):
     return params
 
 
+def check_machine(machine: Any, name: str = "machine", optional: bool = True):
+    """Return ``machine`` if it is a `rotorcontact.model.params.Machine` (or None where ``optional``), else
+    raise `ParameterError`."""
+    from .params import Machine
+
+    if (machine is None and optional) or isinstance(machine, Machine):
+        return machine
+    allowed = "rotorcontact.Machine" + (" or None" if optional else "")
+    raise ParameterError(f"{name} = {machine!r} is not a Machine object; allowed: {allowed}")
+
+
 #: The largest count a kernel takes (numba's int64).
 MAX_COUNT = 2**63 - 1
 #: Most grid points of an equilibrium branch scan: about a millisecond each, so 10000 take seconds.

@@ -21,7 +21,7 @@ from ..model.machine_model import (
 )
 from ..model.params import Machine, check_machine_value, check_range
 from ..model.units import RPM
-from ..model.validation import MAX_COUNT, check_int
+from ..model.validation import MAX_COUNT, check_int, check_machine
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
 __all__ = ["DropResult", "drop", "run_general", "levitated_state", "check_drop_speed", "contact_force_history", "RPM",
@@ -324,6 +324,7 @@ def drop(machine: Machine, speed: float | str | None = None, fail_at: float = 0.
     DropResult
     """
     # `check_drop_speed`, keeping the levitated state it computes
+    check_machine(machine, optional=False)
     speed = check_machine_value("speed", machine.speed if speed is None else speed)
     z0, v0 = levitated_state(machine, speed)
     fail_at = check_range("fail_at", fail_at, low=0.0)

@@ -15,7 +15,7 @@ from numba import njit
 from ..errors import ParameterError
 from ..interpreted import call_kernel, complex_quotient
 from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
-from ..model.validation import MAX_COUNT, check_int, check_params
+from ..model.validation import MAX_COUNT, check_int, check_machine, check_params
 from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity
 from ..model.impact_law import apply_reset, polar_velocity, relative_velocity
 from ..model.angles import wrap_angle
@@ -398,6 +398,10 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
 
 
 def _as_complex(name: str, value) -> complex:
+    if isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} = {value!r} is a bool, not a number; give a complex number or RE,IM")
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
     if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 2:
         re, im = value
     else:
@@ -470,6 +474,7 @@ def simulate(
         ``on_chatter="stop"``), ``"max-events"`` or ``"failed"``.
     """
     check_params(params)
+    check_machine(machine)
     u0 = _as_complex("u0", u0)
     du0 = check_velocity("du0", _as_complex("du0", du0))
     if abs(u0) > 1.0 + BOUNDARY_TOL:
