@@ -451,3 +451,12 @@ def test_an_initial_state_or_machine_of_the_wrong_kind_is_refused_by_name():
     a = simulate(REF, u0=np.array(0.1 + 0.1j), t_end=5.0)  # a 0-d array is its number
     b = simulate(REF, u0=0.1 + 0.1j, t_end=5.0)
     assert np.array_equal(a.records, b.records)
+
+
+def test_si_results_need_the_machines_own_parameters():
+    from rotorcontact import ParameterError, reference_machine, simulate
+
+    m = reference_machine()
+    with pytest.raises(ParameterError, match="^params are not the machine's \\(gamma = 0.3 against"):
+        simulate(m.parameters().replace(gamma=0.3), t_end=5.0, machine=m)
+    assert simulate(m.parameters(), t_end=5.0, machine=m).machine is m

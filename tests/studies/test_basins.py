@@ -148,6 +148,11 @@ def test_parse_grid():
     ]:
         with pytest.raises(ParameterError, match=msg):
             parse_grid(bad)
+    # in Python the grid is named as the argument it is, on the command line as the option
+    with pytest.raises(ParameterError, match="^grid = 'plane:0': the count must be >= 1$"):
+        parse_grid("plane:0")
+    with pytest.raises(ParameterError, match="^--grid: x: 'nan' is not finite$"):
+        parse_grid("x=nan:1:3,y=0:1:3", "--grid")
 
 
 def test_shock_grid_needs_an_admissible_contact_free_whirl():

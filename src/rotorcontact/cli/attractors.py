@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     params, machine = parameters_from_args(args)
     unit, values = parameter_values(args, params, machine, MAX_VALUES, why="split a longer range")
     n_values = values.size
-    grid = parse_grid(args.grid)
+    grid = parse_grid(args.grid, "--grid")
     settings = batch_settings(args, n_keep=1)
     rows, cols = grid.shape
     check_study_size(n_values * rows * cols, settings, f"--n {n_values} x --grid {cols} x {rows}")

@@ -77,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     from ..studies.basins import basins, parse_grid
 
     params, machine = parameters_from_args(args)
-    grid = parse_grid(args.grid)
+    grid = parse_grid(args.grid, "--grid")
     settings = batch_settings(args, n_keep=1)
     rows, cols = grid.shape
     check_study_size(rows * cols, settings, f"--grid {cols} x {rows}")

@@ -465,7 +465,8 @@ def simulate(
         ``chatter_dt`` (2 d rdot / N); the switch then neglects the bounce
         energy (d rdot)^2 / 2. ``chatter_dt = 0`` resolves every such bounce.
     machine : Machine, optional
-        The machine the parameters come from, for results in SI units.
+        The machine the parameters come from (``machine.parameters()``, to 1e-12), for results in SI
+        units.
 
     Returns
     -------
@@ -475,6 +476,15 @@ def simulate(
     """
     check_params(params)
     check_machine(machine)
+    if machine is not None:
+        own = machine.parameters()
+        other = [f"{name} = {value!r}" for name, value in params.as_dict().items()
+                 if not math.isclose(value, getattr(own, name), rel_tol=1e-12, abs_tol=1e-300)]
+        if other:
+            raise ParameterError(
+                f"params are not the machine's ({', '.join(other)} against {own}): its SI results would describe "
+                "another machine; allowed: machine.parameters(), or no machine"
+            )
     u0 = _as_complex("u0", u0)
     du0 = check_velocity("du0", _as_complex("du0", du0))
     if abs(u0) > 1.0 + BOUNDARY_TOL:

@@ -147,12 +147,12 @@ def shock_grid(amplitude: tuple[float, float, int] = (0.0, 1.0, 101),
 
 
 #: The forms of a grid, in one line (the syntax in full: `GRID_SYNTAX`, shown by ``--help``).
-_FORMS = "plane:N, shock:N, x=X0:X1:NX,y=Y0:Y1:NY or amplitude=A0:A1:NA,direction=B0:B1:NB (see --help)"
+_FORMS = "plane:N, shock:N, x=X0:X1:NX,y=Y0:Y1:NY or amplitude=A0:A1:NA,direction=B0:B1:NB"
 
 _PI = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+)?)\*?pi(?:/(\d+\.?\d*))?$")
 
 
-def _number(text: str, where: str) -> float:
+def _number(text: str, where: str, option: str) -> float:
     s = text.strip().lower()
     m = _PI.match(s)
     if m:
@@ -163,14 +163,15 @@ def _number(text: str, where: str) -> float:
         try:
             value = float(s)
         except ValueError:
-            raise ParameterError(f"--grid: {where}: {text!r} is not a number") from None
+            raise ParameterError(f"{option}: {where}: {text!r} is not a number") from None
     if not math.isfinite(value):
-        raise ParameterError(f"--grid: {where}: {text!r} is not finite")
+        raise ParameterError(f"{option}: {where}: {text!r} is not finite")
     return value
 
 
-def parse_grid(text: str) -> BasinGrid:
-    """Parse a grid specification (`GRID_SYNTAX`).
+def parse_grid(text: str, option: str = "grid") -> BasinGrid:
+    """Parse a grid specification (`GRID_SYNTAX`); ``option`` names it in errors (``"--grid"`` on the
+    command line).
 
     Raises
     ------
@@ -178,16 +179,16 @@ def parse_grid(text: str) -> BasinGrid:
         With a one-line message that names the faulty part and the forms allowed.
     """
     if not isinstance(text, str) or not text.strip():
-        raise ParameterError(f"--grid = {text!r} is empty; allowed: {_FORMS}")
+        raise ParameterError(f"{option} = {text!r} is empty; allowed: {_FORMS}")
     s = text.strip().replace(" ", "")
     short = re.fullmatch(r"(plane|shock):(.*)", s)
     if short:
         try:
             n = int(short.group(2))
         except ValueError:
-            raise ParameterError(f"--grid = {text!r}: the count {short.group(2)!r} is not an integer") from None
+            raise ParameterError(f"{option} = {text!r}: the count {short.group(2)!r} is not an integer") from None
         if n < 1:
-            raise ParameterError(f"--grid = {text!r}: the count must be >= 1")
+            raise ParameterError(f"{option} = {text!r}: the count must be >= 1")
         if short.group(1) == "plane":
             return displacement_grid((-1.0, 1.0, n), (-1.0, 1.0, n))
         return shock_grid((0.0, 1.0, n), (-math.pi, math.pi, n))
@@ -195,28 +196,30 @@ def parse_grid(text: str) -> BasinGrid:
     axes: dict[str, tuple[float, float, int]] = {}
     for part in parts:
         if "=" not in part:
-            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT; allowed: {_FORMS}")
+            raise ParameterError(f"{option} = {text!r}: {part!r} is not NAME=START:STOP:COUNT; allowed: {_FORMS}")
         name, spec = part.split("=", 1)
         if name not in ("x", "y", "amplitude", "direction"):
             raise ParameterError(
-                f"--grid = {text!r}: unknown axis {name!r}; allowed: x, y (displacement) or amplitude, "
+                f"{option} = {text!r}: unknown axis {name!r}; allowed: x, y (displacement) or amplitude, "
                 "direction (shock)"
             )
         if name in axes:
-            raise ParameterError(f"--grid = {text!r}: axis {name!r} given twice")
+            raise ParameterError(f"{option} = {text!r}: axis {name!r} given twice")
         fields_ = spec.split(":")
         if len(fields_) != 3:
-            raise ParameterError(f"--grid = {text!r}: {part!r} is not NAME=START:STOP:COUNT; allowed: {_FORMS}")
-        lo = _number(fields_[0], name)
-        hi = _number(fields_[1], name)
+            raise ParameterError(f"{option} = {text!r}: {part!r} is not NAME=START:STOP:COUNT; allowed: {_FORMS}")
+        lo = _number(fields_[0], name, option)
+        hi = _number(fields_[1], name, option)
         try:
             n = int(fields_[2])
         except ValueError:
-            raise ParameterError(f"--grid = {text!r}: {name} count {fields_[2]!r} is not an integer") from None
+            raise ParameterError(f"{option} = {text!r}: {name} count {fields_[2]!r} is not an integer") from None
         axes[name] = (lo, hi, n)
     if set(axes) == {"x", "y"}:
         return displacement_grid(axes["x"], axes["y"])
     if set(axes) == {"amplitude", "direction"}:
         return shock_grid(axes["amplitude"], axes["direction"])
-    raise ParameterError(f"--grid = {text!r}: give both x and y, or both amplitude and direction; allowed: {_FORMS}")
+    raise ParameterError(
+        f"{option} = {text!r}: give both x and y, or both amplitude and direction; allowed: {_FORMS}"
+    )
 
