@@ -119,10 +119,7 @@ def with_parameters(base: Parameters, changes: dict[str, float], *, extend: bool
         unknown = set(changes) - set(base.as_dict())
         if unknown:
             raise
-        # a new object, not a copy: a copy would keep the base's cached k
-        p = object.__new__(type(base))
-        p.__dict__.update(base.as_dict(), **{name: float(value) for name, value in changes.items()})
-        return p
+        return base.unchecked_replace(**{name: float(value) for name, value in changes.items()})
 
 
 def _q(p: Parameters) -> complex:

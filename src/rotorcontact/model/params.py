@@ -225,9 +225,17 @@ class Parameters:
         checked = {name: check_finite(name, changes[name]) for name in _PARAMETER_RULES if name in changes}
         for name, value in checked.items():
             check_range(name, value, **_PARAMETER_RULES[name])
-        # the others were checked when this object was made; the copy computes its own k
+        return self.unchecked_replace(**checked)  # the others were checked when this object was made
+
+    def unchecked_replace(self, **changes: float) -> "Parameters":
+        """A new object with some parameters changed, without validating them.
+
+        For the points of a continuation just beyond a physical bound (`rotorcontact.maps.orbit_system.
+        with_parameters`) and for `replace` once it has checked the changes. The new object computes its
+        own k (a copy would keep the cached one).
+        """
         new = object.__new__(type(self))
-        new.__dict__.update({name: getattr(self, name) for name in _PARAMETER_RULES}, **checked)
+        new.__dict__.update({name: getattr(self, name) for name in _PARAMETER_RULES}, **changes)
         return new
 
     def as_dict(self) -> dict[str, float]:

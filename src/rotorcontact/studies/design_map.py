@@ -454,7 +454,8 @@ def _check_search(machine: Machine, t_max: float) -> None:
     speed, where the dimensionless damping c / (m Omega) is large. The message gives the lowest speed
     that can be mapped at the setting's stiffness and damping (the limit grows with the speed).
     """
-    if t_max <= period_limit(machine.parameters()):
+    reach = period_limit(machine.parameters())
+    if t_max <= reach:
         return
     lo, hi = math.log(machine.speed), math.log(MAX_SPEED)
     if t_max > period_limit(machine.with_speed(MAX_SPEED).parameters()):
@@ -469,7 +470,7 @@ def _check_search(machine: Machine, t_max: float) -> None:
     raise ParameterError(
         f"at speed = {machine.speed / RPM:.6g} rpm (stiffness = {machine.stiffness:.6g} N/m, damping = "
         f"{machine.damping:.6g} N s/m) the free flight changes too fast to search impacting orbits to the period "
-        f"{t_max:g} (up to {period_limit(machine.parameters()):.3g}); allowed at this stiffness and damping: {lowest}"
+        f"{t_max:g} (up to {reach:.3g}); allowed at this stiffness and damping: {lowest}"
     )
 
 
