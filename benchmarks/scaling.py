@@ -7,7 +7,9 @@ runs in this process on each thread count of ``--threads`` (default 1, 2, 4,
 ... up to the cores this process may use), and with ``--executors`` also with
 ``--n-jobs T`` (joblib) and ``--scheduler local --n-jobs T`` (a Dask
 LocalCluster), T the largest thread count, with their workers' start-up
-included. Every run's dataset is compared bit for bit with the first run's.
+included; then joblib again on the workers it has started, and a Dask cluster that was started, and whose
+workers have run a chunk, before the timing (the case of the README's worked example on an existing
+cluster). Every run's dataset is compared bit for bit with the first run's.
 
 With ``--ceiling``, it first measures what the machine allows: the same
 single-core piece of the sweep (``--ceiling-values`` values) in one process
@@ -35,6 +37,7 @@ or any earlier run); a short run loads them first so that no timing includes it.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import multiprocessing
 import os
@@ -122,6 +125,18 @@ def ceiling(values, transient: int, record: int, processes: int) -> tuple[float,
     return alone, together, processes * alone / together
 
 
+@contextlib.contextmanager
+def running_cluster(workers: int):
+    """A Dask LocalCluster of single-threaded worker processes, started and given a chunk before any timing."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=workers, threads_per_worker=1, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        load = sweep_values(0.1, 0.12, 4 * workers)
+        sweep(rc.Parameters.reference(), "gamma", load, scheduler=client, chunk_size=1, **run_options(10, 10))
+        yield client
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     add_problem_options(ap, n=4000)
@@ -174,15 +189,24 @@ def main() -> None:
         t = threads[-1]
         numba.set_num_threads(t)
         in_process = rows[-1]["wall_s"]
-        for runner, extra in (("joblib", dict(n_jobs=t)), ("dask-local", dict(n_jobs=t, scheduler="local"))):
-            t0 = time.perf_counter()
-            res = sweep(p, "gamma", values, **run, **extra)
-            wall = time.perf_counter() - t0
+        runs = (("joblib", dict(n_jobs=t), "worker start-up included"),
+                ("dask-local", dict(n_jobs=t, scheduler="local"), "cluster start-up included"),
+                ("joblib-warm", dict(n_jobs=t), "the same workers again, started"),
+                ("dask-running", "cluster", "a running cluster whose workers have run a chunk"))
+        for runner, extra, how in runs:
+            with contextlib.ExitStack() as stack:
+                if extra == "cluster":
+                    extra = dict(scheduler=stack.enter_context(running_cluster(t)))
+                t0 = time.perf_counter()
+                res = sweep(p, "gamma", values, **run, **extra)
+                wall = time.perf_counter() - t0
             identical = same_bits(first.dataset, res.dataset)
             rows.append(dict(runner=runner, workers=t, wall_s=round(wall, 3),
-                             versus_threads=round(wall / in_process - 1.0, 3), identical=identical))
-            print(f"{runner:10s} {t:3d} workers  wall {wall:8.2f} s  {100 * (wall / in_process - 1):+6.1f} % against "
-                  f"{t} threads in process (worker start-up included)  identical: {identical}")
+                             versus_threads=round(wall / in_process - 1.0, 3), identical=identical,
+                             chunk_size=int(res.dataset.attrs["chunk_size"])))
+            print(f"{runner:12s} {t:3d} workers  wall {wall:8.2f} s  {100 * (wall / in_process - 1):+6.1f} % "
+                  f"against {t} threads in process ({how}; chunks of {rows[-1]['chunk_size']})  "
+                  f"identical: {identical}")
 
     print("json: " + json.dumps(dict(cores=cores, n=args.n, transient=args.transient, record=args.record,
                                      impacts=int(first.impacts_simulated), runs=rows)))

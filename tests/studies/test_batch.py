@@ -17,6 +17,7 @@ Claims checked here:
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import pytest
 
@@ -122,6 +123,32 @@ def test_parallel_and_single_core_kernels_agree_bit_for_bit():
     b = simulate_batch([REF.replace(gamma=g) for g in gammas], u0, 0j, settings=st, parallel=False)
     for name in ("t", "theta", "rdot", "thetadot", "regime", "final_u", "final_du", "period", "contact_time"):
         assert _same(getattr(a, name), getattr(b, name)), name
+
+
+@pytest.mark.parametrize("carry", [False, True])
+@pytest.mark.parametrize("n_lanes", [1, 2, 3, 7])
+def test_every_lane_is_run_once_whatever_the_threads(n_lanes, carry):
+    # lanes are dealt out to the threads in turn: fewer lanes than threads, as many, and a remainder
+    st = BatchSettings(n_transient=120, n_record=30)
+    rows = parameter_array([REF.replace(gamma=g) for g in np.linspace(0.07, 0.19, 2 * n_lanes)])
+    rows = rows.reshape(n_lanes, 2, -1)
+    u0 = np.linspace(-0.4, 0.4, 2 * n_lanes).reshape(n_lanes, 2) * (1 - 0.3j)
+    du0 = np.zeros_like(u0)
+    ref = run_lanes(rows, u0, du0, st, carry=carry, parallel=False)
+    before = numba.get_num_threads()
+    try:
+        for threads in range(1, before + 1):
+            numba.set_num_threads(threads)
+            got = run_lanes(rows, u0, du0, st, carry=carry, parallel=True)
+            for g, r in zip(got, ref):
+                assert _same(g, r), threads
+    finally:
+        numba.set_num_threads(before)
+    # and each lane alone gives the same bits as among the others
+    for lane in range(n_lanes):
+        alone = run_lanes(rows[lane:lane + 1], u0[lane:lane + 1], du0[lane:lane + 1], st, carry=carry)
+        for g, r in zip(alone, ref):
+            assert _same(g[0], r[lane])
 
 
 @pytest.mark.parametrize("settle", [0, 30])

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from rotorcontact.errors import ParameterError
-from rotorcontact.studies.execution import JoblibExecutor, available_cores, local_workers, make_executor
+from rotorcontact.studies.execution import (CHUNKS_PER_WORKER, JoblibExecutor, available_cores, fitted_chunk_size,
+                                            local_workers, make_executor)
 
 psutil = pytest.importorskip("psutil")
 
@@ -34,6 +35,49 @@ def test_local_workers_are_capped_at_the_cores():
 def test_make_executor_refuses_bad_worker_counts(bad):
     with pytest.raises(ParameterError, match="n_jobs"):
         make_executor(n_jobs=bad)
+
+
+def test_fitted_chunk_size_gives_each_worker_its_share_of_chunks():
+    # in this process (None) or on one worker, the default stands
+    assert fitted_chunk_size(4000, 64, None) == 64 and fitted_chunk_size(4000, 64, 1) == 64
+    for n_items, workers in [(4000, 16), (4001, 16), (160_000, 16), (100, 16), (7, 3), (10**6, 2)]:
+        size = fitted_chunk_size(n_items, 64, workers)
+        assert 1 <= size <= 64
+        chunks = -(-n_items // size)
+        target = CHUNKS_PER_WORKER * workers
+        # at least as many chunks per worker as asked for, unless the default or one item per chunk gives fewer
+        assert chunks >= target or size == 64 or size == 1
+        # and chunks no smaller than needed: fewer than twice as many
+        assert size == 64 or chunks < 2 * target or size == 1
+
+
+def test_worker_processes_take_smaller_chunks_of_a_default_study(tmp_path):
+    from rotorcontact.studies.sweep import sweep, sweep_values
+
+    from reference_parameters import REF
+
+    values = sweep_values(0.08, 0.2, 200)
+    kw = dict(mode="independent", n_transient=40, n_record=10, progress=False)
+    here = sweep(REF, "gamma", values, **kw)
+    there = sweep(REF, "gamma", values, n_jobs=2, **kw)
+    workers = min(2, available_cores())
+    size = fitted_chunk_size(200, 64, workers)
+    assert here.dataset.attrs["chunk_size"] == 64
+    assert there.dataset.attrs["chunk_size"] == size and there.chunks_computed == -(-200 // size)
+    assert workers == 1 or size < 64
+    for name in here.dataset.data_vars:
+        assert here.dataset[name].values.tobytes() == there.dataset[name].values.tobytes(), name
+    # a chunk size given is kept
+    assert sweep(REF, "gamma", values, n_jobs=2, chunk_size=64, **kw).chunks_computed == 4
+
+
+def test_executors_count_the_workers_that_take_chunks():
+    assert make_executor().workers is None
+    workers = min(2, available_cores())
+    with make_executor(n_jobs=2, scheduler="local", processes=False) as dask:
+        assert dask.workers == workers
+    with make_executor(n_jobs=2) as joblib:
+        assert joblib.workers == workers
 
 
 def test_too_many_joblib_workers_are_capped_with_a_warning():

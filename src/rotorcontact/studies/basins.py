@@ -218,7 +218,7 @@ def basins(
     t_record: float | None = None,
     settle: int = 25,
     match_tol: float = 1e-3,
-    chunk_size: int = DEFAULT_CHUNK,
+    chunk_size: int | None = None,
     n_jobs: int | None = None,
     scheduler: Any = None,
     processes: bool = True,
@@ -248,10 +248,11 @@ def basins(
     match_tol : float
         Largest difference in theta, rdot and thetadot between the last impact
         of a one-impact periodic window and the fixed point it is named after.
-    chunk_size : int
+    chunk_size : int, optional
         Grid points per chunk (it sets where files are written, not the
         results; an interrupted run is resumed with the chunk size it was
-        started with).
+        started with). Default `DEFAULT_CHUNK`, or fewer where worker processes would get fewer than
+        `rotorcontact.studies.execution.CHUNKS_PER_WORKER` chunks each.
     n_jobs, scheduler, processes, backend, out, resume, keep_chunks, progress, machine
         As for `rotorcontact.studies.sweep.sweep`.
 
@@ -267,7 +268,8 @@ def basins(
     match_tol = float(check_finite("match_tol", match_tol))
     if match_tol <= 0:
         raise ParameterError(f"match_tol = {match_tol!r} must be > 0")
-    chunk_size = check_int("chunk_size", chunk_size, 1)
+    fit_chunks = chunk_size is None
+    chunk_size = check_int("chunk_size", DEFAULT_CHUNK if fit_chunks else chunk_size, 1)
     if settings is None:
         settings = basin_settings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
                                   t_record=t_record, settle=settle)
@@ -326,7 +328,7 @@ def basins(
     run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n_valid, desc="basins",
                     chunk_size=chunk_size, out=out, resume=resume, keep_chunks=keep_chunks, n_jobs=n_jobs,
                     scheduler=scheduler, processes=processes, progress=progress,
-                    backend=backend)
+                    backend=backend, fit_chunks=fit_chunks)
     ds = run.dataset
     names = tuple(str(n) for n in ds["class_name"].values)
     return BasinResult(

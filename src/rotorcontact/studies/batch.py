@@ -2,9 +2,9 @@
 
 Every item is run by the simulator's own kernel (`rotorcontact.simulation.simulator.simulate_into`, the
 loop of `rotorcontact.simulation.simulator.simulate_kernel`): the same closed-form flight, guaranteed impact
-location, reset and continuous contact, so a batch is exactly as exact as single runs. The simulations of
-a lane write into one set of tables, allocated once and grown as they need. An item is two runs of that
-kernel:
+location, reset and continuous contact, so a batch is exactly as exact as single runs. The simulations that
+one thread runs write into one set of tables, allocated once and grown as they need. An item is two runs of
+that kernel:
 
 1. the *transient*: from the initial state for ``n_transient`` events (flights
    and contact phases; each flight ends in one impact, so in impacting motion
@@ -20,7 +20,7 @@ period, irregular impacting, forward rub, backward whirl, mixed) with the rules 
 `rotorcontact.simulation.motion.classify`, applied to the window.
 
 Items are laid out as *lanes* of *steps*. Lanes are independent and run in
-parallel over cores (numba ``prange``). Within a lane the steps run in order;
+parallel over cores (numba ``prange``), dealt out to the threads in turn. Within a lane the steps run in order;
 with ``carry=True`` each step starts from the state where the previous step
 ended (a sweep with the state carried along), otherwise every step starts from
 its own initial state.
@@ -284,35 +284,41 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
 
 
 @njit(cache=True, nogil=True)
-def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-              sections, summary):
-    u = u0[lane, 0]
-    du = du0[lane, 0]
-    tables = new_tables()  # one set for the lane's simulations, grown as they need
-    for s in range(params.shape[1]):
-        if not carry:
-            u = u0[lane, s]
-            du = du0[lane, s]
-        u, du, tables = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record, settle,
-                                  chatter, sections[lane, s], summary[lane, s], tables)
+def _run_lanes_from(first, stride, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
+                    chatter, sections, summary):
+    """Lanes ``first``, ``first + stride``, ... in turn; their simulations share one set of tables."""
+    tables = new_tables()  # allocated once, grown as the simulations need
+    for lane in range(first, params.shape[0], stride):
+        u = u0[lane, 0]
+        du = du0[lane, 0]
+        for s in range(params.shape[1]):
+            if not carry:
+                u = u0[lane, s]
+                du = du0[lane, s]
+            u, du, tables = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record,
+                                      settle, chatter, sections[lane, s], summary[lane, s], tables)
 
 
 @njit(cache=True, parallel=True)
 def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-                    sections, summary):
-    """The batch kernel: lanes in parallel over cores (``prange``), steps in order within a lane."""
-    for lane in prange(params.shape[0]):
-        _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-                  sections, summary)
+                    sections, summary, workers):
+    """The batch kernel over ``workers`` threads (``prange``), lanes dealt out in turn: worker w runs lanes
+    w, w + workers, ... in order.
+
+    Neighbouring lanes (neighbouring parameter values or initial states) tend to cost alike, so dealing them
+    out in turn rather than in contiguous blocks balances the threads' work.
+    """
+    for w in prange(workers):
+        _run_lanes_from(w, workers, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
+                        chatter, sections, summary)
 
 
 @njit(cache=True, nogil=True)
 def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
                   sections, summary):
     """The batch kernel on one core, releasing the GIL (for worker threads and processes)."""
-    for lane in range(params.shape[0]):
-        _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-                  sections, summary)
+    _run_lanes_from(0, 1, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                    sections, summary)
 
 
 # ---------------------------------------------------------------------------
@@ -602,7 +608,6 @@ def run_lanes(
     *,
     carry: bool,
     parallel: bool = True,
-    schedule_chunk: int = 1,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Run validated lanes through the kernel and return the raw (sections, summary) arrays.
 
@@ -615,10 +620,8 @@ def run_lanes(
     carry : bool
         Carry the state along each lane.
     parallel : bool
-        Lanes in parallel over numba's threads (``prange``); otherwise on one
+        Lanes in parallel over numba's threads (``prange``), dealt out to them in turn; otherwise on one
         core with the GIL released. The results are the same bit for bit.
-    schedule_chunk : int
-        Lanes handed to a thread at a time (dynamic scheduling, for uneven costs).
     """
     n_lanes, n_steps = params.shape[:2]
     keep = settings.keep
@@ -639,12 +642,9 @@ def run_lanes(
         sections,
         summary,
     )
-    if parallel and n_lanes > 1:
-        old = numba.set_parallel_chunksize(max(1, int(schedule_chunk)))
-        try:
-            _batch_parallel(*args)
-        finally:
-            numba.set_parallel_chunksize(old)
+    workers = min(int(numba.get_num_threads()), n_lanes)
+    if parallel and workers > 1:
+        _batch_parallel(*args, workers)
     else:
         _batch_serial(*args)
     return sections, summary

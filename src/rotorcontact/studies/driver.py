@@ -26,7 +26,8 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from .netcdf import check_output_path, read_finished, write_netcdf
-from .execution import ChunkStore, ChunkTask, StoredChunks, chunk_folder, make_executor, progress_bar, run_waves
+from .execution import (ChunkStore, ChunkTask, StoredChunks, chunk_folder, fitted_chunk_size, make_executor,
+                        progress_bar, run_waves)
 
 __all__ = ["StudyRun", "run_study"]
 
@@ -95,6 +96,7 @@ def run_study(
     processes: bool = True,
     progress: bool = True,
     backend: str = "cpu",
+    fit_chunks: bool = False,
 ) -> StudyRun:
     """Run a chunked study (see the module docstring).
 
@@ -117,6 +119,9 @@ def run_study(
         Label of the progress bar.
     chunk_size : int
         Chunk size asked for; an interrupted run is resumed with its own.
+    fit_chunks : bool
+        ``chunk_size`` is the study's default rather than the user's: on worker processes it is cut
+        down to give each worker several chunks (`rotorcontact.studies.execution.fitted_chunk_size`).
     out : path, optional
         NetCDF file to write; chunks go to ``out + ".chunks"`` meanwhile.
     resume : bool
@@ -145,6 +150,8 @@ def run_study(
                             reused_file=True)
     # the executor first: a cluster that cannot be used leaves no chunk folder behind
     with make_executor(n_jobs, scheduler, processes=processes, backend=backend) as executor:
+        if fit_chunks:
+            chunk_size = fitted_chunk_size(n_items, chunk_size, executor.workers)
         if out is not None:
             # the chunks of an interrupted run are resumed as they were cut (the results do not depend on it)
             store = ChunkStore(chunk_folder(out), manifest, resume=resume, layout={"chunk_size": chunk_size})

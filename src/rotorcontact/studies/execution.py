@@ -65,8 +65,8 @@ from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
 
 __all__ = ["BACKENDS", "ChunkTask", "ChunkStore", "CudaExecutor", "StoredChunks", "available_cores",
-           "backend_manifest", "check_backend", "check_workers", "local_workers", "make_executor", "progress_bar",
-           "run_task", "study_digest", "write_netcdf", "read_finished"]
+           "backend_manifest", "check_backend", "check_workers", "fitted_chunk_size", "local_workers", "make_executor",
+           "progress_bar", "run_task", "study_digest", "write_netcdf", "read_finished"]
 
 STORE_FORMAT = 2
 
@@ -76,6 +76,10 @@ CONNECT_TIMEOUT_S = 20.0
 NO_WORKERS_TIMEOUT_S = 60.0
 #: Seconds between two looks at a cluster's workers while no chunk finishes.
 _WORKER_POLL_S = 5.0
+#: Chunks per worker that a study's default chunk size is cut down to give when the chunks run on worker
+#: processes (`fitted_chunk_size`): each worker takes one chunk at a time, and while the last chunks finish
+#: the other workers wait.
+CHUNKS_PER_WORKER = 16
 #: Lanes of one launch of the GPU backend (chunks are stacked up to about this many) ...
 CUDA_LANES = 1 << 18
 #: ... and bytes of results (sections and summaries) of one launch, on the GPU and here.
@@ -198,6 +202,9 @@ def _kill(processes: list[Any]) -> None:
 
 class _Executor:
     name = "base"
+    #: Worker processes (or threads of a cluster) that take chunks one at a time; None where the chunks run
+    #: in this process.
+    workers: int | None = None
 
     def run(self, tasks: list[ChunkTask]) -> Iterator[tuple[int, dict[str, np.ndarray]]]:  # pragma: no cover
         raise NotImplementedError
@@ -213,11 +220,17 @@ class _Executor:
         self.close(abort=exc_type is not None)
 
 
-class InProcessExecutor(_Executor):
-    """Chunks one after the other in this process; the lanes of a chunk in parallel over numba's threads.
+#: Lanes per thread that the in-process executor gathers into one kernel call, stacking consecutive chunks:
+#: each call ends when its slowest thread does, and more lanes per thread even out their work.
+STACK_LANES_PER_THREAD = 16
 
-    Chunks with few lanes (the chunks of a carried sweep, one lane each) are
-    stacked into one kernel call so that their lanes still run in parallel.
+
+class InProcessExecutor(_Executor):
+    """Chunks in this process; the lanes of a chunk in parallel over numba's threads.
+
+    Consecutive chunks are stacked into one kernel call of at least `STACK_LANES_PER_THREAD` lanes per
+    thread (where the wave has them), so that the threads share out many lanes before they wait for
+    each other.
     """
 
     name = "in-process"
@@ -228,7 +241,8 @@ class InProcessExecutor(_Executor):
         self.threads = int(numba.get_num_threads())
 
     def run(self, tasks):
-        yield from _run_stacked(tasks, self.threads, lambda task: run_task(task, parallel=True))
+        enough = self.threads * STACK_LANES_PER_THREAD if self.threads > 1 else 1
+        yield from _run_stacked(tasks, enough, lambda task: run_task(task, parallel=True))
 
 
 def _run_stacked(tasks: list, enough: int, compute) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
@@ -329,6 +343,7 @@ class JoblibExecutor(_Executor):
         from joblib import Parallel, delayed
 
         self.n_jobs = n_jobs
+        self.workers = n_jobs
         self._running = None
         self._parallel = None
         try:
@@ -440,6 +455,8 @@ class DaskExecutor(_Executor):
             )
         if not self._own_client:
             check_workers(self.client, self._where)
+        with contextlib.suppress(Exception):  # how many chunks run at once, for `fitted_chunk_size`
+            self.workers = int(sum(self.client.nthreads().values())) or None
 
     def run(self, tasks):
         from distributed import KilledWorker
@@ -675,6 +692,29 @@ def local_workers(n_jobs: int) -> tuple[int, bool]:
     if n_jobs == -1:
         return cores, False
     return min(int(n_jobs), cores), int(n_jobs) > cores
+
+
+def fitted_chunk_size(n_items: int, default: int, workers: int | None) -> int:
+    """A study's default chunk size, cut down so that ``workers`` get at least `CHUNKS_PER_WORKER` chunks each.
+
+    Parameters
+    ----------
+    n_items : int
+        Simulations of the study.
+    default : int
+        The study's default chunk size.
+    workers : int or None
+        Workers that take chunks one at a time (`_Executor.workers`); None (chunks in this process,
+        whose threads share out each chunk's lanes) keeps ``default``.
+
+    Returns
+    -------
+    int
+        At least 1 and at most ``default``.
+    """
+    if workers is None or workers < 2:
+        return default
+    return max(1, min(default, n_items // (CHUNKS_PER_WORKER * workers)))
 
 
 def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes: bool = True,

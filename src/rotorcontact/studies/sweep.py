@@ -258,7 +258,8 @@ def sweep(
         ``n_record``, ``t_transient`` and ``t_record`` (defaults: 4000 and
         1000 events, time limits 5 per event).
     chunk_size : int, optional
-        Values per chunk (default 20 with the state carried, 64 otherwise).
+        Values per chunk (default 20 with the state carried, 64 otherwise, or fewer where worker
+        processes would get fewer than `rotorcontact.studies.execution.CHUNKS_PER_WORKER` chunks each).
         It sets where files are written, not the results; an interrupted run
         is resumed with the chunk size it was started with.
     n_jobs : int, optional
@@ -306,6 +307,7 @@ def sweep(
         settings = BatchSettings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
                                  t_record=t_record)
     carry = mode != "independent"
+    fit_chunks = chunk_size is None and not carry  # a carried sweep's chunks of a direction run in turn
     if chunk_size is None:
         chunk_size = DEFAULT_CHUNK_CARRY if carry else DEFAULT_CHUNK_INDEPENDENT
     chunk_size = check_int("chunk_size", chunk_size, 1)
@@ -367,7 +369,7 @@ def sweep(
     run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n * len(directions),
                     desc=f"sweep {param}", chunk_size=chunk_size, out=out, resume=resume, keep_chunks=keep_chunks,
                     n_jobs=n_jobs, scheduler=scheduler, processes=processes, progress=progress,
-                    backend=backend)
+                    backend=backend, fit_chunks=fit_chunks)
     return SweepResult(dataset=run.dataset, param=param, path=run.path, chunks_computed=run.chunks_computed,
                        chunks_reused=run.chunks_reused, impacts_simulated=run.impacts_simulated,
                        reused_file=run.reused_file, handed_to_cpu=run.handed_to_cpu)
