@@ -83,8 +83,11 @@ def run_options(transient: int, record: int) -> dict:
 
 
 def load_kernels(p, values) -> None:
-    """A short sweep, so that no timing includes loading (or compiling) the kernels."""
-    sweep(p, "gamma", values[:4], **run_options(10, 10))
+    """Short sweeps on one thread and on all, so that no timing includes loading (or compiling) the kernels."""
+    threads = numba.get_num_threads()
+    for t in sorted({1, threads}):
+        numba.set_num_threads(t)
+        sweep(p, "gamma", values[:4], **run_options(10, 10))
 
 
 def _piece(values, transient: int, record: int, barrier, results) -> None:

@@ -21,3 +21,11 @@ def test_warm_up_compiles_the_groups_kernels():
 def test_an_unknown_group_is_refused_by_name():
     with pytest.raises(ParameterError, match=r"group = 'fast'.*allowed: " + ", ".join(WARMUP_GROUPS)):
         warm_up(["simulate", "fast"])
+
+
+def test_warm_up_of_the_studies_compiles_the_kernels_of_threads_and_of_worker_processes():
+    from rotorcontact.studies.batch import _batch_parallel, _batch_serial
+
+    warm_up(["studies"])
+    # the parallel kernel runs in this process; worker processes and a single thread run the serial one
+    assert _batch_parallel.signatures and _batch_serial.signatures

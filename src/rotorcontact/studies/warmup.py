@@ -26,10 +26,13 @@ def _simulate() -> None:
 def _studies() -> None:
     from ..model.params import Parameters
     from ..studies.basins import basins
+    from ..studies.batch import simulate_batch
     from ..studies.sweep import sweep
 
     p = Parameters.reference()
     sweep(p, "omega", [0.79, 0.8], n_transient=5, n_record=5, progress=False)
+    # the single-core kernel, which worker processes (joblib, Dask) and one thread run
+    simulate_batch(p, [0j, 0.5 + 0j], n_transient=5, n_record=5, parallel=False)
     basins(p, "x=-0.5:0.5:2,y=-0.5:0.5:2", n_transient=5, n_record=5, settle=2, progress=False)
 
 
