@@ -1,17 +1,17 @@
 """How evenly the threads share a sweep: the cost of each value, and the idle share of ways of dealing lanes.
 
-Problem: the gamma sweep of sweep.py (``--n`` values, every ``--every``-th timed), each value run alone on
-one core (`rotorcontact.studies.batch.simulate_batch`, ``parallel=False``). From the measured costs (each
-timed value standing for the ``--every`` values around it) it computes, for ``--threads`` threads and
-kernel calls of C lanes, the share of the threads' time spent waiting for the slowest thread of each call,
-where the lanes of a call are given to the threads
+Problem: the gamma sweep of sweep.py (``--n`` values; with ``--every k``, every k-th of them, a sweep of
+n/k values over the same range), each value run alone on one core
+(`rotorcontact.studies.batch.simulate_batch`, ``parallel=False``). From the measured costs it computes,
+for ``--threads`` threads and kernel calls of C lanes, the share of the threads' time spent waiting for
+the slowest thread of each call, where the lanes of a call are given to the threads
 
 * in contiguous blocks (numba's static schedule of a ``prange`` over lanes), or
 * in turn, lane i to thread i mod T (the batch kernel's ``_batch_parallel``).
 
 Prints the costs' spread and one line per call size; the last line ``json: {...}``.
 
-Run: python benchmarks/lane_costs.py [--n 4000] [--every 4] [--threads 16]
+Run: python benchmarks/lane_costs.py [--n 4000] [--every 1] [--threads 16]
 """
 
 from __future__ import annotations
@@ -41,7 +41,7 @@ def idle_share(cost: np.ndarray, threads: int, call: int, dealt: bool) -> float:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     add_problem_options(ap, n=4000)
-    ap.add_argument("--every", type=int, default=4, help="time every k-th value")
+    ap.add_argument("--every", type=int, default=1, help="take every k-th value")
     ap.add_argument("--threads", type=int, default=16)
     args = ap.parse_args()
     p = rc.Parameters.reference()
@@ -54,11 +54,10 @@ def main() -> None:
         t0 = time.perf_counter()
         simulate_batch(item, n_transient=args.transient, n_record=args.record, parallel=False)
         cost[i] = time.perf_counter() - t0
-    cost = np.repeat(cost, args.every)[: values.size]
     print(f"{timed.size} of {values.size} values timed: {1e3 * cost.mean():.2f} ms on average, "
           f"{1e3 * cost.min():.2f} to {1e3 * cost.max():.2f} ms (sd {1e3 * cost.std():.2f} ms)")
     rows = []
-    for call in (64, 128, 256, 512, 1024, values.size):
+    for call in (64, 128, 256, 512, 1024, timed.size):
         blocks = idle_share(cost, args.threads, call, dealt=False)
         dealt = idle_share(cost, args.threads, call, dealt=True)
         rows.append(dict(call_lanes=call, idle_blocks=round(blocks, 4), idle_dealt=round(dealt, 4)))

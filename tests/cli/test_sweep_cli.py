@@ -76,3 +76,13 @@ def test_bad_input_from_the_shell_has_no_traceback(tmp_path, cli):
 def test_output_must_be_netcdf(tmp_path, cli):
     code, _, err = cli.exe("sweep", *SMALL, "--out", tmp_path / "x.csv")
     assert code == 2 and ".nc" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("command", ["sweep", "basins"])
+def test_chunk_size_help_states_how_the_default_is_fitted_to_the_workers(cli, command):
+    from rotorcontact.studies.execution import CHUNKS_PER_WORKER, MIN_FITTED_CHUNK
+
+    code, out, _ = cli.run(command, "--help")
+    text = " ".join(out.split())
+    assert code == 0
+    assert f"fewer, down to {MIN_FITTED_CHUNK}, so that each worker gets {CHUNKS_PER_WORKER} chunks or more" in text

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from rotorcontact import Machine, ParameterError, Parameters, load_machine, reference_machine
@@ -304,6 +305,15 @@ def test_a_folder_given_as_machine_file_is_called_a_folder(tmp_path):
 def test_bools_are_refused_for_float_parameters(name, flag):
     with pytest.raises(ParameterError, match=rf"{name} = {flag} is a bool, not a number"):
         Parameters(**{**PARAMS, name: flag})
+
+
+@pytest.mark.parametrize("text", ["0.1", b"0.1", "nan", np.array("0.1")])
+def test_text_is_refused_where_a_number_is_required(text):
+    # float() would read it; a Python caller gives numbers, and only the command line and Machine parse text
+    with pytest.raises(ParameterError, match=r"gamma = .* is text, not a number"):
+        Parameters(**{**PARAMS, "gamma": text})
+    with pytest.raises(ParameterError, match=r"gamma = .* is text, not a number"):
+        REF.replace(gamma=text)
 
 
 def test_bools_are_refused_for_machine_values():

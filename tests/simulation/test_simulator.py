@@ -446,6 +446,11 @@ def test_an_initial_state_or_machine_of_the_wrong_kind_is_refused_by_name():
 
     with pytest.raises(ParameterError, match="^u0 = True is a bool"):
         simulate(REF, u0=True, t_end=1.0)
+    with pytest.raises(ParameterError, match="^t_end = '10' is text, not a number"):
+        simulate(REF, t_end="10")
+    for text in ("0.5", np.array("0.5")):
+        with pytest.raises(ParameterError, match=r"^u0 = (np.str_\()?'0.5'\)? is text, not a number"):
+            simulate(REF, u0=text, t_end=1.0)
     with pytest.raises(ParameterError, match="^machine = 'x' is not a Machine object"):
         simulate(REF, t_end=1.0, machine="x")
     a = simulate(REF, u0=np.array(0.1 + 0.1j), t_end=5.0)  # a 0-d array is its number

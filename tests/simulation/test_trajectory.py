@@ -150,6 +150,12 @@ def test_state_rejects_times_outside_the_run(traj):
         assert "t must lie in" in str(exc.value)
 
 
+@pytest.mark.parametrize("bad", ["1", [True], 1 + 0j, None])
+def test_state_refuses_what_is_not_a_time(traj, bad):
+    with pytest.raises(ParameterError, match=r"^t = .* is invalid; allowed: real numbers in \[0, t_stop\]"):
+        traj.U(bad)
+
+
 def test_status_message_success(ref, traj):
     assert traj.status == "completed" and traj.success
     assert "60" in traj.message and str(len(traj.impacts)) in traj.message

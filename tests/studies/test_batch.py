@@ -17,7 +17,6 @@ Claims checked here:
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 import pytest
 
@@ -127,28 +126,35 @@ def test_parallel_and_single_core_kernels_agree_bit_for_bit():
 
 @pytest.mark.parametrize("carry", [False, True])
 @pytest.mark.parametrize("n_lanes", [1, 2, 3, 7])
-def test_every_lane_is_run_once_whatever_the_threads(n_lanes, carry):
-    # lanes are dealt out to the threads in turn: fewer lanes than threads, as many, and a remainder
+def test_every_lane_is_run_once_whatever_the_workers(n_lanes, carry):
+    # lanes are dealt out to the workers in turn: fewer lanes than workers, as many, and a remainder; the
+    # workers may be more than numba's threads
     st = BatchSettings(n_transient=120, n_record=30)
     rows = parameter_array([REF.replace(gamma=g) for g in np.linspace(0.07, 0.19, 2 * n_lanes)])
     rows = rows.reshape(n_lanes, 2, -1)
     u0 = np.linspace(-0.4, 0.4, 2 * n_lanes).reshape(n_lanes, 2) * (1 - 0.3j)
     du0 = np.zeros_like(u0)
     ref = run_lanes(rows, u0, du0, st, carry=carry, parallel=False)
-    before = numba.get_num_threads()
-    try:
-        for threads in range(1, before + 1):
-            numba.set_num_threads(threads)
-            got = run_lanes(rows, u0, du0, st, carry=carry, parallel=True)
-            for g, r in zip(got, ref):
-                assert _same(g, r), threads
-    finally:
-        numba.set_num_threads(before)
+    for workers in (2, 3, 5, 7, 11):
+        got = run_lanes(rows, u0, du0, st, carry=carry, parallel=True, workers=workers)
+        for g, r in zip(got, ref):
+            assert _same(g, r), workers
+    # the default, as many workers as the threads
+    for g, r in zip(run_lanes(rows, u0, du0, st, carry=carry), ref):
+        assert _same(g, r)
     # and each lane alone gives the same bits as among the others
     for lane in range(n_lanes):
         alone = run_lanes(rows[lane:lane + 1], u0[lane:lane + 1], du0[lane:lane + 1], st, carry=carry)
         for g, r in zip(alone, ref):
             assert _same(g[0], r[lane])
+
+
+def test_workers_must_be_a_positive_integer():
+    st = BatchSettings(n_transient=5, n_record=5)
+    rows = parameter_array([REF, REF]).reshape(2, 1, -1)
+    u0 = np.zeros((2, 1), dtype=complex)
+    with pytest.raises(ParameterError, match="workers = 0 is invalid; allowed: an integer >= 1"):
+        run_lanes(rows, u0, u0, st, carry=False, workers=0)
 
 
 @pytest.mark.parametrize("settle", [0, 30])

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from rotorcontact.errors import ParameterError
-from rotorcontact.studies.execution import (CHUNKS_PER_WORKER, JoblibExecutor, available_cores, fitted_chunk_size,
-                                            local_workers, make_executor)
+from rotorcontact.studies.execution import (CHUNKS_PER_WORKER, MIN_FITTED_CHUNK, JoblibExecutor, available_cores,
+                                            fitted_chunk_size, local_workers, make_executor)
 
 psutil = pytest.importorskip("psutil")
 
@@ -40,15 +40,17 @@ def test_make_executor_refuses_bad_worker_counts(bad):
 def test_fitted_chunk_size_gives_each_worker_its_share_of_chunks():
     # in this process (None) or on one worker, the default stands
     assert fitted_chunk_size(4000, 64, None) == 64 and fitted_chunk_size(4000, 64, 1) == 64
-    for n_items, workers in [(4000, 16), (4001, 16), (160_000, 16), (100, 16), (7, 3), (10**6, 2)]:
-        size = fitted_chunk_size(n_items, 64, workers)
-        assert 1 <= size <= 64
-        chunks = -(-n_items // size)
-        target = CHUNKS_PER_WORKER * workers
-        # at least as many chunks per worker as asked for, unless the default or one item per chunk gives fewer
-        assert chunks >= target or size == 64 or size == 1
-        # and chunks no smaller than needed: fewer than twice as many
-        assert size == 64 or chunks < 2 * target or size == 1
+    for n_items, workers in [(4000, 16), (4001, 16), (160_000, 16), (100, 16), (7, 3), (10**6, 2), (5, 2)]:
+        for default in (64, 3):
+            size = fitted_chunk_size(n_items, default, workers)
+            assert min(default, MIN_FITTED_CHUNK) <= size <= default
+            chunks = -(-n_items // size)
+            target = CHUNKS_PER_WORKER * workers
+            # at least as many chunks per worker as asked for, unless the default or the smallest chunk
+            # allows fewer
+            assert chunks >= target or size in (default, MIN_FITTED_CHUNK)
+            # and chunks no smaller than needed: fewer than twice as many
+            assert chunks < 2 * target or size in (default, MIN_FITTED_CHUNK)
 
 
 def test_worker_processes_take_smaller_chunks_of_a_default_study(tmp_path):

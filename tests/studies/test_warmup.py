@@ -24,8 +24,17 @@ def test_an_unknown_group_is_refused_by_name():
 
 
 def test_warm_up_of_the_studies_compiles_the_kernels_of_threads_and_of_worker_processes():
-    from rotorcontact.studies.batch import _batch_parallel, _batch_serial
+    # in a fresh process on one thread, which alone would run neither the parallel kernel nor, in a study,
+    # the single-core one of worker processes
+    import os
+    import subprocess
+    import sys
 
-    warm_up(["studies"])
-    # the parallel kernel runs in this process; worker processes and a single thread run the serial one
-    assert _batch_parallel.signatures and _batch_serial.signatures
+    code = ("from rotorcontact.studies.warmup import warm_up\n"
+            "from rotorcontact.studies.batch import _batch_parallel, _batch_serial\n"
+            "warm_up(['studies'])\n"
+            "print(len(_batch_parallel.signatures), len(_batch_serial.signatures))\n")
+    env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["1", "1"]

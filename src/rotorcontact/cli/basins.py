@@ -50,8 +50,8 @@ def register(sub) -> None:
                    help="grid of initial states: x=X0:X1:NX,y=Y0:Y1:NY | amplitude=A0:A1:NA,direction=B0:B1:NB "
                         "| plane:N | shock:N (see above)")
     add_window_options(g)
-    add_scale_options(p, default_chunk="2048 grid points, fewer with --n-jobs or --scheduler so that each worker "
-                                       "gets 16 chunks", backend=True)
+    add_scale_options(p, default_chunk="2048 grid points; with --n-jobs or --scheduler, fewer, down to 4, so that "
+                                       "each worker gets 16 chunks or more", backend=True)
     o = p.add_argument_group("output")
     o.add_argument("--out", required=True, metavar="FILE.nc", help="NetCDF file to write")
     o.add_argument("--plot", default=None, metavar="FILE.png", help="also draw the basin image")

@@ -76,8 +76,8 @@ def register(sub) -> None:
                    help="time limit of the recorded window (default 5 per event)")
     g.add_argument("--settle", default="0", metavar="K",
                    help="end the transient early in segments of K events once the motion repeats (default 0: off)")
-    add_scale_options(p, default_chunk="20 values (carried), 64 (independent; fewer with --n-jobs or --scheduler "
-                                       "so that each worker gets 16 chunks)", backend=True)
+    add_scale_options(p, default_chunk="20 values (carried), 64 (independent; with --n-jobs or --scheduler, "
+                                       "fewer, down to 4, so that each worker gets 16 chunks or more)", backend=True)
     o = p.add_argument_group("output")
     o.add_argument("--out", required=True, metavar="FILE.nc", help="NetCDF file to write")
     o.add_argument("--plot", default=None, metavar="FILE.png", help="also draw the diagram")

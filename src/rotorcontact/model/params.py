@@ -57,10 +57,15 @@ MAX_VELOCITY = 1e6
 def check_finite(name: str, value: Any) -> float:
     """Return ``value`` as a float, or raise `ParameterError` if it is not a finite real number.
 
-    A bool is refused: ``True`` is not a value of a physical parameter, whatever ``float(True)`` says.
+    A bool is refused: ``True`` is not a value of a physical parameter, whatever ``float(True)`` says; so is
+    text, which the command line and `rotorcontact.Machine` parse with its units, and which Python code gives
+    as a number.
     """
     if isinstance(value, (bool, np.bool_)):
         raise ParameterError(f"{name} = {value!r} is a bool, not a number; a finite real number is required")
+    if isinstance(value, (str, bytes)) or (isinstance(value, np.ndarray) and value.dtype.kind in "SU"):
+        # float("1e-3") would read it, but text is a number only where it is parsed (with its units)
+        raise ParameterError(f"{name} = {value!r} is text, not a number; a finite real number is required")
     if not isinstance(value, (int, float)):
         try:
             value = float(value)

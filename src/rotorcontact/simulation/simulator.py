@@ -402,6 +402,8 @@ def _as_complex(name: str, value) -> complex:
         raise ParameterError(f"{name} = {value!r} is a bool, not a number; give a complex number or RE,IM")
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
+    if isinstance(value, (str, bytes)):
+        raise ParameterError(f"{name} = {value!r} is text, not a number; give a complex number or RE,IM")
     if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 2:
         re, im = value
     else:

@@ -252,7 +252,10 @@ class Trajectory:
         interpolated by quintic Hermite polynomials. At an impact time the
         state just after the impact is returned.
         """
-        tt = np.asarray(t, dtype=float)
+        raw = np.asarray(t)
+        if raw.dtype.kind not in "iuf":  # text, bools, complex or objects are not times
+            raise ParameterError(f"t = {t!r} is invalid; allowed: real numbers in [0, t_stop] = [0, {self.t_stop:g}]")
+        tt = raw.astype(float)
         flat = tt.ravel()
         if flat.size and (
             not np.all(np.isfinite(flat)) or flat.min() < 0.0 or flat.max() > self.t_stop * (1 + 1e-14)

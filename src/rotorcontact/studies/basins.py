@@ -251,8 +251,8 @@ def basins(
     chunk_size : int, optional
         Grid points per chunk (it sets where files are written, not the
         results; an interrupted run is resumed with the chunk size it was
-        started with). Default `DEFAULT_CHUNK`, or fewer where worker processes would get fewer than
-        `rotorcontact.studies.execution.CHUNKS_PER_WORKER` chunks each.
+        started with). Default `DEFAULT_CHUNK`, cut down on worker processes by
+        `rotorcontact.studies.execution.fitted_chunk_size`.
     n_jobs, scheduler, processes, backend, out, resume, keep_chunks, progress, machine
         As for `rotorcontact.studies.sweep.sweep`.
 

@@ -306,7 +306,8 @@ def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, 
     w, w + workers, ... in order.
 
     Neighbouring lanes (neighbouring parameter values or initial states) tend to cost alike, so dealing them
-    out in turn rather than in contiguous blocks balances the threads' work.
+    out in turn rather than in contiguous blocks (numba's static schedule of a ``prange`` over lanes, with
+    its OpenMP and workqueue threading layers) balances the threads' work.
     """
     for w in prange(workers):
         _run_lanes_from(w, workers, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
@@ -608,6 +609,7 @@ def run_lanes(
     *,
     carry: bool,
     parallel: bool = True,
+    workers: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Run validated lanes through the kernel and return the raw (sections, summary) arrays.
 
@@ -622,6 +624,9 @@ def run_lanes(
     parallel : bool
         Lanes in parallel over numba's threads (``prange``), dealt out to them in turn; otherwise on one
         core with the GIL released. The results are the same bit for bit.
+    workers : int, optional
+        With ``parallel``, the lanes are dealt out to this many workers, which numba's threads run
+        (default: as many as the threads, at most one per lane).
     """
     n_lanes, n_steps = params.shape[:2]
     keep = settings.keep
@@ -642,7 +647,9 @@ def run_lanes(
         sections,
         summary,
     )
-    workers = min(int(numba.get_num_threads()), n_lanes)
+    if workers is None:
+        workers = min(int(numba.get_num_threads()), n_lanes)
+    workers = check_int("workers", workers, 1)
     if parallel and workers > 1:
         _batch_parallel(*args, workers)
     else:

@@ -80,6 +80,8 @@ _WORKER_POLL_S = 5.0
 #: processes (`fitted_chunk_size`): each worker takes one chunk at a time, and while the last chunks finish
 #: the other workers wait.
 CHUNKS_PER_WORKER = 16
+#: Fewest simulations a fitted chunk holds: below it a chunk's own cost (its file, its task) would weigh.
+MIN_FITTED_CHUNK = 4
 #: Lanes of one launch of the GPU backend (chunks are stacked up to about this many) ...
 CUDA_LANES = 1 << 18
 #: ... and bytes of results (sections and summaries) of one launch, on the GPU and here.
@@ -695,7 +697,8 @@ def local_workers(n_jobs: int) -> tuple[int, bool]:
 
 
 def fitted_chunk_size(n_items: int, default: int, workers: int | None) -> int:
-    """A study's default chunk size, cut down so that ``workers`` get at least `CHUNKS_PER_WORKER` chunks each.
+    """A study's default chunk size, cut down so that ``workers`` get at least `CHUNKS_PER_WORKER` chunks each,
+    but not below `MIN_FITTED_CHUNK` simulations.
 
     Parameters
     ----------
@@ -710,11 +713,11 @@ def fitted_chunk_size(n_items: int, default: int, workers: int | None) -> int:
     Returns
     -------
     int
-        At least 1 and at most ``default``.
+        At most ``default``, and at least ``min(default, MIN_FITTED_CHUNK)``.
     """
     if workers is None or workers < 2:
         return default
-    return max(1, min(default, n_items // (CHUNKS_PER_WORKER * workers)))
+    return min(default, max(MIN_FITTED_CHUNK, n_items // (CHUNKS_PER_WORKER * workers)))
 
 
 def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes: bool = True,

@@ -258,8 +258,8 @@ def sweep(
         ``n_record``, ``t_transient`` and ``t_record`` (defaults: 4000 and
         1000 events, time limits 5 per event).
     chunk_size : int, optional
-        Values per chunk (default 20 with the state carried, 64 otherwise, or fewer where worker
-        processes would get fewer than `rotorcontact.studies.execution.CHUNKS_PER_WORKER` chunks each).
+        Values per chunk (default 20 with the state carried, 64 otherwise, cut down on worker processes by
+        `rotorcontact.studies.execution.fitted_chunk_size`).
         It sets where files are written, not the results; an interrupted run
         is resumed with the chunk size it was started with.
     n_jobs : int, optional

@@ -24,15 +24,22 @@ def _simulate() -> None:
 
 
 def _studies() -> None:
+    import numpy as np
+
     from ..model.params import Parameters
     from ..studies.basins import basins
-    from ..studies.batch import simulate_batch
+    from ..studies.batch import BatchSettings, parameter_array, run_lanes
     from ..studies.sweep import sweep
 
     p = Parameters.reference()
+    # both batch kernels, whatever this process's threads: the parallel one, which a study's process runs on
+    # its threads, and the single-core one, which worker processes (joblib, Dask) and one thread run
+    rows = parameter_array([p, p]).reshape(2, 1, -1)
+    u0 = np.array([[0j], [0.5 + 0j]])
+    for parallel in (True, False):
+        run_lanes(rows, u0, np.zeros_like(u0), BatchSettings(n_transient=5, n_record=5), carry=False,
+                  parallel=parallel, workers=2)
     sweep(p, "omega", [0.79, 0.8], n_transient=5, n_record=5, progress=False)
-    # the single-core kernel, which worker processes (joblib, Dask) and one thread run
-    simulate_batch(p, [0j, 0.5 + 0j], n_transient=5, n_record=5, parallel=False)
     basins(p, "x=-0.5:0.5:2,y=-0.5:0.5:2", n_transient=5, n_record=5, settle=2, progress=False)
 
 
