@@ -461,7 +461,7 @@ def test_a_drops_speed_is_rad_per_s_or_a_string_with_its_unit():
         drop(m, "12000", 0.0, 0.01)
     with pytest.raises(ParameterError, match=r"^speeds\[1\] = '12000' has no unit"):  # before any drop
         drop_map(m, ["6000 rpm", "12000"])
-    with pytest.raises(ParameterError, match=r"^frictions\[0\] = 'x' is not a number"):
+    with pytest.raises(ParameterError, match=r"^frictions\[0\] = 'x' is text, not a number"):
         drop_map(m, ["6000 rpm"], ["x"])
 
 
