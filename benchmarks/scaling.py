@@ -18,7 +18,7 @@ speed-up that T fully independent single-core runs reach on this machine
 (shared caches, memory bandwidth, clock speed under load, a virtual machine's
 neighbours), the ceiling for any threads or workers.
 
-Prints, per run: wall time, speed-up over the first run (one thread by
+Prints numba's version and threading layer, then, per run: wall time, speed-up over the first run (one thread by
 default), parallel efficiency, impacts per second, the CPU time of this
 process's threads in user and in system (kernel) mode and its minor page
 faults (time spent in the kernel, on page faults or locks, grows with
@@ -159,6 +159,11 @@ def main() -> None:
     print(f"cores: {cores} (os.cpu_count {os.cpu_count()}), numba threads at most {numba.config.NUMBA_NUM_THREADS}")
     print(f"gamma in [{args.lo}, {args.hi}], {args.n} values, {args.transient} + {args.record} impacts per value")
     load_kernels(p, values)
+    try:
+        layer = numba.threading_layer()  # known once a parallel kernel has run
+    except ValueError:
+        layer = "not started"
+    print(f"numba {numba.__version__}, threading layer: {layer}")
 
     rows, first, base = [], None, None
     if args.ceiling:
@@ -211,8 +216,8 @@ def main() -> None:
                   f"against {t} threads in process ({how}; chunks of {rows[-1]['chunk_size']})  "
                   f"identical: {identical}")
 
-    print("json: " + json.dumps(dict(cores=cores, n=args.n, transient=args.transient, record=args.record,
-                                     impacts=int(first.impacts_simulated), runs=rows)))
+    print("json: " + json.dumps(dict(cores=cores, threading_layer=layer, n=args.n, transient=args.transient,
+                                     record=args.record, impacts=int(first.impacts_simulated), runs=rows)))
 
 
 if __name__ == "__main__":
