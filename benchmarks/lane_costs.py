@@ -7,7 +7,8 @@ for ``--threads`` threads and kernel calls of C lanes, the share of the threads'
 the slowest thread of each call, where the lanes of a call are given to the threads
 
 * in contiguous blocks (numba's static schedule of a ``prange`` over lanes), or
-* in turn, lane i to thread i mod T (the batch kernel's ``_batch_parallel``).
+* in turn, lane i to thread i mod T (the batch kernel's order, `rotorcontact.studies.batch.dealt_order`, under
+  a static schedule).
 
 Prints the costs' spread and one line per call size; the last line ``json: {...}``.
 

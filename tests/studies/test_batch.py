@@ -22,6 +22,7 @@ import pytest
 
 from rotorcontact import ParameterError, simulate
 from rotorcontact.studies.batch import (
+    dealt_order,
     PARAMETER_ORDER,
     REGIME_NAMES,
     BatchResult,
@@ -147,6 +148,17 @@ def test_every_lane_is_run_once_whatever_the_workers(n_lanes, carry):
         alone = run_lanes(rows[lane:lane + 1], u0[lane:lane + 1], du0[lane:lane + 1], st, carry=carry)
         for g, r in zip(alone, ref):
             assert _same(g[0], r[lane])
+
+
+def test_dealt_order_gives_each_worker_lanes_spread_over_the_batch():
+    assert dealt_order(7, 3).tolist() == [0, 3, 6, 1, 4, 2, 5]
+    assert dealt_order(4, 8).tolist() == [0, 1, 2, 3] and dealt_order(5, 1).tolist() == [0, 1, 2, 3, 4]
+    for n, w in [(64, 16), (4000, 16), (100, 7)]:
+        order = dealt_order(n, w)
+        assert sorted(order.tolist()) == list(range(n))
+        # a static schedule's equal contiguous parts of the order hold lanes w apart
+        for part in np.array_split(order, w):
+            assert np.all(np.diff(part) == w)
 
 
 def test_workers_must_be_a_positive_integer():

@@ -2,9 +2,9 @@
 
 Every item is run by the simulator's own kernel (`rotorcontact.simulation.simulator.simulate_into`, the
 loop of `rotorcontact.simulation.simulator.simulate_kernel`): the same closed-form flight, guaranteed impact
-location, reset and continuous contact, so a batch is exactly as exact as single runs. The simulations that
-one thread runs write into one set of tables, allocated once and grown as they need. An item is two runs of
-that kernel:
+location, reset and continuous contact, so a batch is exactly as exact as single runs. The simulations of
+a lane write into one set of tables, allocated once and grown as they need. An item is two runs of that
+kernel:
 
 1. the *transient*: from the initial state for ``n_transient`` events (flights
    and contact phases; each flight ends in one impact, so in impacting motion
@@ -20,8 +20,8 @@ period, irregular impacting, forward rub, backward whirl, mixed) with the rules 
 `rotorcontact.simulation.motion.classify`, applied to the window.
 
 Items are laid out as *lanes* of *steps*. Lanes are independent and run in
-parallel over cores (numba ``prange``), dealt out to the threads in turn. Within a lane the steps run in order;
-with ``carry=True`` each step starts from the state where the previous step
+parallel over cores (numba ``prange``), spread over the threads (`dealt_order`).
+Within a lane the steps run in order; with ``carry=True`` each step starts from the state where the previous step
 ended (a sweep with the state carried along), otherwise every step starts from
 its own initial state.
 
@@ -301,17 +301,24 @@ def _run_lanes_from(first, stride, params, u0, du0, carry, n_transient, n_record
 
 @njit(cache=True, parallel=True)
 def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-                    sections, summary, workers):
-    """The batch kernel over ``workers`` threads (``prange``), lanes dealt out in turn: worker w runs lanes
-    w, w + workers, ... in order.
+                    sections, summary, order):
+    """The batch kernel: the lanes in parallel over numba's threads (``prange``), taken in the order ``order``
+    (`dealt_order`), each with its own tables.
 
-    Neighbouring lanes (neighbouring parameter values or initial states) tend to cost alike, so dealing them
-    out in turn rather than in contiguous blocks (numba's static schedule of a ``prange`` over lanes, with
-    its OpenMP and workqueue threading layers) balances the threads' work.
+    Neighbouring lanes (neighbouring parameter values or initial states) tend to cost alike. A static schedule
+    (numba's OpenMP and workqueue threading layers) gives each thread a contiguous part of ``order``, which
+    holds lanes spread over the whole batch rather than a block of neighbours; TBB hands out one lane at a
+    time (`run_lanes` sets a chunk size of one) to the threads as they finish.
     """
-    for w in prange(workers):
-        _run_lanes_from(w, workers, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
-                        chatter, sections, summary)
+    n = params.shape[0]
+    for i in prange(order.size):
+        _run_lanes_from(order[i], n, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
+                        settle, chatter, sections, summary)
+
+
+def dealt_order(n_lanes: int, workers: int) -> np.ndarray:
+    """Lanes 0, w, 2w, ..., then 1, w + 1, ..., up to w - 1, ...: the lanes as dealt out in turn to ``workers``."""
+    return np.argsort(np.arange(n_lanes) % workers, kind="stable")
 
 
 @njit(cache=True, nogil=True)
@@ -625,8 +632,9 @@ def run_lanes(
         Lanes in parallel over numba's threads (``prange``), dealt out to them in turn; otherwise on one
         core with the GIL released. The results are the same bit for bit.
     workers : int, optional
-        With ``parallel``, the lanes are dealt out to this many workers, which numba's threads run
-        (default: as many as the threads, at most one per lane).
+        With ``parallel``, the lanes are taken in the order of their dealing out in turn to this many
+        workers (`dealt_order`; default: as many as numba's threads, at most one per lane), so that each
+        thread gets lanes spread over the batch.
     """
     n_lanes, n_steps = params.shape[:2]
     keep = settings.keep
@@ -651,7 +659,11 @@ def run_lanes(
         workers = min(int(numba.get_num_threads()), n_lanes)
     workers = check_int("workers", workers, 1)
     if parallel and workers > 1:
-        _batch_parallel(*args, workers)
+        old = numba.set_parallel_chunksize(1)  # a lane at a time where the threading layer schedules dynamically
+        try:
+            _batch_parallel(*args, dealt_order(n_lanes, workers))
+        finally:
+            numba.set_parallel_chunksize(old)
     else:
         _batch_serial(*args)
     return sections, summary
