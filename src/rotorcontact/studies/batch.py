@@ -284,19 +284,18 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
 
 
 @njit(cache=True, nogil=True)
-def _run_lanes_from(first, stride, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
-                    chatter, sections, summary):
-    """Lanes ``first``, ``first + stride``, ... in turn; their simulations share one set of tables."""
-    tables = new_tables()  # allocated once, grown as the simulations need
-    for lane in range(first, params.shape[0], stride):
-        u = u0[lane, 0]
-        du = du0[lane, 0]
-        for s in range(params.shape[1]):
-            if not carry:
-                u = u0[lane, s]
-                du = du0[lane, s]
-            u, du, tables = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record,
-                                      settle, chatter, sections[lane, s], summary[lane, s], tables)
+def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+              sections, summary, tables):
+    """The steps of one lane, in order, writing into ``tables`` (`new_tables`); returns the tables, grown."""
+    u = u0[lane, 0]
+    du = du0[lane, 0]
+    for s in range(params.shape[1]):
+        if not carry:
+            u = u0[lane, s]
+            du = du0[lane, s]
+        u, du, tables = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record, settle,
+                                  chatter, sections[lane, s], summary[lane, s], tables)
+    return tables
 
 
 @njit(cache=True, parallel=True)
@@ -310,10 +309,9 @@ def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, 
     holds lanes spread over the whole batch rather than a block of neighbours; TBB hands out one lane at a
     time (`run_lanes` sets a chunk size of one) to the threads as they finish.
     """
-    n = params.shape[0]
     for i in prange(order.size):
-        _run_lanes_from(order[i], n, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
-                        settle, chatter, sections, summary)
+        _run_lane(order[i], params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                  sections, summary, new_tables())
 
 
 def dealt_order(n_lanes: int, workers: int) -> np.ndarray:
@@ -324,9 +322,12 @@ def dealt_order(n_lanes: int, workers: int) -> np.ndarray:
 @njit(cache=True, nogil=True)
 def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
                   sections, summary):
-    """The batch kernel on one core, releasing the GIL (for worker threads and processes)."""
-    _run_lanes_from(0, 1, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-                    sections, summary)
+    """The batch kernel on one core, releasing the GIL (for worker threads and processes); the lanes' simulations
+    share one set of tables."""
+    tables = new_tables()
+    for lane in range(params.shape[0]):
+        tables = _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
+                           chatter, sections, summary, tables)
 
 
 # ---------------------------------------------------------------------------
