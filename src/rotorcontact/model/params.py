@@ -54,18 +54,25 @@ MAX_MAGNITUDE = 1e6
 MAX_VELOCITY = 1e6
 
 
+def refuse_bool_or_text(name: str, value: Any, required: str) -> None:
+    """Raise `ParameterError` if ``value`` is a bool or text, which ``float`` and ``complex`` would read.
+
+    ``True`` is not a value of a physical parameter, whatever ``float(True)`` says; text is a number only
+    where it is parsed with its units (the command line, `rotorcontact.Machine`), and Python code gives
+    numbers. ``required`` ends the message: what is required instead.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} = {value!r} is a bool, not a number; {required}")
+    if isinstance(value, (str, bytes)) or (isinstance(value, np.ndarray) and value.dtype.kind in "SU"):
+        raise ParameterError(f"{name} = {value!r} is text, not a number; {required}")
+
+
 def check_finite(name: str, value: Any) -> float:
     """Return ``value`` as a float, or raise `ParameterError` if it is not a finite real number.
 
-    A bool is refused: ``True`` is not a value of a physical parameter, whatever ``float(True)`` says; so is
-    text, which the command line and `rotorcontact.Machine` parse with its units, and which Python code gives
-    as a number.
+    A bool and text are refused (`refuse_bool_or_text`).
     """
-    if isinstance(value, (bool, np.bool_)):
-        raise ParameterError(f"{name} = {value!r} is a bool, not a number; a finite real number is required")
-    if isinstance(value, (str, bytes)) or (isinstance(value, np.ndarray) and value.dtype.kind in "SU"):
-        # float("1e-3") would read it, but text is a number only where it is parsed (with its units)
-        raise ParameterError(f"{name} = {value!r} is text, not a number; a finite real number is required")
+    refuse_bool_or_text(name, value, "a finite real number is required")
     if not isinstance(value, (int, float)):
         try:
             value = float(value)

@@ -16,7 +16,7 @@ from ..errors import ParameterError
 from ..interpreted import call_kernel, complex_quotient
 from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
 from ..model.validation import MAX_COUNT, check_int, check_machine, check_params
-from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity
+from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity, refuse_bool_or_text
 from ..model.impact_law import apply_reset, polar_velocity, relative_velocity
 from ..model.angles import wrap_angle
 from .tables import grow_rows, push_row
@@ -398,12 +398,9 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
 
 
 def _as_complex(name: str, value) -> complex:
-    if isinstance(value, (bool, np.bool_)):
-        raise ParameterError(f"{name} = {value!r} is a bool, not a number; give a complex number or RE,IM")
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
-    if isinstance(value, (str, bytes)):
-        raise ParameterError(f"{name} = {value!r} is text, not a number; give a complex number or RE,IM")
+    refuse_bool_or_text(name, value, "give a complex number or RE,IM")
     if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 2:
         re, im = value
     else:
