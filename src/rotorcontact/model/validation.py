@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import ParameterError
 from .params import Parameters
 
-__all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice"]
+__all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice", "real_array"]
 
 
 def check_params(params: Any, name: str = "params"):
@@ -39,6 +39,13 @@ def check_machine(machine: Any, name: str = "machine", optional: bool = True):
 MAX_COUNT = 2**63 - 1
 #: Most grid points of an equilibrium branch scan: about a millisecond each, so 10000 take seconds.
 MAX_EQUILIBRIUM_POINTS = 10_000
+
+
+def real_array(value: Any) -> np.ndarray | None:
+    """``value`` as an array of floats if it holds integers or reals only; None for text, bools, complex
+    numbers or other objects, which ``np.asarray(value, dtype=float)`` would read or half-read."""
+    raw = np.asarray(value)
+    return raw.astype(float) if raw.dtype.kind in "iuf" else None
 
 
 def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:

@@ -15,7 +15,7 @@ from ..errors import ParameterError
 from ..interpreted import call_kernel
 from ..model.flow import propagate, to_inertial
 from ..model.impact_law import relative_velocity
-from ..model.validation import check_int
+from ..model.validation import check_int, real_array
 from ..model.params import Machine, Parameters
 
 __all__ = ["Trajectory", "ImpactTable", "COLUMNS"]
@@ -252,10 +252,9 @@ class Trajectory:
         interpolated by quintic Hermite polynomials. At an impact time the
         state just after the impact is returned.
         """
-        raw = np.asarray(t)
-        if raw.dtype.kind not in "iuf":  # text, bools, complex or objects are not times
+        tt = real_array(t)
+        if tt is None:
             raise ParameterError(f"t = {t!r} is invalid; allowed: real numbers in [0, t_stop] = [0, {self.t_stop:g}]")
-        tt = raw.astype(float)
         flat = tt.ravel()
         if flat.size and (
             not np.all(np.isfinite(flat)) or flat.min() < 0.0 or flat.max() > self.t_stop * (1 + 1e-14)

@@ -35,7 +35,7 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import BRANCH_PARAMETERS, Machine, Parameters, check_finite, check_velocity
-from ..model.validation import check_int, check_machine, check_params
+from ..model.validation import check_int, check_machine, check_params, real_array
 from .attributes import (
     PARAMETER_LONG_NAMES,
     PARAMETER_UNITS,
@@ -103,11 +103,11 @@ def sweep_values(start: float, stop: float, n: int) -> np.ndarray:
 
 
 def _check_values(param: str, values: Any) -> np.ndarray:
-    raw = np.asarray(values)
-    if raw.dtype.kind not in "iuf" or raw.ndim > 1:
+    vals = real_array(values)
+    if vals is None or vals.ndim > 1:
         raise ParameterError(f"values = {values!r} are not a list of real numbers; allowed: a 1-D list or array of "
                              "real numbers (not strings, bools or complex numbers)")
-    vals = raw.astype(float).reshape(-1)
+    vals = vals.reshape(-1)
     if vals.size == 0:
         raise ParameterError("values is empty; give at least one parameter value")
     if not np.all(np.isfinite(vals)):
