@@ -7,8 +7,8 @@ of 25 and 50 recorded events per point.
 For each grid it runs:
 
 * the grid's states through the backend's two parts (`rotorcontact.studies.cuda_batch`): the GPU kernel
-  (`launch_lanes`, transfers included), and the CPU kernel on the points handed back because they enter
-  continuous contact (`complete_deferred`), each timed, with the share of points handed back;
+  (`launch_lanes`, transfers included), and the CPU kernel on the points it hands back, if any
+  (`complete_deferred`), each timed, with the share of points handed back;
 * the whole study, ``basins(backend="cuda")`` and ``basins(backend="cpu")`` (numba's threads over all
   cores), each timed from the call to the returned result;
 * the agreement of the two: the share of points with the same attractor label, and of the points the

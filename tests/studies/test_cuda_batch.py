@@ -1,7 +1,7 @@
 """The GPU backend: its kernel through numba's CUDA simulator (no GPU needed), and its refusals.
 
 The simulator runs the kernel's threads on the CPU's arithmetic, so there the backend must give the CPU
-kernel's results bit for bit, deferred items included. It is switched on by an environment variable read
+kernel's results bit for bit, contact phases and items handed back to the CPU included. It is switched on by an environment variable read
 when numba is imported, hence a separate process.
 """
 
@@ -29,10 +29,11 @@ SIMULATED = textwrap.dedent("""
     from reference_parameters import REF
     from rotorcontact.studies.basins import basins, displacement_grid
     from rotorcontact.studies.batch import BatchSettings, parameter_array, run_lanes
+    from rotorcontact.studies import cuda_batch
     from rotorcontact.studies.cuda_batch import cuda_unavailable, run_lanes_cuda
 
     out = {"unavailable": cuda_unavailable()}
-    # independent items: impacting, contact-free and rubbing ones (deferred to the CPU)
+    # independent items: impacting, contact-free and rubbing ones
     grid = displacement_grid((-0.9, 0.9, 4), (-0.9, 0.9, 4))
     cpu = basins(REF.replace(gamma=0.1), grid, progress=False, n_transient=300, n_record=40, settle=25)
     gpu = basins(REF.replace(gamma=0.1), grid, progress=False, n_transient=300, n_record=40, settle=25,
@@ -52,15 +53,34 @@ SIMULATED = textwrap.dedent("""
     names = [n for n in cpu.dataset.data_vars if n != "attractor"]
     out["backend_attr"] = [gpu.dataset.attrs.get("backend"), cpu.dataset.attrs.get("backend")]
     out["same_data"] = all(cpu.dataset[n].values.tobytes() == gpu.dataset[n].values.tobytes() for n in names)
-    # a carried lane deferred at its third step, with a short section
+    # carried lanes from impacts into contact, with a short section
     settings = BatchSettings(n_transient=150, n_record=40, settle=25, n_keep=6)
     params = np.array([[parameter_array(REF.replace(gamma=g)) for g in (0.1, 0.08, 0.06, 0.05)]] * 2)
     u0 = np.zeros(params.shape[:2], complex)
     sec, summ, deferred = run_lanes_cuda(params, u0, u0, settings, carry=True)
     ref_sec, ref_summ = run_lanes(params, u0, u0, settings, carry=True)
     out["carried_deferred"] = deferred.tolist()
+    out["carried_contacts"] = summ[:, -1, 6].tolist()
     out["carried_same"] = bool(np.array_equal(sec, ref_sec, equal_nan=True)
                                and np.array_equal(summ, ref_summ, equal_nan=True))
+    # a lane the GPU hands back at its third step is finished by the CPU kernel from the state the GPU
+    # reached there
+    gpu_part = cuda_batch.launch_lanes
+
+    def handing_back(params, u0, du0, settings, *, carry):
+        sections, summary, deferred, start_u, start_du = gpu_part(params, u0, du0, settings, carry=carry)
+        sections[0, 2:] = summary[0, 2:] = -7.0
+        deferred[0] = 2
+        start_u[0] = complex(summary[0, 1, 9], summary[0, 1, 10])
+        start_du[0] = complex(summary[0, 1, 11], summary[0, 1, 12])
+        return sections, summary, deferred, start_u, start_du
+
+    cuda_batch.launch_lanes = handing_back
+    sec, summ, deferred = run_lanes_cuda(params, u0, u0, settings, carry=True)
+    cuda_batch.launch_lanes = gpu_part
+    out["handed_back"] = deferred.tolist()
+    out["handed_back_same"] = bool(np.array_equal(sec, ref_sec, equal_nan=True)
+                                   and np.array_equal(summ, ref_summ, equal_nan=True))
     # a sweep with the state carried up and down (chains of chunks), and attractors followed over a parameter
     from rotorcontact.studies.attractors import attractors
     from rotorcontact.studies.sweep import sweep
@@ -79,7 +99,6 @@ SIMULATED = textwrap.dedent("""
     from rotorcontact.studies.execution import ChunkTask, CudaExecutor
     tasks = [ChunkTask(key=str(i), params=params[i:i + 1], u0=u0[i:i + 1], du0=u0[i:i + 1], carry=True,
                        settings=settings) for i in range(2)]
-    import rotorcontact.studies.cuda_batch as cuda_batch
     import rotorcontact.studies.execution as execution
 
     launches = []
@@ -122,15 +141,19 @@ def test_the_simulated_gpu_gives_the_cpu_kernels_results_bit_for_bit(tmp_path):
     assert proc.returncode == 0, proc.stderr[-3000:]
     out = json.loads(proc.stdout.strip().splitlines()[-1])
     assert out["unavailable"] is None
-    # both paths ran: impacting items on the simulated GPU, rubbing ones deferred to the CPU
+    # impacting and rubbing items, all on the simulated GPU
     assert {"B1,d", "forward-rub"} <= set(out["fractions"])
     assert out["same_image"] and out["same_data"]
     assert out["backend_attr"] == ["cuda", None]
     code, summary, notes = out["cli"]
-    assert code == 0 and summary["backend"] == "cuda" and summary["handed_to_cpu"] == out["handed_to_cpu"] > 0
-    assert f"note: {out['handed_to_cpu']} simulations were computed on the CPU" in notes
-    assert out["carried_deferred"] == [2, 2] and out["carried_same"]
-    assert out["executor_same"] and out["executor_handed_to_cpu"] == 2 + 2
+    assert code == 0 and summary["backend"] == "cuda" and summary["handed_to_cpu"] == out["handed_to_cpu"]
+    # a note counts the simulations handed to the CPU, when there are any
+    assert (f"note: {out['handed_to_cpu']} simulations were computed on the CPU" in notes) == \
+        (out["handed_to_cpu"] > 0)
+    assert out["carried_same"] and min(out["carried_contacts"]) > 0
+    assert out["handed_back"] == [2, out["carried_deferred"][1]] and out["handed_back_same"]
+    handed = sum(4 - s for s in out["carried_deferred"] if s >= 0)
+    assert out["executor_same"] and out["executor_handed_to_cpu"] == handed
     assert out["bounded_same"] and out["launches"] == [2, 1, 1]
     assert out["broken"] == ("the GPU kernel could not be compiled or launched (OSError: libnvvm.so: cannot open "
                              "shared object file)")

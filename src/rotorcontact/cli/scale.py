@@ -144,14 +144,13 @@ def executor_kwargs(args: argparse.Namespace) -> dict[str, Any]:
 def backend_summary(result: Any, execution: dict[str, Any]) -> dict[str, Any]:
     """The JSON keys of a study run on the GPU (none on the CPU): ``backend`` and ``handed_to_cpu``.
 
-    Also notes on stderr how many simulations the GPU handed to the CPU (none when the output file already
-    held the study).
+    Also notes on stderr how many simulations the GPU handed to the CPU, when it handed any.
     """
     if execution.get("backend", "cpu") == "cpu":
         return {}
-    if not result.reused_file:
-        print(f"note: {result.handed_to_cpu} simulations were computed on the CPU: their motion entered "
-              "continuous contact (in a carried chain, from that step on)", file=sys.stderr)
+    if not result.reused_file and result.handed_to_cpu > 0:
+        print(f"note: {result.handed_to_cpu} simulations were computed on the CPU: the GPU's summary of their "
+              "window could not be exact (in a carried chain, from that step on)", file=sys.stderr)
     return {"backend": execution["backend"], "handed_to_cpu": int(result.handed_to_cpu)}
 
 

@@ -35,6 +35,7 @@ CONTACT_TOL = 1e-11
 EVENT_TOL = 1e-12
 MAX_CONTACT_STEPS = 2_000_000
 STEADY_TOL = 10.0 * CONTACT_TOL  # |thetadot|, |thetadot'| below this: on a pseudo-equilibrium
+SLIDE_FIRST_STEP = 1e-3  # the first step size tried in a sliding phase
 
 SLIDE_FORWARD = 0
 ROLLING = 1
@@ -123,6 +124,61 @@ def _append(path, n, t, x, v, sgn, gamma, omega, rho, mu, phi):
     return path, n + 1
 
 
+# outcomes of one step attempt of a sliding phase (`slide_attempt`)
+REJECTED = 0  # the step was rejected; the step size is reduced
+STEPPED = 1  # an accepted step inside the phase
+AT_REST = 2  # an accepted step onto a stable pseudo-equilibrium, which holds until t_end
+SWITCHED = 3  # the phase ends at a located switch inside the step
+AT_END = 4  # t_end was reached before the attempt
+
+
+@njit(cache=True)
+def slide_attempt(t, x, v, h, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio):
+    """One step attempt of a sliding phase from (t, x, v) with step size h.
+
+    Returns (outcome, t, x, v, h, code): the outcome (`STEPPED`, `REJECTED`, ...), the state after it
+    (unchanged if rejected or at the end), the next step size, and for `SWITCHED` the phase that follows
+    (`LIFTOFF`, or `stick_or_slip`'s code with v_rel = 0 exactly). `slide` runs these attempts and
+    records their states; the GPU's items run them without recording (`rotorcontact.studies.flight_batch`).
+    """
+    if t >= t_end:
+        return AT_END, t, x, v, h, END
+    h = min(h, t_end - t)
+    xn, vn, err = _dp_step(x, v, h, sgn, gamma, omega, rho, mu, phi)
+    if err > 1.0:
+        h *= max(0.2, 0.9 * err ** -0.2)
+        return REJECTED, t, x, v, h, END
+    g_n, g_v = _events(xn, vn, r_ratio, omega, rho, phi, sgn)
+    if g_n <= 0.0 or g_v <= 0.0:
+        # locate the first switch inside the step by bisection on single steps from t
+        lo, hi = 0.0, h
+        for _b in range(200):
+            if hi - lo <= EVENT_TOL * (1.0 + t):
+                break
+            mid = 0.5 * (lo + hi)
+            xm, vm, _e = _dp_step(x, v, mid, sgn, gamma, omega, rho, mu, phi)
+            a_n, a_v = _events(xm, vm, r_ratio, omega, rho, phi, sgn)
+            if a_n <= 0.0 or a_v <= 0.0:
+                hi = mid
+            else:
+                lo = mid
+        xe, ve, _e = _dp_step(x, v, hi, sgn, gamma, omega, rho, mu, phi)
+        g_n, g_v = _events(xe, ve, r_ratio, omega, rho, phi, sgn)
+        t = t + hi
+        if g_n <= 0.0:
+            return SWITCHED, t, xe, ve, h, LIFTOFF
+        # slip ends: v_rel = 0 exactly
+        ve = -(1.0 + r_ratio)
+        return SWITCHED, t, xe, ve, h, stick_or_slip(xe, ve, gamma, omega, rho, mu, phi)
+    t += h
+    if abs(vn) < STEADY_TOL and abs(_accel(xn, vn, sgn, gamma, omega, rho, mu, phi)) < STEADY_TOL and \
+            _attracting(xn, vn, sgn, gamma, omega, rho, mu, phi):
+        # at rest on a stable pseudo-equilibrium to the integrator's tolerance: it holds until t_end
+        return AT_REST, t, xn, vn, h, END
+    h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
+    return STEPPED, t, xn, vn, h, END
+
+
 @njit(cache=True)
 def slide(theta, thetadot, t0, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio, path, n_path):
     """Integrate a sliding phase until lift-off, the end of slip, or t_end.
@@ -133,50 +189,40 @@ def slide(theta, thetadot, t0, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio, 
     t = t0
     x = theta
     v = thetadot
-    h = 1e-3
+    h = SLIDE_FIRST_STEP
     path, n_path = _append(path, n_path, t, x, v, sgn, gamma, omega, rho, mu, phi)
     for _ in range(MAX_CONTACT_STEPS):
-        if t >= t_end:
-            return END, t, x, v, path, n_path
-        h = min(h, t_end - t)
-        xn, vn, err = _dp_step(x, v, h, sgn, gamma, omega, rho, mu, phi)
-        if err > 1.0:
-            h *= max(0.2, 0.9 * err ** -0.2)
+        outcome, t, x, v, h, code = slide_attempt(t, x, v, h, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio)
+        if outcome == REJECTED:
             continue
-        g_n, g_v = _events(xn, vn, r_ratio, omega, rho, phi, sgn)
-        if g_n <= 0.0 or g_v <= 0.0:
-            # locate the first switch inside the step by bisection on single steps from t
-            lo, hi = 0.0, h
-            for _b in range(200):
-                if hi - lo <= EVENT_TOL * (1.0 + t):
-                    break
-                mid = 0.5 * (lo + hi)
-                xm, vm, _e = _dp_step(x, v, mid, sgn, gamma, omega, rho, mu, phi)
-                a_n, a_v = _events(xm, vm, r_ratio, omega, rho, phi, sgn)
-                if a_n <= 0.0 or a_v <= 0.0:
-                    hi = mid
-                else:
-                    lo = mid
-            xe, ve, _e = _dp_step(x, v, hi, sgn, gamma, omega, rho, mu, phi)
-            g_n, g_v = _events(xe, ve, r_ratio, omega, rho, phi, sgn)
-            t = t + hi
-            if g_n <= 0.0:
-                path, n_path = _append(path, n_path, t, xe, ve, sgn, gamma, omega, rho, mu, phi)
-                return LIFTOFF, t, xe, ve, path, n_path
-            # slip ends: v_rel = 0 exactly
-            ve = -(1.0 + r_ratio)
-            path, n_path = _append(path, n_path, t, xe, ve, sgn, gamma, omega, rho, mu, phi)
-            return stick_or_slip(xe, ve, gamma, omega, rho, mu, phi), t, xe, ve, path, n_path
-        t += h
-        x, v = xn, vn
+        if outcome == AT_END:
+            return END, t, x, v, path, n_path
         path, n_path = _append(path, n_path, t, x, v, sgn, gamma, omega, rho, mu, phi)
-        if abs(v) < STEADY_TOL and abs(path[n_path - 1, 3]) < STEADY_TOL and \
-                _attracting(x, v, sgn, gamma, omega, rho, mu, phi):
-            # at rest on a stable pseudo-equilibrium to the integrator's tolerance: it holds until t_end
+        if outcome == AT_REST:
             path, n_path = _append(path, n_path, t_end, x, v, sgn, gamma, omega, rho, mu, phi)
             return END, t_end, x, v, path, n_path
-        h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
+        if outcome == SWITCHED:
+            return code, t, x, v, path, n_path
     return STEP_LIMIT, t, x, v, path, n_path
+
+
+@njit(cache=True)
+def slide_unrecorded(theta, thetadot, t0, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio):
+    """`slide` without its path: the same steps, returning (code, t, theta, thetadot) where it ends.
+
+    The state returned is the last row `slide` records.
+    """
+    t = t0
+    x = theta
+    v = thetadot
+    h = SLIDE_FIRST_STEP
+    for _ in range(MAX_CONTACT_STEPS):
+        outcome, t, x, v, h, code = slide_attempt(t, x, v, h, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio)
+        if outcome == AT_REST:
+            return END, t_end, x, v
+        if outcome == AT_END or outcome == SWITCHED:
+            return code, t, x, v
+    return STEP_LIMIT, t, x, v
 
 
 @njit(cache=True)
@@ -216,6 +262,12 @@ def _first_zero(a, b, c, psi0):
         # the start is that crossing itself, on its rising side: take the next turn
         x += two_pi
     return x
+
+
+@njit(cache=True)
+def rolled_angle(theta0, thetadot, t0, t1):
+    """theta at t1 of rolling from theta0 at t0 (theta linear in time), as a rolling phase's path records it."""
+    return theta0 + thetadot * (t1 - t0)
 
 
 @njit(cache=True)

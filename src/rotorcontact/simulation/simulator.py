@@ -33,6 +33,7 @@ from .contact import (
     TO_SLIDE_FORWARD,
     END,
     roll,
+    rolled_angle,
     slide,
     stick_or_slip,
 )
@@ -89,7 +90,7 @@ def _push_linear_phase(contacts, n_ct, path, n_path, kind, t0, t1, theta0, theta
     """Record a phase on r = 1 where theta moves linearly (rolling)."""
     p_start = n_path
     path, n_path = push_row(path, n_path, np.array([t0, theta0, thetadot, 0.0]))
-    path, n_path = push_row(path, n_path, np.array([t1, theta0 + thetadot * (t1 - t0), thetadot, 0.0]))
+    path, n_path = push_row(path, n_path, np.array([t1, rolled_angle(theta0, thetadot, t0, t1), thetadot, 0.0]))
     contacts, n_ct = push_row(contacts, n_ct, np.array([t0, t1, float(kind), float(p_start), float(n_path - 1)]))
     return contacts, n_ct, path, n_path
 
@@ -110,6 +111,60 @@ def _first_order_tail(t, theta, rd, tdp, n_force, t_cap, gamma, rho, mu, d, phi,
     f_t = free_tangential(theta, tdp, gamma, rho, phi)
     td_acc = tdp + f_t * tau - math.copysign(min(p_tail, abs(vrel_p)), vrel_p)
     return t + tau, theta + 0.5 * (tdp + td_acc) * tau, td_acc
+
+
+@njit(cache=True)
+def accumulation_point(converged, t, theta, rd, tdp, n_force, t_a, th_a, td_a, e_t, e_th, e_td, t_end, gamma, rho,
+                       mu, d, phi, r_ratio):
+    """Where a sequence of impacts that accumulates (`chain_step`) ends: (t_acc, theta_acc, thetadot_acc).
+
+    The corrected tail where the sequence has converged onto it, else the first order (as in the
+    linearisation of `rotorcontact.analysis.lyapunov.accumulation_saltation`).
+    """
+    if converged and t <= t_a + e_t <= t_end:
+        return t_a + e_t, th_a + e_th, td_a + e_td
+    return _first_order_tail(t, theta, rd, tdp, n_force, t_end, gamma, rho, mu, d, phi, r_ratio)
+
+
+@njit(cache=True)
+def contact_start(u, du):
+    """(theta, thetadot) of a state on the stator that enters continuous contact."""
+    return math.atan2(u.imag, u.real), polar_velocity(u, du)[1]
+
+
+@njit(cache=True)
+def liftoff_state(theta, thetadot):
+    """(U, U') where the rotor leaves the stator at angle theta moving at thetadot."""
+    e = complex(math.cos(theta), math.sin(theta))
+    return e, e * complex(0.0, thetadot)
+
+
+@njit(cache=True)
+def contact_mode(theta, thetadot, next_mode, gamma, omega, rho, mu, phi, r_ratio):
+    """The phase that continuous contact from (theta, thetadot) goes on with, and thetadot for it.
+
+    ``next_mode`` is the phase decided by the switch that ended the previous phase (`NO_MODE` if none);
+    otherwise the normal force and relative velocity decide, and a start at v_rel = 0 (to rounding)
+    takes rolling's thetadot exactly.
+    """
+    if next_mode != NO_MODE:
+        return next_mode, thetadot
+    n_force = normal_force(theta, thetadot, omega, rho, phi)
+    vrel = relative_velocity(r_ratio, thetadot)
+    if n_force <= 0.0:
+        return LIFTOFF, thetadot
+    if abs(vrel) <= 1e-12 * (1.0 + r_ratio):
+        roll_dot = -(1.0 + r_ratio)
+        return stick_or_slip(theta, roll_dot, gamma, omega, rho, mu, phi), roll_dot
+    return (TO_SLIDE_FORWARD if vrel > 0.0 else TO_SLIDE_BACKWARD), thetadot
+
+
+@njit(cache=True)
+def after_phase(code):
+    """The phase decided by a contact phase's end code, or `NO_MODE` when the next start decides."""
+    if code == TO_ROLLING or code == TO_SLIDE_FORWARD or code == TO_SLIDE_BACKWARD:
+        return code
+    return NO_MODE
 
 
 @njit(cache=True)
@@ -262,8 +317,7 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
                 if stop_on_chatter:
                     status = CHATTER
                     break
-                theta_c = math.atan2(u.imag, u.real)
-                thetadot_c = polar_velocity(u, du)[1]
+                theta_c, thetadot_c = contact_start(u, du)
                 in_contact = True
                 continue
             t = t + tau
@@ -305,13 +359,9 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
                 mu, d, phi, r_ratio, chatter_tol, chatter_rdot, chatter_height, chatter_dt
             )
             if accumulates:
-                # the corrected tail where the sequence has converged onto it, else the first order
-                # (as in the linearisation of `lyapunov.accumulation_saltation`)
-                if converged and t <= t_a + e_t <= t_end:
-                    t_acc, theta_acc, td_acc = t_a + e_t, th_a + e_th, td_a + e_td
-                else:
-                    t_acc, theta_acc, td_acc = _first_order_tail(t, theta, rd, tdp, n_force, t_end, gamma, rho,
-                                                                 mu, d, phi, r_ratio)
+                t_acc, theta_acc, td_acc = accumulation_point(converged, t, theta, rd, tdp, n_force, t_a, th_a,
+                                                              td_a, e_t, e_th, e_td, t_end, gamma, rho, mu, d, phi,
+                                                              r_ratio)
                 if t_acc > t:
                     # the phase holds the states at its two ends (dense output interpolates between them)
                     p_start = n_path
@@ -339,19 +389,7 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
             prev_td = td_a
             continue
         # continuous contact from (theta_c, thetadot_c) at t
-        if next_mode != NO_MODE:
-            # the previous phase ended by a located switch that decides the next phase
-            mode = next_mode
-        else:
-            n_force = normal_force(theta_c, thetadot_c, omega, rho, phi)
-            vrel = relative_velocity(r_ratio, thetadot_c)
-            if n_force <= 0.0:
-                mode = LIFTOFF
-            elif abs(vrel) <= 1e-12 * (1.0 + r_ratio):
-                thetadot_c = roll_dot
-                mode = stick_or_slip(theta_c, thetadot_c, gamma, omega, rho, mu, phi)
-            else:
-                mode = TO_SLIDE_FORWARD if vrel > 0.0 else TO_SLIDE_BACKWARD
+        mode, thetadot_c = contact_mode(theta_c, thetadot_c, next_mode, gamma, omega, rho, mu, phi, r_ratio)
         t_start = t
         if mode == TO_ROLLING:
             code, t, theta_end = roll(theta_c, t, t_end, gamma, omega, rho, mu, phi, r_ratio)
@@ -382,11 +420,9 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
             status = FAILED
             reason = CONTACT_STEP_LIMIT
             break
-        next_mode = code if code in (TO_ROLLING, TO_SLIDE_FORWARD, TO_SLIDE_BACKWARD) else NO_MODE
+        next_mode = after_phase(code)
         if code == LIFTOFF:
-            e = complex(math.cos(theta_c), math.sin(theta_c))
-            u = e
-            du = e * complex(0.0, thetadot_c)
+            u, du = liftoff_state(theta_c, thetadot_c)
             in_contact = False
             on_boundary = True
             liftoff = True

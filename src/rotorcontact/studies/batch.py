@@ -59,7 +59,9 @@ from .window import (
     S_TRANSIENT_STATUS,
     S_U_IM,
     S_U_RE,
+    contact_end_state,
     detect_period_rows,
+    ends_in_contact,
     fill_summary,
     flight_final_state,
     never_touches,
@@ -78,7 +80,6 @@ from ..simulation.motion import (
 )
 from ..model.params import MAX_VELOCITY, Parameters, check_range, check_velocity
 from ..model.validation import check_int
-from ..model.impact_law import polar_velocity
 from ..simulation.simulator import (
     BOUNDARY_TOL,
     CHATTER_DEFAULTS,
@@ -135,27 +136,10 @@ def _final_state(flights, contacts, path, t_stop, gamma, omega, rho, phi):
     n_fl = flights.shape[0]
     n_ct = contacts.shape[0]
     t_fl = flights[n_fl - 1, 0] if n_fl > 0 else -math.inf
-    if n_ct > 0:
-        cs = contacts[n_ct - 1, 0]
-        ce = contacts[n_ct - 1, 1]
-        # a contact phase is the last phase unless a flight (lift-off) started after it
-        if n_fl == 0 or cs > t_fl or (cs == t_fl and ce > t_fl):
-            row = int(contacts[n_ct - 1, 4])
-            theta = path[row, 1]
-            thetadot = path[row, 2]
-            kind = int(contacts[n_ct - 1, 2])
-            e = complex(math.cos(theta), math.sin(theta))
-            du = complex(0.0, thetadot) * e
-            # the simulator restarts from u / |u|; remove any outward radial velocity
-            # left by rounding there, so that a restart continues in contact rather
-            # than recording a spurious impact at zero speed
-            en = e / abs(e)
-            for _ in range(8):
-                rd = polar_velocity(en, du)[0]
-                if rd <= 0.0:
-                    break
-                du = du - 2.0 * rd * en
-            return e, du, kind
+    if n_ct > 0 and ends_in_contact(n_fl, t_fl, contacts[n_ct - 1, 0], contacts[n_ct - 1, 1]):
+        row = int(contacts[n_ct - 1, 4])
+        e, du = contact_end_state(path[row, 1], path[row, 2])
+        return e, du, int(contacts[n_ct - 1, 2])
     u_f = complex(flights[n_fl - 1, 1], flights[n_fl - 1, 2])
     du_f = complex(flights[n_fl - 1, 3], flights[n_fl - 1, 4])
     u, du = flight_final_state(t_fl, u_f, du_f, t_stop, gamma, omega, rho, phi)

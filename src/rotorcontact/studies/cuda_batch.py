@@ -2,9 +2,10 @@
 
 Every thread runs its lane with `rotorcontact.studies.flight_batch`: the simulator's own closed-form
 flights, guaranteed impact location (`rotorcontact.simulation.roots`), resets, test for accumulating
-impacts, and the batch kernel's transient, window and classification. A lane whose motion enters
-continuous contact (rub, rolling, the end of a chatter sequence) is *deferred* at that step: the GPU
-stops it there, and the CPU batch kernel (`rotorcontact.studies.batch.run_lanes`) computes that step and
+impacts, contact phases (sliding, rolling, lift-off), and the batch kernel's transient, window and
+classification. A step whose window's summary that form cannot give exactly (`flight_batch.flight_item`:
+contact phases that end out of order or after the window's stop, by rounding) is *deferred*: the GPU stops
+the lane there, and the CPU batch kernel (`rotorcontact.studies.batch.run_lanes`) computes that step and
 the lane's later ones, from the state the GPU reached at the start of the step. So every item gets the
 CPU kernel's algorithm and rules, and a deferred item the CPU kernel's numbers.
 
@@ -96,7 +97,7 @@ def complete_deferred(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, setti
 
 def launch_lanes(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, settings: BatchSettings, *,
                  carry: bool) -> tuple[np.ndarray, ...]:
-    """The GPU's part of `run_lanes_cuda`: every lane up to its first step in continuous contact.
+    """The GPU's part of `run_lanes_cuda`: every lane up to its first deferred step, if any.
 
     Returns
     -------
@@ -145,8 +146,8 @@ def run_lanes_cuda(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, settings
     sections, summary : numpy.ndarray
         As `rotorcontact.studies.batch.run_lanes`.
     deferred : numpy.ndarray of int
-        Per lane, the first step computed on the CPU because its motion entered continuous contact (that
-        step and the lane's later ones were), or -1.
+        Per lane, the first step computed on the CPU (that step and the lane's later ones were; see the
+        module docstring), or -1.
     """
     sections, summary, deferred, start_u, start_du = launch_lanes(params, u0, du0, settings, carry=carry)
     complete_deferred(params, u0, du0, settings, carry, sections, summary, deferred, start_u, start_du)

@@ -299,8 +299,8 @@ class CudaExecutor(_Executor):
     """Chunks on an NVIDIA GPU (`rotorcontact.studies.cuda_batch`), stacked into launches of `CUDA_LANES` lanes
     and `CUDA_RESULT_BYTES` of results at most (a launch may pass them by its last chunk).
 
-    Items whose motion enters continuous contact are finished by the CPU kernel in this process
-    (``handed_to_cpu`` counts them). Tasks of another kind run in this process.
+    Items the GPU hands back (`rotorcontact.studies.cuda_batch`) are finished by the CPU kernel in this
+    process (``handed_to_cpu`` counts them). Tasks of another kind run in this process.
     """
 
     name = "cuda"

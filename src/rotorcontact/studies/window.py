@@ -11,6 +11,7 @@ import math
 from numba import njit
 
 from ..model.flow import equilibrium_point, half_discriminant, propagate
+from ..model.impact_law import polar_velocity
 from ..simulation.motion import FAILED_REGIME, IRREGULAR, MIXED, NO_CONTACT, PERIODIC, ROLL, RUB, UNDETERMINED
 from ..simulation.contact import ROLLING
 from ..simulation.simulator import FAILED
@@ -50,6 +51,33 @@ def flight_final_state(t_fl, u_f, du_f, t_stop, gamma, omega, rho, phi):
     if r > 1.0:
         u = u / r
     return u, dv
+
+
+@njit(cache=True)
+def ends_in_contact(n_fl, t_fl, c_start, c_end):
+    """Whether a run's last phase is its last contact phase (c_start to c_end), not the flight from t_fl.
+
+    A contact phase is the last phase unless a flight (lift-off) started after it.
+    """
+    return n_fl == 0 or c_start > t_fl or (c_start == t_fl and c_end > t_fl)
+
+
+@njit(cache=True)
+def contact_end_state(theta, thetadot):
+    """(U, U') at the end of a contact phase at angle theta moving at thetadot, ready for a restart.
+
+    The simulator restarts from u / |u|; any outward radial velocity left by rounding there is removed,
+    so that a restart continues in contact rather than recording a spurious impact at zero speed.
+    """
+    e = complex(math.cos(theta), math.sin(theta))
+    du = complex(0.0, thetadot) * e
+    en = e / abs(e)
+    for _ in range(8):
+        rd = polar_velocity(en, du)[0]
+        if rd <= 0.0:
+            break
+        du = du - 2.0 * rd * en
+    return e, du
 
 
 @njit(cache=True)
