@@ -13,6 +13,7 @@ import pytest
 
 from rotorcontact.studies.batch import (
     _run_item,
+    _run_steps,
     REGIME_NAMES, S_DU_IM, S_DU_RE, S_N_CONTACTS, S_REGIME, S_U_IM, S_U_RE, BatchSettings, parameter_array, run_lanes,
 )
 from rotorcontact.simulation.simulator import new_tables
@@ -134,3 +135,21 @@ def test_deferred_steps_are_completed_from_where_the_previous_step_ended(step):
             start_du[0] = complex(summary[0, step - 1, S_DU_RE], summary[0, step - 1, S_DU_IM])
         complete_deferred(params, u0, u0, settings, carry, sec, summ, deferred, start_u, start_du)
         assert np.array_equal(sec, sections, equal_nan=True) and np.array_equal(summ, summary, equal_nan=True)
+
+
+def test_steps_handed_back_run_through_the_simulators_tables_as_the_reference():
+    """`batch._run_steps`, what the kernels run from a step the allocation-free form hands back."""
+    settings = BatchSettings(n_transient=300, n_record=50, settle=25, n_keep=8)
+    params = np.array([[parameter_array(REF.replace(gamma=g)) for g in (0.1, 0.08, 0.06, 0.05, 0.04)]])
+    u0 = np.zeros(params.shape[:2], complex)
+    for carry in (True, False):
+        sections, summary = _reference(params, u0, u0, settings, carry)
+        for first in (0, 3):
+            sec, summ = sections.copy(), summary.copy()
+            sec[0, first:] = summ[0, first:] = -7.0
+            u = complex(summary[0, first - 1, S_U_RE], summary[0, first - 1, S_U_IM]) if carry and first else 0j
+            du = complex(summary[0, first - 1, S_DU_RE], summary[0, first - 1, S_DU_IM]) if carry and first else 0j
+            _run_steps(0, first, u, du, params, u0, u0, carry, settings.n_transient, settings.n_record,
+                       settings.transient_time, settings.record_time, settings.settle, settings.chatter_values, sec,
+                       summ, new_tables())
+            assert np.array_equal(sec, sections, equal_nan=True) and np.array_equal(summ, summary, equal_nan=True)

@@ -1,10 +1,12 @@
 """Batch simulation: many (parameters, initial state) pairs in one compiled call.
 
-Every item is run by the simulator's own kernel (`rotorcontact.simulation.simulator.simulate_into`, the
-loop of `rotorcontact.simulation.simulator.simulate_kernel`): the same closed-form flight, guaranteed impact
-location, reset and continuous contact, so a batch is exactly as exact as single runs. The simulations of
-a lane write into one set of tables, allocated once and grown as they need. An item is two runs of that
-kernel:
+Every item is run by the simulator's loop (`rotorcontact.simulation.simulator.simulate_into`, the loop of
+`rotorcontact.simulation.simulator.simulate_kernel`): the same closed-form flight, guaranteed impact
+location, reset and continuous contact, so a batch is exactly as exact as single runs. It runs in the
+loop's form without tables (`rotorcontact.studies.flight_batch`), which keeps only what the batch reads and
+gives the simulator's results bit for bit; a step it hands back (`rotorcontact.studies.flight_batch.flight_item`)
+and the lane's later ones run through the simulator's own kernel, into tables grown as they need. An item is
+two runs of that loop:
 
 1. the *transient*: from the initial state for ``n_transient`` events (flights
    and contact phases; each flight ends in one impact, so in impacting motion
@@ -90,6 +92,7 @@ from ..simulation.simulator import (
     new_tables,
     simulate_into,
 )
+from .flight_batch import flight_lane, ring_buffer
 from ..simulation.contact import ACCUMULATION, KIND_NAMES, SLIDE_FORWARD
 
 __all__ = [
@@ -268,12 +271,11 @@ def _run_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, 
 
 
 @njit(cache=True, nogil=True)
-def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-              sections, summary, tables):
-    """The steps of one lane, in order, writing into ``tables`` (`new_tables`); returns the tables, grown."""
-    u = u0[lane, 0]
-    du = du0[lane, 0]
-    for s in range(params.shape[1]):
+def _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
+               chatter, sections, summary, tables):
+    """Steps ``first`` on of one lane, in order, through the simulator's tables (``tables``, `new_tables`), from
+    the state (u, du) where step ``first`` starts; returns the tables, grown."""
+    for s in range(first, params.shape[1]):
         if not carry:
             u = u0[lane, s]
             du = du0[lane, s]
@@ -282,11 +284,21 @@ def _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, 
     return tables
 
 
+@njit(cache=True, nogil=True)
+def _run_lane_lean(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
+                   sections, summary, ring):
+    """The steps of one lane without tables (`rotorcontact.studies.flight_batch.flight_lane`, in ``ring``);
+    returns (step, u, du): the first step it hands back (-1 if none) and the state where that step starts."""
+    c_tol, c_rdot, c_height, c_dt = chatter
+    return flight_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol,
+                       c_rdot, c_height, c_dt, sections, summary, ring)
+
+
 @njit(cache=True, parallel=True)
 def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
                     sections, summary, order):
     """The batch kernel: the lanes in parallel over numba's threads (``prange``), taken in the order ``order``
-    (`dealt_order`), each with its own tables.
+    (`dealt_order`), each with its own buffers.
 
     Neighbouring lanes (neighbouring parameter values or initial states) tend to cost alike. A static schedule
     (numba's OpenMP and workqueue threading layers) gives each thread a contiguous part of ``order``, which
@@ -294,8 +306,12 @@ def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, 
     time (`run_lanes` sets a chunk size of one) to the threads as they finish.
     """
     for i in prange(order.size):
-        _run_lane(order[i], params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-                  sections, summary, new_tables())
+        lane = order[i]
+        first, u, du = _run_lane_lean(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
+                                      settle, chatter, sections, summary, ring_buffer())
+        if first >= 0:
+            _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
+                       settle, chatter, sections, summary, new_tables())
 
 
 def dealt_order(n_lanes: int, workers: int) -> np.ndarray:
@@ -306,12 +322,16 @@ def dealt_order(n_lanes: int, workers: int) -> np.ndarray:
 @njit(cache=True, nogil=True)
 def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
                   sections, summary):
-    """The batch kernel on one core, releasing the GIL (for worker threads and processes); the lanes' simulations
-    share one set of tables."""
+    """The batch kernel on one core, releasing the GIL (for worker threads and processes); the lanes share one
+    set of buffers."""
+    ring = ring_buffer()
     tables = new_tables()
     for lane in range(params.shape[0]):
-        tables = _run_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
-                           chatter, sections, summary, tables)
+        first, u, du = _run_lane_lean(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
+                                      settle, chatter, sections, summary, ring)
+        if first >= 0:
+            tables = _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record, t_transient,
+                                t_record, settle, chatter, sections, summary, tables)
 
 
 # ---------------------------------------------------------------------------

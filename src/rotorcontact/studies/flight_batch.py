@@ -1,7 +1,8 @@
-"""The batch kernel's items without allocating: the code a GPU thread runs.
+"""The batch kernel's items without allocating: what the batch kernel's threads and a GPU thread run.
 
-`rotorcontact.studies.batch` runs every item through the simulator's kernel, which grows its tables as
-it goes. A GPU thread cannot allocate, so these functions run the same item with fixed buffers:
+The simulator's kernel (`rotorcontact.simulation.simulator.simulate_into`) grows its tables as it goes. A
+GPU thread cannot allocate, and the batch reads little of those tables, so these functions run the same
+item with fixed buffers:
 
 * the impacts of a run are kept in a *ring* of ``2 R`` rows (`RING`), each written at ``i % R`` and at
   ``i % R + R``, so that the last ``min(n, R)`` impacts are always contiguous; R is larger than the
@@ -18,8 +19,8 @@ transient, window, final state and classification, in the same order on the same
 they finish has the batch kernel's results bit for bit on the same processor. One case is left to the
 batch kernel: a window whose contact phases end out of order or after its stop time (a phase that
 overshoots its end time by rounding), where what is kept cannot give the kernel's summary exactly. Such
-an item is *deferred*, and is computed again by the batch kernel itself
-(`rotorcontact.studies.cuda_batch`).
+an item is *deferred*, and is computed again through the simulator's kernel
+(`rotorcontact.studies.batch._run_steps`, `rotorcontact.studies.cuda_batch`).
 """
 
 from __future__ import annotations
