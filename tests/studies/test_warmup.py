@@ -32,9 +32,11 @@ def test_warm_up_of_the_studies_compiles_the_kernels_of_threads_and_of_worker_pr
 
     code = ("from rotorcontact.studies.warmup import warm_up\n"
             "from rotorcontact.studies.batch import _batch_parallel, _batch_serial\n"
+            "from rotorcontact.model.angles import _wrap_many\n"
             "warm_up(['studies'])\n"
-            "print(len(_batch_parallel.signatures), len(_batch_serial.signatures))\n")
+            "print(len(_batch_parallel.signatures), len(_batch_serial.signatures), len(_wrap_many.signatures))\n")
     env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.split() == ["1", "1"]
+    # and the classification's comparison of angles, which a study runs on all its points at once
+    assert out.stdout.split() == ["1", "1", "1"]
