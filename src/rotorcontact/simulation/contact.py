@@ -139,7 +139,8 @@ def slide_attempt(t, x, v, h, t_end, sgn, gamma, omega, rho, mu, phi, r_ratio):
     Returns (outcome, t, x, v, h, code): the outcome (`STEPPED`, `REJECTED`, ...), the state after it
     (unchanged if rejected or at the end), the next step size, and for `SWITCHED` the phase that follows
     (`LIFTOFF`, or `stick_or_slip`'s code with v_rel = 0 exactly). `slide` runs these attempts and
-    records their states; the GPU's items run them without recording (`rotorcontact.studies.flight_batch`).
+    records their states; `slide_unrecorded` runs them without recording, for the batch kernel and the GPU
+    (`rotorcontact.studies.compact_batch`).
     """
     if t >= t_end:
         return AT_END, t, x, v, h, END

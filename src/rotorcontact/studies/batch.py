@@ -3,8 +3,8 @@
 Every item is run by the simulator's loop (`rotorcontact.simulation.simulator.simulate_into`, the loop of
 `rotorcontact.simulation.simulator.simulate_kernel`): the same closed-form flight, guaranteed impact
 location, reset and continuous contact, so a batch is exactly as exact as single runs. It runs in the
-loop's form without tables (`rotorcontact.studies.flight_batch`), which keeps only what the batch reads and
-gives the simulator's results bit for bit; a step it hands back (`rotorcontact.studies.flight_batch.flight_item`)
+loop's form without tables (`rotorcontact.studies.compact_batch`), which keeps only what the batch reads and
+gives the simulator's results bit for bit; a step it hands back (`rotorcontact.studies.compact_batch.compact_item`)
 and the lane's later ones run through the simulator's own kernel, into tables grown as they need. An item is
 two runs of that loop:
 
@@ -92,7 +92,7 @@ from ..simulation.simulator import (
     new_tables,
     simulate_into,
 )
-from .flight_batch import flight_lane, ring_buffer
+from .compact_batch import compact_lane, ring_buffer
 from ..simulation.contact import ACCUMULATION, KIND_NAMES, SLIDE_FORWARD
 
 __all__ = [
@@ -287,10 +287,10 @@ def _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record
 @njit(cache=True, nogil=True)
 def _run_lane_lean(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
                    sections, summary, ring):
-    """The steps of one lane without tables (`rotorcontact.studies.flight_batch.flight_lane`, in ``ring``);
+    """The steps of one lane without tables (`rotorcontact.studies.compact_batch.compact_lane`, in ``ring``);
     returns (step, u, du): the first step it hands back (-1 if none) and the state where that step starts."""
     c_tol, c_rdot, c_height, c_dt = chatter
-    return flight_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol,
+    return compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol,
                        c_rdot, c_height, c_dt, sections, summary, ring)
 
 

@@ -1,9 +1,9 @@
 """The batch kernel on an NVIDIA GPU: one GPU thread per lane, through numba-cuda.
 
-Every thread runs its lane with `rotorcontact.studies.flight_batch`: the simulator's own closed-form
+Every thread runs its lane with `rotorcontact.studies.compact_batch`: the simulator's own closed-form
 flights, guaranteed impact location (`rotorcontact.simulation.roots`), resets, test for accumulating
 impacts, contact phases (sliding, rolling, lift-off), and the batch kernel's transient, window and
-classification. A step whose window's summary that form cannot give exactly (`flight_batch.flight_item`:
+classification. A step whose window's summary that form cannot give exactly (`compact_batch.compact_item`:
 contact phases that end out of order or after the window's stop, by rounding) is *deferred*: the GPU stops
 the lane there, and the CPU batch kernel (`rotorcontact.studies.batch.run_lanes`) computes that step and
 the lane's later ones, from the state the GPU reached at the start of the step. So every item gets the

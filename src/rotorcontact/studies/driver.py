@@ -60,7 +60,7 @@ class StudyRun:
         The output file already held this finished study and was returned as it is.
     handed_to_cpu : int
         With ``backend="cuda"``: simulations of this call computed on the CPU because the GPU's summary of
-        their window could not be exact (`rotorcontact.studies.flight_batch.flight_item`; in a lane of
+        their window could not be exact (`rotorcontact.studies.compact_batch.compact_item`; in a lane of
         several steps, that step and the lane's later ones).
     """
 

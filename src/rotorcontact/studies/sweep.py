@@ -180,7 +180,7 @@ class SweepResult:
         The output file already held this finished study and was returned as it is.
     handed_to_cpu : int
         With ``backend="cuda"``: simulations of this call computed on the CPU because the GPU's summary of
-        their window could not be exact (`rotorcontact.studies.flight_batch.flight_item`; in a carried
+        their window could not be exact (`rotorcontact.studies.compact_batch.compact_item`; in a carried
         chain, that step and the chain's later ones).
     """
 

@@ -1,7 +1,7 @@
 """The window of a batch item: the columns of its summary, its classification and its state where it stopped.
 
 Shared by the batch kernel (`rotorcontact.studies.batch`) and its allocation-free form for the GPU
-(`rotorcontact.studies.flight_batch`).
+(`rotorcontact.studies.compact_batch`).
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """The allocation-free items of the GPU backend against the simulator's kernel, on the CPU.
 
 The reference runs every item through the simulator's kernel alone (`batch._run_item`). An item that
-`flight_batch` finishes, contact phases included, must have its results bit for bit (the same operations
+`compact_batch` finishes, contact phases included, must have its results bit for bit (the same operations
 in the same order); and both the batch kernel (`run_lanes`) and the completion of the deferred steps
 must give the reference for the whole batch.
 """
@@ -18,7 +18,7 @@ from rotorcontact.studies.batch import (
 )
 from rotorcontact.simulation.simulator import new_tables
 from rotorcontact.studies.cuda_batch import complete_deferred
-from rotorcontact.studies.flight_batch import RING, flight_lanes
+from rotorcontact.studies.compact_batch import RING, compact_lanes
 from reference_parameters import REF
 
 
@@ -40,14 +40,14 @@ def _reference(params, u0, du0, settings, carry):
     return sections, summary
 
 
-def _flight(params, u0, du0, settings, carry):
+def _compact(params, u0, du0, settings, carry):
     n_lanes = params.shape[0]
     sections = np.full(params.shape[:2] + (settings.keep, 4), -7.0)
     summary = np.full(params.shape[:2] + (16,), -7.0)
     deferred = np.empty(n_lanes, np.int64)
     start_u = np.empty(n_lanes, complex)
     start_du = np.empty(n_lanes, complex)
-    flight_lanes(params, u0, du0, carry, settings.n_transient, settings.n_record, settings.transient_time,
+    compact_lanes(params, u0, du0, carry, settings.n_transient, settings.n_record, settings.transient_time,
                  settings.record_time, settings.settle, *settings.chatter_values, sections, summary, deferred,
                  start_u, start_du)
     return sections, summary, deferred, start_u, start_du
@@ -81,7 +81,7 @@ def test_finished_items_are_the_batch_kernels_bit_for_bit(settings):
     batch_sections, batch_summary = run_lanes(params, u0, du0, settings, carry=False)
     assert np.array_equal(batch_sections, sections, equal_nan=True)
     assert np.array_equal(batch_summary, summary, equal_nan=True)
-    sec, summ, deferred, start_u, start_du = _flight(params, u0, du0, settings, False)
+    sec, summ, deferred, start_u, start_du = _compact(params, u0, du0, settings, False)
     done = deferred < 0
     regimes = summary[:, 0, S_REGIME].astype(int)
     # the batch holds impacting, contact-free, rubbing and rolling items, and items that end in contact
@@ -109,7 +109,7 @@ def test_a_carried_lane_into_contact_is_the_batch_kernels_bit_for_bit(gammas):
     assert np.array_equal(batch_summary, summary, equal_nan=True)
     # the chain goes from impacts into continuous contact
     assert summary[0, 0, S_N_CONTACTS] == 0 and summary[0, -1, S_N_CONTACTS] > 0
-    sec, summ, deferred, start_u, start_du = _flight(params, u0, u0, settings, True)
+    sec, summ, deferred, start_u, start_du = _compact(params, u0, u0, settings, True)
     s = deferred[0] if deferred[0] >= 0 else len(gammas)
     assert np.all(_same(sec[0], sections[0])[:s]) and np.all(_same(summ[0], summary[0])[:s])
     complete_deferred(params, u0, u0, settings, True, sec, summ, deferred, start_u, start_du)

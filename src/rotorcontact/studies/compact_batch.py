@@ -77,7 +77,7 @@ from .window import (
     regime_of,
 )
 
-__all__ = ["RING", "flight_lane", "flight_lanes", "ring_buffer"]
+__all__ = ["RING", "compact_lane", "compact_lanes", "ring_buffer"]
 
 #: Impacts held by the ring of a run: more than the 3 MAX_PERIOD_IMPACTS + 1 that period detection reads.
 RING = 4 * MAX_PERIOD_IMPACTS
@@ -155,7 +155,7 @@ def _contact_phase_seen(kind, t0, t1, n_ct, contact_time, end_max, end_not_forwa
 
 
 @njit(cache=True)
-def flight_run(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol, chatter_rdot,
+def compact_run(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol, chatter_rdot,
                chatter_height, chatter_dt, ring, sec):
     """`rotorcontact.simulation.simulator.simulate_into` (continuing at chatter) without its tables.
 
@@ -327,13 +327,13 @@ def flight_run(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_event
 
 
 @njit(cache=True)
-def _flight_transient(p, u, du, n_transient, t_transient, settle, c_tol, c_rdot, c_height, c_dt, ring, no_sec):
+def _compact_transient(p, u, du, n_transient, t_transient, settle, c_tol, c_rdot, c_height, c_dt, ring, no_sec):
     """`rotorcontact.studies.batch._transient` without tables: (u, du, status, duration, impacts)."""
     gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
     if n_transient <= 0:
         return u, du, COMPLETED, 0.0, 0
     if settle <= 0:
-        status, t_stop, n_imp, n_rows, u, du, kind, t_last, contacts = flight_run(
+        status, t_stop, n_imp, n_rows, u, du, kind, t_last, contacts = compact_run(
             gamma, omega, rho, mu, d, phi, rr, u, du, t_transient, n_transient, c_tol, c_rdot, c_height, c_dt,
             ring, no_sec
         )
@@ -346,7 +346,7 @@ def _flight_transient(p, u, du, n_transient, t_transient, settle, c_tol, c_rdot,
     while events_left > 0 and time_left > 0.0:
         if never_touches(u, du, gamma, omega, rho, phi):
             break
-        status, t_stop, n_imp, n_rows, u, du, kind, t_last, contacts = flight_run(
+        status, t_stop, n_imp, n_rows, u, du, kind, t_last, contacts = compact_run(
             gamma, omega, rho, mu, d, phi, rr, u, du, time_left, min(settle, events_left), c_tol, c_rdot,
             c_height, c_dt, ring, no_sec
         )
@@ -364,7 +364,7 @@ def _flight_transient(p, u, du, n_transient, t_transient, settle, c_tol, c_rdot,
 
 
 @njit(cache=True)
-def flight_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot, c_height, c_dt,
+def compact_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot, c_height, c_dt,
                 ring, sec, summ):
     """`rotorcontact.studies.batch._run_item` without tables: (deferred, u, du), filling ``sec`` and ``summ``.
 
@@ -375,7 +375,7 @@ def flight_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle
     """
     gamma, omega, rho, mu, d, phi, rr = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
     no_sec = sec[0:0]
-    u, du, tr_status, t_tr, tr_impacts = _flight_transient(
+    u, du, tr_status, t_tr, tr_impacts = _compact_transient(
         p, u0, du0, n_transient, t_transient, settle, c_tol, c_rdot, c_height, c_dt, ring, no_sec
     )
     for i in range(sec.shape[0]):
@@ -389,7 +389,7 @@ def flight_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle
         fill_summary(summ, COMPLETED, tr_status, NO_CONTACT, 0, math.nan, 0, 0, 0.0, -1, u, du, t_tr, t_record,
                      tr_impacts)
         return False, u, du
-    status, t_stop, n_imp, n_rows, u, du, kind, t_last, contacts = flight_run(
+    status, t_stop, n_imp, n_rows, u, du, kind, t_last, contacts = compact_run(
         gamma, omega, rho, mu, d, phi, rr, u, du, t_record, n_record, c_tol, c_rdot, c_height, c_dt, ring, sec
     )
     n_ct, contact_time, end_max, end_last, kind_last, end_not_forward = contacts
@@ -411,7 +411,7 @@ def flight_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle
 
 
 @njit(cache=True)
-def flight_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot,
+def compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot,
                 c_height, c_dt, sections, summary, ring):
     """The steps of one lane; returns (step, u, du): the first deferred step and its start state.
 
@@ -423,7 +423,7 @@ def flight_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient
         if not carry:
             u = u0[lane, s]
             du = du0[lane, s]
-        deferred, u_end, du_end = flight_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record,
+        deferred, u_end, du_end = compact_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record,
                                               settle, c_tol, c_rdot, c_height, c_dt, ring, sections[lane, s],
                                               summary[lane, s])
         if deferred:
@@ -434,12 +434,12 @@ def flight_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient
 
 
 @njit(cache=True)
-def flight_lanes(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot,
+def compact_lanes(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot,
                  c_height, c_dt, sections, summary, deferred, start_u, start_du):
-    """`flight_lane` for every lane on the CPU, one after the other (a reference for the GPU kernel)."""
+    """`compact_lane` for every lane on the CPU, one after the other (a reference for the GPU kernel)."""
     ring = ring_buffer()
     for lane in range(params.shape[0]):
-        s, u, du = flight_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
+        s, u, du = compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
                                c_tol, c_rdot, c_height, c_dt, sections, summary, ring)
         deferred[lane] = s
         start_u[lane] = u
