@@ -905,3 +905,17 @@ def test_a_steady_rub_runs_to_any_horizon():
     _r, th, _rd, thd = traj.polar(np.array([1e7]))
     # held where the integrator reached rest to its tolerance (the kernel holds once |thetadot| < STEADY_TOL)
     assert abs(th[0] - theta_p2) < 1e-8 and abs(thd[0]) < STEADY_TOL
+
+
+@pytest.mark.parametrize("label,p,theta0,thetadot0,t_end", CONTACT_CASES, ids=[c[0] for c in CONTACT_CASES])
+def test_a_slide_run_without_its_path_ends_where_the_recorded_one_does(label, p, theta0, thetadot0, t_end):
+    """`slide_unrecorded` takes `slide`'s steps: the same end code, time and state, its last path row."""
+    from rotorcontact.model.impact_law import relative_velocity
+    from rotorcontact.simulation.contact import slide, slide_unrecorded
+
+    sgn = 1.0 if relative_velocity(p.r_ratio, thetadot0) > 0.0 else -1.0
+    args = (theta0, thetadot0, 0.0, t_end, sgn, p.gamma, p.omega, p.rho, p.mu, p.phi, p.r_ratio)
+    code, t, theta, thetadot, path, n_path = slide(*args, np.empty((4, 4)), 0)
+    assert n_path >= 2
+    assert slide_unrecorded(*args) == (code, t, theta, thetadot)
+    assert (path[n_path - 1, 1], path[n_path - 1, 2]) == (theta, thetadot)

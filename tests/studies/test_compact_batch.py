@@ -153,3 +153,20 @@ def test_steps_handed_back_run_through_the_simulators_tables_as_the_reference():
                        settings.transient_time, settings.record_time, settings.settle, settings.chatter_values, sec,
                        summ, new_tables())
             assert np.array_equal(sec, sections, equal_nan=True) and np.array_equal(summ, summary, equal_nan=True)
+
+
+def test_items_that_start_on_the_stator_are_the_batch_kernels_bit_for_bit():
+    """Starts pressed onto the stator go straight into contact: sliding either way, rolling, lift-off."""
+    cases = [(REF, 0.3, -10.0), (REF, 0.3, -60.0), (REF.replace(omega=1.2), -2.0, 0.5), (REF, 1.5, 0.0),
+             (REF.replace(r_ratio=2.0, gamma=0.05), 0.3, -3.0), (REF.replace(r_ratio=0.0, omega=0.1, mu=0.6),
+                                                                 REF.phi + 0.3, -1.0)]
+    params = np.array([parameter_array(p) for p, _, _ in cases])[:, None, :]
+    e = np.exp(1j * np.array([th for _, th, _ in cases]))
+    u0 = e[:, None]
+    du0 = (1j * np.array([thd for _, _, thd in cases]) * e)[:, None]
+    for settings in (BatchSettings(n_transient=0, n_record=40), BatchSettings(n_transient=40, n_record=40)):
+        sections, summary = _reference(params, u0, du0, settings, False)
+        sec, summ, deferred, start_u, start_du = _compact(params, u0, du0, settings, False)
+        done = deferred < 0
+        assert np.any(done & (summary[:, 0, S_N_CONTACTS] > 0))
+        assert np.all(_same(sec, sections)[done]) and np.all(_same(summ, summary)[done])
