@@ -160,11 +160,23 @@ def contact_mode(theta, thetadot, next_mode, gamma, omega, rho, mu, phi, r_ratio
 
 
 @njit(cache=True)
-def after_phase(code):
-    """The phase decided by a contact phase's end code, or `NO_MODE` when the next start decides."""
+def after_phase(code, t, t_start, stalls):
+    """What follows a contact phase from t_start to t that ended with ``code``.
+
+    Returns (stop, status, reason, stalls, next_mode): whether the run stops there, with what status and
+    failure reason (`COMPLETED` and `NO_FAILURE` at its end time); the count of phases in a row that
+    made no progress in time; and the phase the switch decided (`NO_MODE` where the next start decides).
+    """
+    stalls = stalls + 1 if t == t_start else 0
+    if stalls > MAX_STALLS:
+        return True, FAILED, CONTACT_STALL, stalls, NO_MODE
+    if code == END:
+        return True, COMPLETED, NO_FAILURE, stalls, NO_MODE
+    if code == STEP_LIMIT:
+        return True, FAILED, CONTACT_STEP_LIMIT, stalls, NO_MODE
     if code == TO_ROLLING or code == TO_SLIDE_FORWARD or code == TO_SLIDE_BACKWARD:
-        return code
-    return NO_MODE
+        return False, COMPLETED, NO_FAILURE, stalls, code
+    return False, COMPLETED, NO_FAILURE, stalls, NO_MODE
 
 
 @njit(cache=True)
@@ -409,18 +421,9 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
             kind = SLIDE_FORWARD if sgn > 0.0 else SLIDE_BACKWARD
             contacts, n_ct = push_row(contacts, n_ct,
                                       np.array([t_start, t, float(kind), float(p_start), float(n_path - 1)]))
-        stalls = stalls + 1 if t == t_start else 0
-        if stalls > MAX_STALLS:
-            status = FAILED
-            reason = CONTACT_STALL
+        stop, status, reason, stalls, next_mode = after_phase(code, t, t_start, stalls)
+        if stop:
             break
-        if code == END:
-            break
-        if code == STEP_LIMIT:
-            status = FAILED
-            reason = CONTACT_STEP_LIMIT
-            break
-        next_mode = after_phase(code)
         if code == LIFTOFF:
             u, du = liftoff_state(theta_c, thetadot_c)
             in_contact = False

@@ -34,12 +34,10 @@ from ..interpreted import complex_quotient
 from ..model.contact_law import normal_force
 from ..simulation.contact import (
     ACCUMULATION,
-    END,
     LIFTOFF,
     ROLLING,
     SLIDE_BACKWARD,
     SLIDE_FORWARD,
-    STEP_LIMIT,
     TO_ROLLING,
     TO_SLIDE_FORWARD,
     roll,
@@ -55,7 +53,6 @@ from ..simulation.simulator import (
     COMPLETED,
     FAILED,
     MAX_EVENTS,
-    MAX_STALLS,
     NO_MODE,
     RDOT_MIN,
     accumulation_point,
@@ -296,16 +293,9 @@ def compact_run(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_even
             n_ct, contact_time, end_max, end_not_forward = _contact_phase_seen(kind, t_start, t, n_ct, contact_time,
                                                                                end_max, end_not_forward)
             end_last, kind_last = t, kind
-        stalls = stalls + 1 if t == t_start else 0
-        if stalls > MAX_STALLS:
-            status = FAILED
+        stop, status, reason, stalls, next_mode = after_phase(code, t, t_start, stalls)
+        if stop:
             break
-        if code == END:
-            break
-        if code == STEP_LIMIT:
-            status = FAILED
-            break
-        next_mode = after_phase(code)
         if code == LIFTOFF:
             u, du = liftoff_state(theta_c, thetadot_c)
             in_contact = False
