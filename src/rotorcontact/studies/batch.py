@@ -291,7 +291,7 @@ def _run_lane_compact(lane, params, u0, du0, carry, n_transient, n_record, t_tra
     returns (step, u, du): the first step it hands back (-1 if none) and the state where that step starts."""
     c_tol, c_rdot, c_height, c_dt = chatter
     return compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol,
-                       c_rdot, c_height, c_dt, sections, summary, ring)
+                        c_rdot, c_height, c_dt, sections, summary, ring)
 
 
 @njit(cache=True, parallel=True)

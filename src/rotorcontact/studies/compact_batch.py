@@ -153,7 +153,7 @@ def _contact_phase_seen(kind, t0, t1, n_ct, contact_time, end_max, end_not_forwa
 
 @njit(cache=True)
 def compact_run(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol, chatter_rdot,
-               chatter_height, chatter_dt, ring, sec):
+                chatter_height, chatter_dt, ring, sec):
     """`rotorcontact.simulation.simulator.simulate_into` (continuing at chatter) without its tables.
 
     The same events in the same order: flights, impacts, touches, accumulations of impacts and the
@@ -355,7 +355,7 @@ def _compact_transient(p, u, du, n_transient, t_transient, settle, c_tol, c_rdot
 
 @njit(cache=True)
 def compact_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot, c_height, c_dt,
-                ring, sec, summ):
+                 ring, sec, summ):
     """`rotorcontact.studies.batch._run_item` without tables: (deferred, u, du), filling ``sec`` and ``summ``.
 
     ``deferred`` (``sec`` and ``summ`` then unfinished) where what this form keeps of the window's contact
@@ -402,7 +402,7 @@ def compact_item(p, u0, du0, n_transient, n_record, t_transient, t_record, settl
 
 @njit(cache=True)
 def compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot,
-                c_height, c_dt, sections, summary, ring):
+                 c_height, c_dt, sections, summary, ring):
     """The steps of one lane; returns (step, u, du): the first deferred step and its start state.
 
     ``step`` is -1 when every step was finished here.
@@ -414,8 +414,8 @@ def compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transien
             u = u0[lane, s]
             du = du0[lane, s]
         deferred, u_end, du_end = compact_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record,
-                                              settle, c_tol, c_rdot, c_height, c_dt, ring, sections[lane, s],
-                                              summary[lane, s])
+                                               settle, c_tol, c_rdot, c_height, c_dt, ring, sections[lane, s],
+                                               summary[lane, s])
         if deferred:
             return s, u, du
         u = u_end
@@ -425,12 +425,12 @@ def compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transien
 
 @njit(cache=True)
 def compact_lanes(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol, c_rdot,
-                 c_height, c_dt, sections, summary, deferred, start_u, start_du):
+                  c_height, c_dt, sections, summary, deferred, start_u, start_du):
     """`compact_lane` for every lane on the CPU, one after the other (a reference for the GPU kernel)."""
     ring = ring_buffer()
     for lane in range(params.shape[0]):
         s, u, du = compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
-                               c_tol, c_rdot, c_height, c_dt, sections, summary, ring)
+                                c_tol, c_rdot, c_height, c_dt, sections, summary, ring)
         deferred[lane] = s
         start_u[lane] = u
         start_du[lane] = du

@@ -25,7 +25,7 @@ def lanes_kernel(params, u0, du0, carry, n_transient, n_record, t_transient, t_r
     if lane < params.shape[0]:
         ring = cuda.local.array((RING_ROWS, 4), float64)
         s, u, du = _lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle,
-                               c_tol, c_rdot, c_height, c_dt, sections, summary, ring)
+                         c_tol, c_rdot, c_height, c_dt, sections, summary, ring)
         deferred[lane] = s
         start_u[lane] = u
         start_du[lane] = du
