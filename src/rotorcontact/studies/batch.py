@@ -284,16 +284,6 @@ def _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record
     return tables
 
 
-@njit(cache=True, nogil=True)
-def _run_lane_compact(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-                      sections, summary, ring):
-    """The steps of one lane without tables (`rotorcontact.studies.compact_batch.compact_lane`, in ``ring``);
-    returns (step, u, du): the first step it hands back (-1 if none) and the state where that step starts."""
-    c_tol, c_rdot, c_height, c_dt = chatter
-    return compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, c_tol,
-                        c_rdot, c_height, c_dt, sections, summary, ring)
-
-
 @njit(cache=True, parallel=True)
 def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
                     sections, summary, order):
@@ -307,8 +297,9 @@ def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, 
     """
     for i in prange(order.size):
         lane = order[i]
-        first, u, du = _run_lane_compact(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
-                                         settle, chatter, sections, summary, ring_buffer())
+        # the lane without tables (its first step handed back, if any, and the state where that step starts)
+        first, u, du = compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
+                                    settle, *chatter, sections, summary, ring_buffer())
         if first >= 0:
             _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
                        settle, chatter, sections, summary, new_tables())
@@ -327,8 +318,8 @@ def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_
     ring = ring_buffer()
     tables = new_tables()
     for lane in range(params.shape[0]):
-        first, u, du = _run_lane_compact(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
-                                         settle, chatter, sections, summary, ring)
+        first, u, du = compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
+                                    settle, *chatter, sections, summary, ring)
         if first >= 0:
             tables = _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record, t_transient,
                                 t_record, settle, chatter, sections, summary, tables)

@@ -1,7 +1,7 @@
 """The window of a batch item: the columns of its summary, its classification and its state where it stopped.
 
-Shared by the batch kernel (`rotorcontact.studies.batch`) and its allocation-free form for the GPU
-(`rotorcontact.studies.compact_batch`).
+Shared by the simulator's tables in the batch kernel (`rotorcontact.studies.batch`) and the table-free
+form of its items (`rotorcontact.studies.compact_batch`), which the batch kernel and the GPU run.
 """
 
 from __future__ import annotations
