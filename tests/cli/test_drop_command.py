@@ -84,6 +84,14 @@ def test_drop_map_json_figure_and_netcdf(cli, machine_file, tmp_path):
     assert code == 2 and "--speed" in err and len(err.strip().splitlines()) == 1
 
 
+def test_drop_map_no_progress_hides_the_progress_bar(cli, machine_file, tmp_path):
+    argv = ("drop-map", machine_file, "--speed", "3000:9000rpm", "--n", "2", "--t-end", "0.01s")
+    code, out, err = cli.run(*argv, "--out", str(tmp_path / "a"))
+    assert code == 0 and "drop-map: 100%|" in err  # the progress bar
+    code, out, err = cli.run(*argv, "--out", str(tmp_path / "b"), "--no-progress")
+    assert code == 0 and "%|" not in err and out.startswith("2 drops:")
+
+
 def test_drop_with_a_compliant_bearing_matches_the_python_api(cli, tmp_path):
     path = tmp_path / "c.toml"
     path.write_text(GENERAL + 'contact = "compliant"\ncontact_stiffness = "1e10 N/m**1.5"\n')

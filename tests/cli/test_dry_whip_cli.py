@@ -44,6 +44,7 @@ def test_dry_whip_json_contract_matches_the_python_api(cli, machine_file):
     api = steady_dry_whip(load_machine(machine_file).with_speed(6000 * RPM)).to_dict()
     assert data == api  # JSON keeps every float exactly
     assert data["speed_rpm"] == pytest.approx(6000.0, rel=1e-14)
+    assert data["machine"]["speed"] == pytest.approx(6000 * RPM, rel=1e-14)  # the machine whose whip it is
     assert data["whirl_frequency_hz"] < 0.0 < data["coupled_frequency_hz"]
     assert abs(data["whirl_frequency_hz"]) < data["coupled_frequency_hz"]
     code, out, _err = cli.run("dry-whip", machine_file)

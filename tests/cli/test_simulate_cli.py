@@ -126,6 +126,18 @@ def test_argparse_errors_exit_2_without_traceback(cli):
         assert code == 2 and "Traceback" not in err
 
 
+@pytest.mark.parametrize("command, needed", [
+    ("simulate", ()), ("basins", ("--grid", "shock:4", "--out", "b.nc")),
+    ("drop-map", ("reference", "--speed", "1000:2000rpm", "--out", "m")),
+])
+def test_an_unknown_option_is_refused_by_its_subcommand(command, needed, cli):
+    code, out, err = cli.run(command, *needed, "--bogus", "1")
+    lines = err.strip().splitlines()
+    assert code == 2 and out == ""
+    assert lines[0].startswith(f"usage: rotorcontact {command} ")
+    assert lines[-1] == f"rotorcontact {command}: error: unrecognized arguments: --bogus 1"
+
+
 def test_undamped_resonance_is_not_a_traceback(cli):
     code, out, err = cli.exe("simulate", "--gamma", "0", "--omega", "1", "--t-end", "5")
     assert "Traceback" not in err

@@ -30,6 +30,15 @@ def diagram():
     return codim2_diagram(REF.replace(gamma=0.1), ("gamma", "omega"), ((0.0, 0.5), (0.6, 1.25)))
 
 
+def test_no_curve_repeats_a_point(diagram):
+    # the fold and grazing curves have seeds on the box's edge omega = 0.6
+    for name, curve in diagram.curves.items():
+        for piece in curve.pieces:
+            assert len(piece) > 1 and np.all(np.any(piece[1:] != piece[:-1], axis=1)), name
+        listed = curve.to_list()
+        assert all(a != b for a, b in zip(listed, listed[1:]) if a is not None), name
+
+
 def test_dib_curve_is_gamma_dib_of_omega(diagram):
     xy = diagram.curves["dib"].xy()
     xy = xy[np.isfinite(xy[:, 0])]

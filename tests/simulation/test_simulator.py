@@ -361,6 +361,18 @@ def test_too_close_to_undamped_resonance_is_rejected_clearly(gamma):
     assert "omega" in msg and "gamma" in msg and "resonance" in msg and "allowed" in msg
 
 
+@pytest.mark.parametrize("rho", [1e6, 500.0])
+def test_too_large_an_unbalance_is_rejected_naming_rho(rho):
+    """Far from resonance, a forced response beyond 1000 clearances comes from rho: the message gives its bound."""
+    p = REF.replace(rho=rho)
+    with pytest.raises(ParameterError) as err:
+        simulate(p, 0.3 + 0j, 0.2j, 30.0)
+    msg = str(err.value)
+    bound = 1e3 * abs(complex(p.omega**2 - 1.0, p.gamma))
+    assert msg.startswith(f"rho = {rho!r}") and f"allowed: rho <= 1000 |omega^2 - 1 + i gamma| = {bound:.3g}" in msg
+    simulate(REF.replace(rho=bound * 0.999), 0.3 + 0j, 0.2j, 1.0)  # just inside: simulated
+
+
 def test_undamped_resonance_is_simulated_or_rejected_cleanly(ref):
     p = Parameters(gamma=0.0, omega=1.0, rho=0.5, mu=0.1, d=0.9, phi=0.3, r_ratio=10.0)
     try:

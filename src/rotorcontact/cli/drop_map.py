@@ -32,7 +32,8 @@ def register(sub) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="folder for drop_map.nc and drop_map.png")
     p.add_argument("--chunk-size", dest="chunk_size", default="16", metavar="N", help="drops per chunk")
     p.add_argument("--json", action="store_true", help="print the map as JSON on stdout")
-    add_executor_options(p)
+    g = add_executor_options(p)
+    g.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr")
     p.set_defaults(func=run)
 
 
@@ -62,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     out = check_output_folder("--out", args.out)
     out.mkdir(parents=True, exist_ok=True)
     run_ = drop_map(machine, speeds, frictions, fail_at=fail_at, t_end=t_end, chunk_size=chunk,
-                    out=Path(out) / "drop_map.nc", progress=not args.json, **executor_kwargs(args))
+                    out=Path(out) / "drop_map.nc", progress=args.progress and not args.json, **executor_kwargs(args))
     ds = run_.dataset
     from ..plotting.drop_map import save_drop_map_figure
 

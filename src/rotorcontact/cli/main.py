@@ -57,6 +57,7 @@ def build_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"rotorcontact {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     sub.required = True
+    parser.set_defaults(_commands=sub.choices)
     # the top level has no option taking a value, so the first word that is not an option names the command
     named = None if argv is None else next((a for a in argv if not a.startswith("-")), "")
     for name, summary in SUBCOMMANDS.items():
@@ -79,7 +80,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         argv = sys.argv[1:] if argv is None else list(argv)
         parser = build_parser(argv)
-        args = parser.parse_args(argv)
+        args, unknown = parser.parse_known_args(argv)
+        if unknown:  # refused by the subcommand's parser, whose usage and name the message then carries
+            args._commands[args.command].error(f"unrecognized arguments: {' '.join(unknown)}")
         command = f"rotorcontact {args.command}"
         return _run(args, command)
     except KeyboardInterrupt:

@@ -46,10 +46,10 @@ def add_scale_options(parser: argparse.ArgumentParser, default_chunk: str, *, ba
     if backend:
         g.add_argument("--backend", default="cpu", choices=BACKEND_CHOICES,
                        help="'cuda' runs the simulations on this machine's NVIDIA GPU (needs numba-cuda: "
-                            "pip install 'rotorcontact[cuda]'); motion that enters continuous contact is "
-                            "finished on the CPU. It pays with many independent simulations (basins, "
-                            "attractors, independent sweeps), not for a sweep that carries its state "
-                            "(it keeps two GPU threads busy). Default: cpu")
+                            "pip install 'rotorcontact[cuda]'), contact phases included; a rare simulation "
+                            "whose contact phases end out of order by rounding is finished on the CPU. It pays "
+                            "with many independent simulations (basins, attractors, independent sweeps), not for "
+                            "a sweep that carries its state (it keeps two GPU threads busy). Default: cpu")
     g.add_argument("--chunk-size", dest="chunk_size", default=None, metavar="K",
                    help=f"simulations per chunk written to disk (default {default_chunk}); results do not depend on "
                         "it, and an interrupted run resumes with the chunk size it was started with")

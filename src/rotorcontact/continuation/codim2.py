@@ -306,6 +306,8 @@ def _trace(
         if both is None:
             continue
         pts = both.points
+        # a seed on the box's edge ends its outward run at once, on itself: one point, not two
+        pts = pts[np.concatenate(([True], np.any(pts[1:] != pts[:-1], axis=1)))]
         pieces.append(pts)
         ends.extend(both.messages)
         found.extend(both.events)

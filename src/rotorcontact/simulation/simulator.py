@@ -539,11 +539,12 @@ def simulate(
     chatter_dt = check_range("chatter_dt", chatter_dt, low=0.0)
     k_abs = abs(params.k) if call_kernel(has_regular_equilibrium, params.gamma, params.omega) else math.inf
     if k_abs > K_MAX:
+        distance = abs(complex(params.omega**2 - 1.0, params.gamma))
         raise ParameterError(
-            f"omega = {params.omega!r}, gamma = {params.gamma!r} are too close to undamped resonance "
-            f"(|omega^2 - 1 + i gamma| = {abs(complex(params.omega**2 - 1.0, params.gamma)):.3g}): the forced "
-            f"response |k| = {k_abs:.3g} clearances is beyond the simulator's accurate range; allowed: "
-            f"|omega^2 - 1 + i gamma| >= rho / {K_MAX:g} = {params.rho / K_MAX:.3g}"
+            f"rho = {params.rho!r}, omega = {params.omega!r}, gamma = {params.gamma!r}: the forced response "
+            f"|k| = rho / |omega^2 - 1 + i gamma| = {k_abs:.3g} clearances is beyond the simulator's accurate range "
+            f"(|k| <= {K_MAX:g}); allowed: rho <= {K_MAX:g} |omega^2 - 1 + i gamma| = {K_MAX * distance:.3g}, or "
+            "omega and gamma farther from the undamped resonance (omega = 1, gamma = 0)"
         )
     p = params
     impacts, flights, contacts, path, status, reason, t_stop = call_kernel(

@@ -10,6 +10,7 @@ import numpy as np
 from numba import njit
 
 from .contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_BACKWARD, SLIDE_FORWARD
+from .phase_sampling import PhaseForces, peak_of_samples, phase_times
 
 from ..errors import ParameterError
 from ..interpreted import call_kernel
@@ -277,37 +278,80 @@ class Trajectory:
 
         Both are zero in free flight. The tangential force is along +theta:
         -mu N sgn(v_rel) when sliding, and the force that holds v_rel = 0 when
-        rolling (MODEL.md §4).
+        rolling (MODEL.md §4). At the time where a phase gives way to the next
+        phase, or to flight, the later one's forces are given.
         """
-        from ..model.contact_law import forces_along
-
         tt = np.asarray(t, dtype=float)
-        r, theta, _rdot, thetadot = self.polar(tt)
+        _r, theta, _rdot, thetadot = self.polar(tt)
         phase = self.in_contact(tt)
-        p = self.params
         n = np.zeros(tt.shape)
         ft = np.zeros(tt.shape)
         for j in np.unique(phase[phase >= 0]):
             sel = phase == j
-            kind = int(self.contacts[j, 2])
-            th, thd = np.ascontiguousarray(theta[sel]), np.ascontiguousarray(thetadot[sel])
-            nn, f_free = call_kernel(forces_along, th, thd, p.gamma, p.omega, p.rho, p.phi)
-            n[sel] = nn
-            if kind == ROLLING:
-                ft[sel] = -f_free
-            elif kind == SLIDE_FORWARD:
-                ft[sel] = -p.mu * nn
-            elif kind == SLIDE_BACKWARD:
-                ft[sel] = p.mu * nn
-            else:  # accumulation of impacts: friction opposes the slip
-                ft[sel] = -p.mu * nn * np.sign(relative_velocity(p.r_ratio, thetadot[sel]))
+            n[sel], ft[sel] = self._phase_law(theta[sel], thetadot[sel], int(self.contacts[j, 2]))
         return n, ft
+
+    def _phase_law(self, theta: np.ndarray, thetadot: np.ndarray, kind: int) -> tuple[np.ndarray, np.ndarray]:
+        """(N, F_t) of a contact phase of kind ``kind`` (a code of `KIND_NAMES`) at the polar states given."""
+        from ..model.contact_law import forces_along
+
+        p = self.params
+        n, f_free = call_kernel(forces_along, np.ascontiguousarray(theta), np.ascontiguousarray(thetadot),
+                                p.gamma, p.omega, p.rho, p.phi)
+        if kind == ROLLING:
+            return n, -f_free
+        if kind == SLIDE_FORWARD:
+            return n, -p.mu * n
+        if kind == SLIDE_BACKWARD:
+            return n, p.mu * n
+        # accumulation of impacts: friction opposes the slip
+        return n, -p.mu * n * np.sign(relative_velocity(p.r_ratio, thetadot))
 
     def friction_power(self, t) -> np.ndarray:
         """Power dissipated by friction per unit mass (dimensionless), |F_t v_rel|, at times ``t``."""
         _n, ft = self.contact_forces(t)
         thetadot = self.polar(t)[3]
         return np.abs(ft * relative_velocity(self.params.r_ratio, thetadot))
+
+    def phase_forces(self, t_start: float, t_end: float, kind: str) -> PhaseForces:
+        """The largest forces and the mean friction power of the contact phase of ``kind`` on [t_start, t_end].
+
+        Every time of the closed span is taken in this phase (at its end, `contact_forces` gives the next
+        phase's forces). The sample times (`phase_sampling.phase_times`) are at most 0.05 apart, and close
+        enough that theta turns at most pi/16 between neighbours; the largest values are refined about the
+        largest sample (`phase_sampling.peak_of_samples`), and the mean power is Romberg's rule on the samples
+        (2**k + 1 of them) divided by the span.
+
+        Parameters
+        ----------
+        t_start, t_end : float
+            The phase's span, within [0, t_stop].
+        kind : str
+            Its kind, one of `KIND_NAMES`.
+
+        Returns
+        -------
+        PhaseForces
+            Dimensionless (per unit mass): the largest N, the largest |F_t| and the mean of |F_t v_rel|.
+        """
+        from scipy.integrate import romb
+
+        code = KIND_NAMES.index(kind)
+        r_ratio = self.params.r_ratio
+
+        def law(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            _r, theta, _rdot, thetadot = self.polar(t)
+            n, ft = self._phase_law(theta, thetadot, code)
+            return n, np.abs(ft), np.abs(ft * relative_velocity(r_ratio, thetadot))
+
+        t = phase_times(lambda x: np.abs(self.polar(x)[3]), t_start, t_end)
+        n, ft, power = law(t)
+        mean_power = float(romb(power, dx=t[1] - t[0]) / (t_end - t_start)) if t.size > 1 else float(power[0])
+        return PhaseForces(
+            max_normal=peak_of_samples(lambda x: law(x)[0], t, n),
+            max_friction=peak_of_samples(lambda x: law(x)[1], t, ft),
+            mean_power=mean_power,
+        )
 
     def U(self, t) -> np.ndarray:
         """Co-rotating position U(t)."""
@@ -351,13 +395,12 @@ class Trajectory:
         base = np.linspace(0.0, self.t_stop, n)
         return np.unique(np.concatenate((base, self.impacts.t)))
 
-    def contact_dicts(self, samples: int = 64, intervals: list[ContactInterval] | None = None) -> list[dict[str, Any]]:
-        """Contact intervals as plain dicts; with a machine, also their forces and friction power in SI.
+    def contact_dicts(self, intervals: list[ContactInterval] | None = None) -> list[dict[str, Any]]:
+        """Contact intervals as plain dicts; with a machine, also their largest forces and mean friction power in
+        SI (`phase_forces`).
 
         Parameters
         ----------
-        samples : int
-            Sample times per interval for the SI forces and power.
         intervals : list of ContactInterval, optional
             The intervals to describe (default: all of `contact_intervals`).
         """
@@ -366,15 +409,13 @@ class Trajectory:
         for c in self.contact_intervals if intervals is None else intervals:
             row = c.to_dict()
             if m is not None:
-                t = np.linspace(c.t_start, min(c.t_end, self.t_stop), samples)
-                n, ft = self.contact_forces(t)
-                power = self.friction_power(t)
+                f = self.phase_forces(c.t_start, min(c.t_end, self.t_stop), c.kind)
                 row.update(
                     t_start_s=c.t_start * m.time_scale,
                     t_end_s=c.t_end * m.time_scale,
-                    max_normal_force_N=float(n.max()) * m.force_scale,
-                    max_friction_force_N=float(np.abs(ft).max()) * m.force_scale,
-                    mean_friction_power_W=float(power.mean()) * m.force_scale * m.clearance * m.speed,
+                    max_normal_force_N=f.max_normal * m.force_scale,
+                    max_friction_force_N=f.max_friction * m.force_scale,
+                    mean_friction_power_W=f.mean_power * m.force_scale * m.clearance * m.speed,
                 )
             out.append(row)
         return out

@@ -1,0 +1,96 @@
+"""Sample times of a contact phase, and the largest value of a smooth quantity along it.
+
+Used by `rotorcontact.simulation.trajectory.Trajectory.phase_forces` for the largest contact forces and the mean
+friction power of each phase.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["PhaseForces", "phase_times", "peak_of_samples", "PHASE_DT", "PHASE_DTHETA", "PHASE_MAX_STEPS"]
+
+#: Largest step in (dimensionless) time between two sample times of a phase.
+PHASE_DT = 0.05
+#: Largest turn of theta between two sample times of a phase.
+PHASE_DTHETA = math.pi / 16
+#: Fewest and most steps between the sample times of a phase (powers of two, so the times are odd in number).
+PHASE_MIN_STEPS = 64
+PHASE_MAX_STEPS = 2**20
+#: Times of the resampling about the largest sample in `peak_of_samples`.
+REFINE_SAMPLES = 33
+
+
+@dataclass(frozen=True)
+class PhaseForces:
+    """Forces of one contact phase, per unit mass (dimensionless).
+
+    Attributes
+    ----------
+    max_normal : float
+        The largest normal force N.
+    max_friction : float
+        The largest tangential force |F_t|.
+    mean_power : float
+        The mean friction power |F_t v_rel| over the phase.
+    """
+
+    max_normal: float
+    max_friction: float
+    mean_power: float
+
+
+def phase_times(rate: Callable[[np.ndarray], np.ndarray], t_start: float, t_end: float) -> np.ndarray:
+    """Equally spaced times on [t_start, t_end], at most `PHASE_DT` apart and close enough that theta turns at
+    most `PHASE_DTHETA` between neighbours.
+
+    Parameters
+    ----------
+    rate : callable
+        |theta'| at an array of times.
+    t_start, t_end : float
+        The span; a single time where they are equal.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``2**k + 1`` times (``PHASE_MIN_STEPS <= 2**k <= PHASE_MAX_STEPS``): the step count doubles while the
+        largest rate sampled asks for more, so at most log2(PHASE_MAX_STEPS / PHASE_MIN_STEPS) + 1 passes.
+    """
+    span = t_end - t_start
+    if not span > 0.0:
+        return np.array([t_start])
+    steps = PHASE_MIN_STEPS
+    while True:
+        t = np.linspace(t_start, t_end, steps + 1)
+        needed = span * max(1.0 / PHASE_DT, float(np.max(rate(t))) / PHASE_DTHETA)
+        if steps >= needed or steps >= PHASE_MAX_STEPS:
+            return t
+        steps = min(PHASE_MAX_STEPS, max(2 * steps, 1 << math.ceil(math.log2(needed))))
+
+
+def peak_of_samples(f: Callable[[np.ndarray], np.ndarray], t: np.ndarray, values: np.ndarray) -> float:
+    """The largest value of the smooth ``f``, sampled as ``values`` at the increasing times ``t``.
+
+    The two steps about the largest sample are sampled again (`REFINE_SAMPLES` times), and ``f`` is taken at the
+    vertex of the parabola through the largest of those and its neighbours; the result is the largest value seen,
+    so never below the largest sample.
+    """
+    k = int(np.argmax(values))
+    best = float(values[k])
+    if t.size < 2:
+        return best
+    near = np.linspace(t[max(k - 1, 0)], t[min(k + 1, t.size - 1)], REFINE_SAMPLES)
+    v = f(near)
+    j = int(np.argmax(v))
+    best = max(best, float(v[j]))
+    if 0 < j < near.size - 1:
+        curvature = v[j - 1] - 2.0 * v[j] + v[j + 1]
+        if curvature < 0.0:
+            vertex = near[j] + 0.5 * (near[1] - near[0]) * (v[j - 1] - v[j + 1]) / curvature
+            best = max(best, float(f(np.array([vertex]))[0]))
+    return best
