@@ -12,7 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["PhaseForces", "phase_times", "peak_of_samples", "PHASE_DT", "PHASE_DTHETA", "PHASE_MAX_STEPS"]
+__all__ = ["PhaseForces", "phase_times", "phase_grids", "peak_of_samples", "PHASE_DT", "PHASE_DTHETA",
+           "PHASE_MAX_STEPS", "PHASE_MAX_PIECES"]
 
 #: Largest step in (dimensionless) time between two sample times of a phase.
 PHASE_DT = 0.05
@@ -21,6 +22,8 @@ PHASE_DTHETA = math.pi / 16
 #: Fewest and most steps between the sample times of a phase (powers of two, so the times are odd in number).
 PHASE_MIN_STEPS = 64
 PHASE_MAX_STEPS = 2**20
+#: Most pieces of `PHASE_MAX_STEPS` steps that `phase_grids` cuts a phase into.
+PHASE_MAX_PIECES = 32
 #: Times of the resampling about the largest sample in `peak_of_samples`.
 REFINE_SAMPLES = 33
 
@@ -44,9 +47,23 @@ class PhaseForces:
     mean_power: float
 
 
+def _times(rate: Callable[[np.ndarray], np.ndarray], t_start: float, t_end: float) -> tuple[np.ndarray, float]:
+    """`phase_times`, and the steps that the largest rate sampled on them asks for."""
+    span = t_end - t_start
+    if not span > 0.0:
+        return np.array([t_start]), 0.0
+    steps = PHASE_MIN_STEPS
+    while True:
+        t = np.linspace(t_start, t_end, steps + 1)
+        needed = span * max(1.0 / PHASE_DT, float(np.max(rate(t))) / PHASE_DTHETA)
+        if steps >= needed or steps >= PHASE_MAX_STEPS:
+            return t, needed
+        steps = min(PHASE_MAX_STEPS, max(2 * steps, 1 << math.ceil(math.log2(needed))))
+
+
 def phase_times(rate: Callable[[np.ndarray], np.ndarray], t_start: float, t_end: float) -> np.ndarray:
     """Equally spaced times on [t_start, t_end], at most `PHASE_DT` apart and close enough that theta turns at
-    most `PHASE_DTHETA` between neighbours.
+    most `PHASE_DTHETA` between neighbours, in at most `PHASE_MAX_STEPS` steps.
 
     Parameters
     ----------
@@ -60,17 +77,29 @@ def phase_times(rate: Callable[[np.ndarray], np.ndarray], t_start: float, t_end:
     numpy.ndarray
         ``2**k + 1`` times (``PHASE_MIN_STEPS <= 2**k <= PHASE_MAX_STEPS``): the step count doubles while the
         largest rate sampled asks for more, so at most log2(PHASE_MAX_STEPS / PHASE_MIN_STEPS) + 1 passes.
+        Where the bounds ask for more than `PHASE_MAX_STEPS` steps they are not met (see `phase_grids`).
     """
-    span = t_end - t_start
-    if not span > 0.0:
-        return np.array([t_start])
-    steps = PHASE_MIN_STEPS
-    while True:
-        t = np.linspace(t_start, t_end, steps + 1)
-        needed = span * max(1.0 / PHASE_DT, float(np.max(rate(t))) / PHASE_DTHETA)
-        if steps >= needed or steps >= PHASE_MAX_STEPS:
-            return t
-        steps = min(PHASE_MAX_STEPS, max(2 * steps, 1 << math.ceil(math.log2(needed))))
+    return _times(rate, t_start, t_end)[0]
+
+
+def phase_grids(rate: Callable[[np.ndarray], np.ndarray], t_start: float, t_end: float) -> list[np.ndarray]:
+    """`phase_times` of consecutive pieces of [t_start, t_end], as many as the bounds ask for.
+
+    A span that needs more than `PHASE_MAX_STEPS` steps is cut into equal pieces, each sampled by
+    `phase_times`, so that memory stays bounded; at most `PHASE_MAX_PIECES` of them (a whirl of about a
+    million turns), beyond which the pieces' samples are coarser than the bounds.
+
+    Returns
+    -------
+    list of numpy.ndarray
+        The pieces' times in order; each piece's last time is the next one's first.
+    """
+    t, needed = _times(rate, t_start, t_end)
+    pieces = min(PHASE_MAX_PIECES, math.ceil(needed / PHASE_MAX_STEPS))
+    if pieces <= 1:
+        return [t]
+    ends = np.linspace(t_start, t_end, pieces + 1)
+    return [phase_times(rate, float(a), float(b)) for a, b in zip(ends[:-1], ends[1:])]
 
 
 def peak_of_samples(f: Callable[[np.ndarray], np.ndarray], t: np.ndarray, values: np.ndarray) -> float:

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 
 from .contact import ACCUMULATION, KIND_NAMES, ROLLING, SLIDE_BACKWARD, SLIDE_FORWARD
-from .phase_sampling import PhaseForces, peak_of_samples, phase_times
+from .phase_sampling import PhaseForces, peak_of_samples, phase_grids
 
 from ..errors import ParameterError
 from ..interpreted import call_kernel
@@ -317,10 +317,10 @@ class Trajectory:
         """The largest forces and the mean friction power of the contact phase of ``kind`` on [t_start, t_end].
 
         Every time of the closed span is taken in this phase (at its end, `contact_forces` gives the next
-        phase's forces). The sample times (`phase_sampling.phase_times`) are at most 0.05 apart, and close
-        enough that theta turns at most pi/16 between neighbours; the largest values are refined about the
-        largest sample (`phase_sampling.peak_of_samples`), and the mean power is Romberg's rule on the samples
-        (2**k + 1 of them) divided by the span.
+        phase's forces). The sample times (`phase_sampling.phase_grids`) are at most 0.05 apart, and close
+        enough that theta turns at most pi/16 between neighbours (up to a whirl of about a million turns);
+        the largest values are refined about the largest sample (`phase_sampling.peak_of_samples`), and the
+        mean power is Romberg's rule on the samples.
 
         Parameters
         ----------
@@ -344,14 +344,18 @@ class Trajectory:
             n, ft = self._phase_law(theta, thetadot, code)
             return n, np.abs(ft), np.abs(ft * relative_velocity(r_ratio, thetadot))
 
-        t = phase_times(lambda x: np.abs(self.polar(x)[3]), t_start, t_end)
-        n, ft, power = law(t)
-        mean_power = float(romb(power, dx=t[1] - t[0]) / (t_end - t_start)) if t.size > 1 else float(power[0])
-        return PhaseForces(
-            max_normal=peak_of_samples(lambda x: law(x)[0], t, n),
-            max_friction=peak_of_samples(lambda x: law(x)[1], t, ft),
-            mean_power=mean_power,
-        )
+        grids = phase_grids(lambda x: np.abs(self.polar(x)[3]), t_start, t_end)
+        max_normal = max_friction = -np.inf
+        means = np.empty(len(grids))
+        for i, t in enumerate(grids):
+            n, ft, power = law(t)
+            max_normal = max(max_normal, peak_of_samples(lambda x: law(x)[0], t, n))
+            max_friction = max(max_friction, peak_of_samples(lambda x: law(x)[1], t, ft))
+            # Romberg's rule with the step 1 / steps: the piece's mean, exact in its span down to none
+            means[i] = romb(power, dx=1.0 / (t.size - 1)) if t.size > 1 else power[0]
+        widths = np.array([t[-1] - t[0] for t in grids])
+        mean_power = float(means[0]) if len(grids) == 1 else float(means @ widths / widths.sum())
+        return PhaseForces(max_normal=max_normal, max_friction=max_friction, mean_power=mean_power)
 
     def U(self, t) -> np.ndarray:
         """Co-rotating position U(t)."""
