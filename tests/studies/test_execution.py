@@ -82,6 +82,28 @@ def test_executors_count_the_workers_that_take_chunks():
         assert joblib.workers == workers
 
 
+def test_a_local_cluster_leaves_port_8787_alone():
+    """Another cluster's dashboard on 8787 neither warns nor is taken: the local cluster has no dashboard."""
+    import socket
+    import warnings
+
+    held = socket.socket()
+    try:
+        held.bind(("127.0.0.1", 8787))
+        held.listen()
+    except OSError:  # already held by something else: as good for the test
+        pass
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            with make_executor(n_jobs=1, scheduler="local", processes=False) as dask:
+                port = dask._cluster.scheduler.http_server.port
+        assert port != 8787
+        assert not [w for w in caught if "already in use" in str(w.message)], [str(w.message) for w in caught]
+    finally:
+        held.close()
+
+
 def test_too_many_joblib_workers_are_capped_with_a_warning():
     with pytest.warns(RuntimeWarning, match="more than the .* cores"):
         executor = make_executor(n_jobs=10**6)

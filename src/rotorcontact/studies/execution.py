@@ -426,8 +426,11 @@ class DaskExecutor(_Executor):
             n = n_workers or available_cores()
             try:
                 with _interrupts_blocked():
+                    # no dashboard; the scheduler's HTTP routes on a free local port rather than on 8787,
+                    # which another cluster may hold (Dask would warn on stderr and take another)
                     self._cluster = LocalCluster(
-                        n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None
+                        n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None,
+                        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
                     )
                     self.client = Client(self._cluster)
                     if processes:
