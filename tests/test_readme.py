@@ -93,12 +93,35 @@ def test_readme_example_is_what_the_command_prints(capsys, command, marker):
 
 
 def test_the_three_panel_trajectory_figure_is_documented_as_the_exception():
-    # every plotting function takes an optional ax, except plot_trajectory, which returns (fig, axes)
+    # the paper's plotting functions take an optional ax, except plot_trajectory, which returns (fig, axes)
+    import importlib
     import inspect
+    import pkgutil
 
+    import rotorcontact.plotting as plotting
     from rotorcontact.plotting import trajectory
 
+    text = " ".join(README.split())
     assert "ax" not in inspect.signature(trajectory.plot_trajectory).parameters
-    assert "except `plot_trajectory`" in README
+    assert "except `plot_trajectory`" in text
     for name in ("plot_inertial", "plot_corotating", "plot_radius"):
         assert "ax" in inspect.signature(getattr(trajectory, name)).parameters
+    # the others, as the README lists them: into an optional axes, or always into a new figure
+    functions = {}
+    for info in pkgutil.iter_modules(plotting.__path__):
+        module = importlib.import_module(f"rotorcontact.plotting.{info.name}")
+        functions.update({k: v for k, v in vars(module).items()
+                          if k.startswith("plot_") and callable(v) and v.__module__ == module.__name__})
+    into_axes = ("plot_attractors", "plot_local_figure")
+    new_figure = ("plot_velocities", "plot_design_map", "plot_drop", "plot_drop_map", "plot_touchdown_forces",
+                  "plot_rigid_limit", "plot_dry_whip")
+    assert "`plot_attractors` and `plot_local_figure` draw several panels into an optional `axes`" in text
+    assert "`plot_rigid_limit` and `plot_dry_whip` always draw a new figure" in text
+    for name in into_axes + ("plot_trajectory",):
+        assert "axes" in inspect.signature(functions[name]).parameters, name
+    for name in new_figure:
+        assert not {"ax", "axes"} & set(inspect.signature(functions[name]).parameters), name
+    others = set(functions) - set(into_axes) - set(new_figure) - {"plot_trajectory"}
+    assert len(others) > 20
+    for name in others:
+        assert "ax" in inspect.signature(functions[name]).parameters, name
