@@ -131,9 +131,11 @@ def ceiling(values, transient: int, record: int, processes: int) -> tuple[float,
 @contextlib.contextmanager
 def running_cluster(workers: int):
     """A Dask LocalCluster of single-threaded worker processes, started and given a chunk before any timing."""
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
-    with LocalCluster(n_workers=workers, threads_per_worker=1, dashboard_address=None) as cluster, \
+    from rotorcontact.studies.execution import local_cluster
+
+    with local_cluster(workers) as cluster, \
             Client(cluster) as client:
         load = sweep_values(0.1, 0.12, 4 * workers)
         sweep(rc.Parameters.reference(), "gamma", load, scheduler=client, chunk_size=1, **run_options(10, 10))

@@ -120,13 +120,15 @@ def test_x_r_is_reached_only_where_it_is_admissible():
 
 
 def test_identical_results_across_executors(tmp_path):
-    from distributed import Client, LocalCluster
+    from distributed import Client
+
+    from rotorcontact.studies.execution import local_cluster
 
     kw = {"grid": "plane:7", "progress": False, "chunk_size": 40, "t_lyapunov": 100.0}
     values = [0.08, 0.12, 0.16]
     a = attractors(REF, "gamma", values, out=tmp_path / "a.nc", **kw)
     b = attractors(REF, "gamma", values, out=tmp_path / "b.nc", n_jobs=2, **kw)
-    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None)
+    cluster = local_cluster(2, processes=False)
     client = Client(cluster)
     try:
         c = attractors(REF, "gamma", values, out=tmp_path / "c.nc", scheduler=client, **kw)

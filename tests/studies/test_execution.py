@@ -267,13 +267,12 @@ def test_a_service_that_is_not_a_dask_scheduler_is_refused_in_bounded_time(monke
 @pytest.fixture
 def tcp_cluster():
     """An in-process LocalCluster on TCP, with one worker, and a factory of more such clusters."""
-    from distributed import LocalCluster
+    from rotorcontact.studies.execution import local_cluster
 
     clusters = []
 
     def make(n_workers):
-        cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=False, protocol="tcp",
-                               dashboard_address=None)
+        cluster = local_cluster(n_workers, processes=False, protocol="tcp")
         clusters.append(cluster)
         return cluster
 

@@ -117,13 +117,15 @@ def test_sweep_over_another_parameter_and_named_start():
 
 
 def test_dask_local_cluster_equals_joblib_bit_for_bit(tmp_path):
-    from distributed import Client, LocalCluster
+    from distributed import Client
+
+    from rotorcontact.studies.execution import local_cluster
 
     values = sweep_values(0.08, 0.2, 10)
     kw = dict(mode="both", n_transient=300, n_record=30, chunk_size=3, progress=False)
     ref = sweep(REF, "gamma", values, out=tmp_path / "inproc.nc", **kw)
     jl = sweep(REF, "gamma", values, n_jobs=2, out=tmp_path / "joblib.nc", **kw)
-    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None)
+    cluster = local_cluster(2, processes=False)
     client = Client(cluster)
     try:
         assert len(client.scheduler_info()["workers"]) == 2

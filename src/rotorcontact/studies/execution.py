@@ -384,6 +384,27 @@ class JoblibExecutor(_Executor):
                     pool.shutdown(wait=False, kill_workers=True)
 
 
+def local_cluster(n_workers: int, processes: bool = True, **kwargs: Any) -> Any:
+    """A `distributed.LocalCluster` of ``n_workers`` single-threaded workers, without a dashboard.
+
+    Its scheduler serves Dask's HTTP routes on a free port of 127.0.0.1 rather than on 8787, which another
+    cluster may hold (Dask would then warn on stderr and take another port).
+
+    Parameters
+    ----------
+    n_workers : int
+        Workers.
+    processes : bool
+        Workers as processes (True) or as threads of this process.
+    **kwargs
+        Further arguments of `distributed.LocalCluster` (``protocol``, for example).
+    """
+    from distributed import LocalCluster
+
+    return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=processes, dashboard_address=None,
+                        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, **kwargs)
+
+
 class DaskExecutor(_Executor):
     """Chunks as tasks on a Dask distributed cluster.
 
@@ -410,7 +431,7 @@ class DaskExecutor(_Executor):
 
     def __init__(self, scheduler: Any, n_workers: int | None = None, processes: bool = True) -> None:
         try:
-            from distributed import Client, LocalCluster
+            from distributed import Client
         except ImportError:  # pragma: no cover - a declared dependency
             raise ParameterError("scheduler given but dask.distributed is not installed") from None
         self._cluster = None
@@ -426,12 +447,7 @@ class DaskExecutor(_Executor):
             n = n_workers or available_cores()
             try:
                 with _interrupts_blocked():
-                    # no dashboard; the scheduler's HTTP routes on a free local port rather than on 8787,
-                    # which another cluster may hold (Dask would warn on stderr and take another)
-                    self._cluster = LocalCluster(
-                        n_workers=n, threads_per_worker=1, processes=processes, dashboard_address=None,
-                        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-                    )
+                    self._cluster = local_cluster(n, processes=processes)
                     self.client = Client(self._cluster)
                     if processes:
                         import psutil
