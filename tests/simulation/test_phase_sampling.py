@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rotorcontact import simulate
+from rotorcontact import ParameterError, simulate
 from rotorcontact.simulation.phase_sampling import (
     PHASE_DT,
     PHASE_DTHETA,
@@ -122,3 +122,12 @@ def test_phase_forces_of_a_short_span_late_in_the_run(whirl):
     f = whirl.phase_forces(t0, t0 + 1e-9, c.kind)
     assert f.mean_power == pytest.approx(whirl.friction_power(np.array([t0]))[0], rel=1e-7)
     assert whirl.phase_forces(t0, t0, c.kind).mean_power == whirl.friction_power(np.array([t0]))[0]
+
+
+@pytest.mark.parametrize("args, name", [
+    ((37.0, 38.0, "sliding"), "kind"), ((-1.0, 38.0, "rolling"), "t_start"), ((38.0, 37.0, "rolling"), "t_end"),
+    ((37.0, 401.0, "rolling"), "t_end"), ((math.nan, 38.0, "rolling"), "t_start"),
+])
+def test_phase_forces_refuses_bad_input(whirl, args, name):
+    with pytest.raises(ParameterError, match=f"^{name} = "):
+        whirl.phase_forces(*args)

@@ -17,7 +17,7 @@ from ..interpreted import call_kernel
 from ..model.flow import propagate, to_inertial
 from ..model.impact_law import relative_velocity
 from ..model.validation import check_int, real_array
-from ..model.params import Machine, Parameters
+from ..model.params import Machine, Parameters, check_range
 
 __all__ = ["Trajectory", "ImpactTable", "COLUMNS"]
 
@@ -333,9 +333,18 @@ class Trajectory:
         -------
         PhaseForces
             Dimensionless (per unit mass): the largest N, the largest |F_t| and the mean of |F_t v_rel|.
+
+        Raises
+        ------
+        ParameterError
+            For a ``kind`` not in `KIND_NAMES`, or a span not within [0, t_stop] with t_start <= t_end.
         """
         from scipy.integrate import romb
 
+        if kind not in KIND_NAMES:
+            raise ParameterError(f"kind = {kind!r} is invalid; allowed: {', '.join(map(repr, KIND_NAMES))}")
+        t_start = check_range("t_start", t_start, low=0.0, high=self.t_stop)
+        t_end = check_range("t_end", t_end, low=t_start, high=self.t_stop)
         code = KIND_NAMES.index(kind)
         r_ratio = self.params.r_ratio
 
