@@ -170,3 +170,11 @@ def test_a_curve_parallel_to_an_axis_is_found_once():
     fold = [e for e in orbit_branches(REF.replace(gamma=0.1), "mu", 0.05, 0.15, t_max=4.0, n_seeds=3).events
             if e.type == "fold"]
     assert fold and np.all(np.abs(xy[:, 1] - fold[0].value) < 1e-8)
+
+
+@pytest.mark.parametrize("t_max", [math.nan, -1.0, "x", None, 1e9])
+def test_region_and_classify_plane_refuse_a_bad_t_max(t_max):
+    with pytest.raises(ParameterError, match="^t_max = "):
+        region(REF, t_max)
+    with pytest.raises(ParameterError, match="^t_max = "):
+        classify_plane(REF, ("gamma", "omega"), ((0.05, 0.1), (0.7, 0.8)), shape=(2, 2), t_max=t_max)

@@ -45,3 +45,11 @@ def test_bad_input():
         lyapunov_scan(REF, "nonsense", [0.1], t_end=100.0, progress=False)
     with pytest.raises(ParameterError):
         lyapunov_scan(REF, "gamma", [0.1], u0=complex(math.nan, 0), t_end=100.0, progress=False)
+
+
+@pytest.mark.parametrize("start, match", [(dict(u0=3), "^u0 = .* lies outside the clearance"),
+                                          (dict(du0=1e9), "^du0 = .* is too fast")])
+def test_a_start_state_that_simulate_refuses_is_refused_before_any_run(start, match, tmp_path):
+    with pytest.raises(ParameterError, match=match):
+        lyapunov_scan(REF, "gamma", [0.1], t_end=30.0, progress=False, out=tmp_path / "l.nc", **start)
+    assert not (tmp_path / "l.nc").exists() and not chunk_folder(tmp_path / "l.nc").exists()

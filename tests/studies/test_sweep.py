@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rotorcontact import ParameterError
+from rotorcontact import ParameterError, simulate
 from rotorcontact.studies.batch import BatchSettings, simulate_batch
 from rotorcontact.maps.impact_map import one_impact_orbits
 from rotorcontact.simulation.motion import REGIMES
@@ -326,3 +326,13 @@ def test_sweep_values_must_be_a_list_of_real_numbers(values):
         sweep(REF, "gamma", values, n_transient=1, n_record=1)
     with pytest.raises(ParameterError, match="^machine = 'x' is not a Machine object"):
         sweep(REF, "gamma", [0.1, 0.2], n_transient=1, n_record=1, machine="x")
+
+
+@pytest.mark.parametrize("param, value", [("rho", 1e6), ("omega", 1.0)])
+def test_a_value_beyond_the_simulators_accurate_range_is_refused(param, value):
+    """The batch refuses what `simulate` refuses: a forced response |k| beyond 1000 clearances."""
+    base = REF.replace(gamma=1e-6) if param == "omega" else REF
+    with pytest.raises(ParameterError, match=r"^rho = .*allowed: rho <= 1000 \|omega\^2 - 1 \+ i gamma\|"):
+        sweep(base, param, [0.5, value], n_transient=20, n_record=10, progress=False)
+    with pytest.raises(ParameterError, match=r"^rho = "):
+        simulate(base.replace(**{param: value}), 0j, 0j, 1.0)

@@ -70,7 +70,15 @@ from .engine import (
 from ..errors import ParameterError
 from .results import BranchEvent, BranchResult
 from ..model.flow import propagate
-from ..maps.impact_map import IDEAL, f1_zeros, flight_extrema, one_impact_orbits, post_impact_state, rdot_roots
+from ..maps.impact_map import (
+    IDEAL,
+    _check_t_max,
+    f1_zeros,
+    flight_extrema,
+    one_impact_orbits,
+    post_impact_state,
+    rdot_roots,
+)
 from ..maps.orbit_system import BRANCH_PARAMETERS, orbit_angles, regularised_residual, with_parameters
 from ..model.params import Parameters, check_range
 from ..model.validation import check_int, check_params
@@ -863,6 +871,7 @@ def dib_labels(
 def region(params: Parameters, t_max: float = 12.0) -> str | None:
     """The region R1-R4 (module docstring) of the point ``params``, or None if it fits none."""
     check_params(params)
+    t_max = _check_t_max(params, t_max)  # a bad t_max is refused, not taken for a point in no region
     xr_admissible = dib_function(params) < 0.0  # |k| < 1
     orbits = []  # (small root?, rdot) of the orbits of the pair 1
     try:
@@ -903,6 +912,7 @@ def classify_plane(
     """
     plane = _Plane(params, param, ranges)
     n1, n2 = (check_int("shape", s, 2) for s in shape)
+    check_range("t_max", t_max, low=0.0, low_open=True)
     v1 = np.linspace(*plane.ranges[0], n1)
     v2 = np.linspace(*plane.ranges[1], n2)
     labels = np.empty((n2, n1), dtype=object)

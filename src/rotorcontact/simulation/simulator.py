@@ -8,6 +8,7 @@ Data flows one way: parameters -> exact flow (`flow`) -> impact location
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numba import njit
@@ -436,6 +437,39 @@ def simulate_into(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_ev
     return impacts, flights, contacts, path, n_imp, n_fl, n_ct, n_path, status, reason, t_stop
 
 
+def check_start(u0: Any, du0: Any) -> tuple[complex, complex]:
+    """The initial state (u0, du0) as complex numbers, checked as `simulate` requires.
+
+    Raises
+    ------
+    ParameterError
+        Unless both are finite complex numbers (or RE,IM pairs), |u0| <= 1 and
+        |du0| <= `rotorcontact.model.params.MAX_VELOCITY`.
+    """
+    u0 = _as_complex("u0", u0)
+    du0 = check_velocity("du0", _as_complex("du0", du0))
+    if abs(u0) > 1.0 + BOUNDARY_TOL:
+        raise ParameterError(
+            f"u0 = {u0.real!r},{u0.imag!r} lies outside the clearance (|u0| = {abs(u0)!r}); allowed: |u0| <= 1"
+        )
+    return u0, du0
+
+
+def check_forced_response(params: Parameters) -> None:
+    """Raise `ParameterError` where the forced response |k| = rho / |omega^2 - 1 + i gamma| (MODEL.md §3)
+    exceeds `K_MAX` clearances, beyond which the closed form loses its accuracy; the message names rho, omega
+    and gamma and the bound on rho."""
+    k_abs = abs(params.k) if call_kernel(has_regular_equilibrium, params.gamma, params.omega) else math.inf
+    if k_abs > K_MAX:
+        distance = abs(complex(params.omega**2 - 1.0, params.gamma))
+        raise ParameterError(
+            f"rho = {params.rho!r}, omega = {params.omega!r}, gamma = {params.gamma!r}: the forced response "
+            f"|k| = rho / |omega^2 - 1 + i gamma| = {k_abs:.3g} clearances is beyond the simulator's accurate range "
+            f"(|k| <= {K_MAX:g}); allowed: rho <= {K_MAX:g} |omega^2 - 1 + i gamma| = {K_MAX * distance:.3g}, or "
+            "omega and gamma farther from the undamped resonance (omega = 1, gamma = 0)"
+        )
+
+
 def _as_complex(name: str, value) -> complex:
     if isinstance(value, np.ndarray) and value.ndim == 0:
         value = value[()]
@@ -523,12 +557,7 @@ def simulate(
                 f"params are not the machine's ({', '.join(other)} against {own}): its SI results would describe "
                 "another machine; allowed: machine.parameters(), or no machine"
             )
-    u0 = _as_complex("u0", u0)
-    du0 = check_velocity("du0", _as_complex("du0", du0))
-    if abs(u0) > 1.0 + BOUNDARY_TOL:
-        raise ParameterError(
-            f"u0 = {u0.real!r},{u0.imag!r} lies outside the clearance (|u0| = {abs(u0)!r}); allowed: |u0| <= 1"
-        )
+    u0, du0 = check_start(u0, du0)
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     if on_chatter not in ("contact", "stop"):
         raise ParameterError(f"on_chatter = {on_chatter!r} is invalid; allowed: 'contact', 'stop'")
@@ -537,15 +566,7 @@ def simulate(
     chatter_rdot = check_range("chatter_rdot", chatter_rdot, low=0.0, low_open=True)
     chatter_height = check_range("chatter_height", chatter_height, low=0.0)
     chatter_dt = check_range("chatter_dt", chatter_dt, low=0.0)
-    k_abs = abs(params.k) if call_kernel(has_regular_equilibrium, params.gamma, params.omega) else math.inf
-    if k_abs > K_MAX:
-        distance = abs(complex(params.omega**2 - 1.0, params.gamma))
-        raise ParameterError(
-            f"rho = {params.rho!r}, omega = {params.omega!r}, gamma = {params.gamma!r}: the forced response "
-            f"|k| = rho / |omega^2 - 1 + i gamma| = {k_abs:.3g} clearances is beyond the simulator's accurate range "
-            f"(|k| <= {K_MAX:g}); allowed: rho <= {K_MAX:g} |omega^2 - 1 + i gamma| = {K_MAX * distance:.3g}, or "
-            "omega and gamma farther from the undamped resonance (omega = 1, gamma = 0)"
-        )
+    check_forced_response(params)
     p = params
     impacts, flights, contacts, path, status, reason, t_stop = call_kernel(
         simulate_kernel, p.gamma, p.omega, p.rho, p.mu, p.d, p.phi, p.r_ratio, u0, du0, t_end, int(max_events),

@@ -89,6 +89,7 @@ from ..simulation.simulator import (
     FAILED,
     MAX_EVENTS,
     STATUS_NAMES,
+    check_forced_response,
     new_tables,
     simulate_into,
 )
@@ -569,9 +570,9 @@ def _validate_rows(rows: np.ndarray) -> None:
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise ParameterError(f"parameter row {i} = {rows[i].tolist()} is not finite")
-    # one full validation per distinct row
+    # one full validation per distinct row, with the simulator's bound on the forced response
     for row in np.unique(rows, axis=0):
-        Parameters(**dict(zip(PARAMETER_ORDER, (float(x) for x in row))))
+        check_forced_response(Parameters(**dict(zip(PARAMETER_ORDER, (float(x) for x in row)))))
 
 
 def _complex_array(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:

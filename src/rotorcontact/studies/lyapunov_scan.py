@@ -22,6 +22,7 @@ from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_range
 from ..model.validation import check_int, check_params
 from ..simulation.motion import REGIME_NAMES
+from ..simulation.simulator import check_start
 from .batch import PARAMETER_ORDER, parameter_array
 from .driver import run_study
 from .execution import study_digest
@@ -207,10 +208,7 @@ def lyapunov_scan(
     t_transient, qr_interval = _check_options(t_transient, qr_interval, t_end)
     if t_transient >= t_end:
         raise ParameterError(f"t_transient = {t_transient!r} is not below t_end = {t_end!r}; allowed: [0, t_end)")
-    u0, du0 = complex(u0), complex(du0)
-    for name, z in (("u0", u0), ("du0", du0)):
-        if not (math.isfinite(z.real) and math.isfinite(z.imag)):
-            raise ParameterError(f"{name} = {z!r} is not finite")
+    u0, du0 = check_start(u0, du0)
     chunk_size = check_int("chunk_size", chunk_size, 1)
     rows = parameter_array(path)
     manifest = {"study": "lyapunov-scan", "param": param, "values": vals, "rows": rows,

@@ -34,7 +34,7 @@ import numpy as np
 
 from .. import __version__
 from ..errors import ParameterError
-from ..model.params import BRANCH_PARAMETERS, Machine, Parameters, check_finite, check_velocity
+from ..model.params import BRANCH_PARAMETERS, Machine, Parameters, check_finite
 from ..model.validation import check_int, check_machine, check_params, real_array
 from .attributes import (
     PARAMETER_LONG_NAMES,
@@ -321,12 +321,9 @@ def sweep(
     if start is not None and (u0 is not None or du0 is not None):
         raise ParameterError(f"start = {start!r} and an explicit u0/du0 were both given; allowed: one of them")
     if u0 is not None or du0 is not None:
-        from ..simulation.simulator import _as_complex
+        from ..simulation.simulator import check_start
 
-        z0 = _as_complex("u0", 0j if u0 is None else u0)
-        dz0 = check_velocity("du0", _as_complex("du0", 0j if du0 is None else du0))
-        if abs(z0) > 1.0 + 1e-12:
-            raise ParameterError(f"u0 = {z0.real:g},{z0.imag:g} lies outside the clearance; allowed: |u0| <= 1")
+        z0, dz0 = check_start(0j if u0 is None else u0, 0j if du0 is None else du0)
         starts = [(z0, dz0)] * (len(directions) if carry else n)
         start_name = "explicit"
     else:
