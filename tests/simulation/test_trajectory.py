@@ -143,17 +143,28 @@ def test_sample_times(traj):
     assert len(s) >= 500
 
 
-def test_state_rejects_times_outside_the_run(traj):
+TIME_METHODS = ("state", "U", "polar", "in_contact", "contact_forces", "friction_power")
+
+
+@pytest.mark.parametrize("method", TIME_METHODS)
+def test_state_rejects_times_outside_the_run(traj, method):
     for bad in (-1e-3, traj.t_stop + 1.0, math.nan, math.inf):
         with pytest.raises(ParameterError) as exc:
-            traj.state(bad)
+            getattr(traj, method)(bad)
         assert "t must lie in" in str(exc.value)
 
 
-@pytest.mark.parametrize("bad", ["1", [True], 1 + 0j, None])
-def test_state_refuses_what_is_not_a_time(traj, bad):
+@pytest.mark.parametrize("method", TIME_METHODS)
+@pytest.mark.parametrize("bad", ["1", [True], True, 1 + 0j, None])
+def test_state_refuses_what_is_not_a_time(traj, bad, method):
     with pytest.raises(ParameterError, match=r"^t = .* is invalid; allowed: real numbers in \[0, t_stop\]"):
-        traj.U(bad)
+        getattr(traj, method)(bad)
+
+
+@pytest.mark.parametrize("n", [-1, 1, 2.5, None, True, 10**9])
+def test_sample_refuses_a_bad_count(traj, n):
+    with pytest.raises(ParameterError, match="^n = "):
+        traj.sample(n)
 
 
 def test_status_message_success(ref, traj):

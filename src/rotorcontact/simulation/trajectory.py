@@ -39,6 +39,8 @@ COLUMNS = (
     "du_plus_im",
     "normal_force",
 )
+#: Most uniform sample times `Trajectory.sample` gives (800 MB of them).
+MAX_SAMPLE_TIMES = 100_000_000
 _PUBLIC = COLUMNS[:9]
 
 
@@ -231,7 +233,7 @@ class Trajectory:
 
     def in_contact(self, t) -> np.ndarray:
         """Index of the contact phase holding each time, or -1 in free flight."""
-        tt = np.asarray(t, dtype=float)
+        tt = self._times(t)
         out = np.full(tt.shape, -1, dtype=int)
         if len(self.contacts) == 0:
             return out
@@ -245,14 +247,8 @@ class Trajectory:
         out[inside] = j[inside]
         return out
 
-    def state(self, t) -> tuple[np.ndarray, np.ndarray]:
-        """Exact (U, U') in the co-rotating frame at times ``t`` in [0, t_stop].
-
-        In free flight the closed form is evaluated; in contact phases the
-        rolling motion is exact and sliding is the integrator's solution,
-        interpolated by quintic Hermite polynomials. At an impact time the
-        state just after the impact is returned.
-        """
+    def _times(self, t) -> np.ndarray:
+        """``t`` as an array of floats in [0, t_stop]; a `ParameterError` naming it otherwise."""
         tt = real_array(t)
         if tt is None:
             raise ParameterError(f"t = {t!r} is invalid; allowed: real numbers in [0, t_stop] = [0, {self.t_stop:g}]")
@@ -263,6 +259,18 @@ class Trajectory:
             raise ParameterError(
                 f"t must lie in [0, t_stop] = [0, {self.t_stop:g}]; got values in [{flat.min():g}, {flat.max():g}]"
             )
+        return tt
+
+    def state(self, t) -> tuple[np.ndarray, np.ndarray]:
+        """Exact (U, U') in the co-rotating frame at times ``t`` in [0, t_stop].
+
+        In free flight the closed form is evaluated; in contact phases the
+        rolling motion is exact and sliding is the integrator's solution,
+        interpolated by quintic Hermite polynomials. At an impact time the
+        state just after the impact is returned.
+        """
+        tt = self._times(t)
+        flat = tt.ravel()
         p = self.params
         k = p.k
         starts, u_start, du_start = self._flight_table
@@ -281,7 +289,7 @@ class Trajectory:
         rolling (MODEL.md §4). At the time where a phase gives way to the next
         phase, or to flight, the later one's forces are given.
         """
-        tt = np.asarray(t, dtype=float)
+        tt = self._times(t)
         _r, theta, _rdot, thetadot = self.polar(tt)
         phase = self.in_contact(tt)
         n = np.zeros(tt.shape)
@@ -309,8 +317,9 @@ class Trajectory:
 
     def friction_power(self, t) -> np.ndarray:
         """Power dissipated by friction per unit mass (dimensionless), |F_t v_rel|, at times ``t``."""
-        _n, ft = self.contact_forces(t)
-        thetadot = self.polar(t)[3]
+        tt = self._times(t)
+        _n, ft = self.contact_forces(tt)
+        thetadot = self.polar(tt)[3]
         return np.abs(ft * relative_velocity(self.params.r_ratio, thetadot))
 
     def phase_forces(self, t_start: float, t_end: float, kind: str) -> PhaseForces:
@@ -404,7 +413,9 @@ class Trajectory:
         return r, np.where(th <= -np.pi, th + 2 * np.pi, th), w.real, thetadot
 
     def sample(self, n: int = 2000) -> np.ndarray:
-        """Uniform sample times over [0, t_stop] that include every impact time."""
+        """Uniform sample times over [0, t_stop] (``n`` of them, 2 to `MAX_SAMPLE_TIMES`) that include every
+        impact time."""
+        n = check_int("n", n, 2, MAX_SAMPLE_TIMES)
         base = np.linspace(0.0, self.t_stop, n)
         return np.unique(np.concatenate((base, self.impacts.t)))
 
