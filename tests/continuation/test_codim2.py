@@ -178,3 +178,10 @@ def test_region_and_classify_plane_refuse_a_bad_t_max(t_max):
         region(REF, t_max)
     with pytest.raises(ParameterError, match="^t_max = "):
         classify_plane(REF, ("gamma", "omega"), ((0.05, 0.1), (0.7, 0.8)), shape=(2, 2), t_max=t_max)
+
+
+@pytest.mark.parametrize("kw", [dict(n_seeds=10**7), dict(n_scan=10**7), dict(n_seeds=0), dict(n_scan=1)])
+def test_seed_scans_are_bounded(kw):
+    name = next(iter(kw))
+    with pytest.raises(ParameterError, match=f"^{name} = .*allowed"):
+        codim2_diagram(REF, ("gamma", "omega"), ((0.05, 0.1), (0.7, 0.8)), **kw)

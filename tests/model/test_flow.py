@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rotorcontact import Parameters, free_flight, to_inertial
+from rotorcontact import ParameterError, Parameters, free_flight, to_inertial
 from rotorcontact.model.flow import equilibrium_point
-from reference_parameters import REF_VALUES
+from reference_parameters import REF, REF_VALUES
 
 
 TIMES = [0.0, 1e-9, 0.013, 0.3, 1.0, 2.7, 6.4, 13.0, 31.7, 50.0]
@@ -145,3 +145,23 @@ def test_inertial_frame_matches_solve_ivp_of_inertial_equation(gamma):
     assert np.max(np.abs(z - z_ref)) < 1e-9
     # a rotation keeps the modulus, to the rounding of e^{it}, of the product and of |.| (a few ulps)
     assert np.allclose(np.abs(z), np.abs(u), rtol=0, atol=8 * np.finfo(float).eps)
+
+
+@pytest.mark.parametrize("args, match", [
+    ((None, 0j, 0j, [1.0]), "^params "),
+    ((REF, math.nan, 0j, [1.0]), r"^u0 \(real part\) = "),
+    ((REF, "1+1j", 0j, [1.0]), "^u0 = "),
+    ((REF, 0j, None, [1.0]), "^du0 = "),
+    ((REF, 0.1, 0j, [math.nan]), "^t = "),
+    ((REF, 0.1, 0j, ["1"]), "^t = "),
+    ((REF.replace(gamma=0.1), 0.1, 0j, [-1e6]), "^t = .* overflows"),
+])
+def test_free_flight_refuses_bad_input(args, match):
+    with pytest.raises(ParameterError, match=match):
+        free_flight(*args)
+
+
+@pytest.mark.parametrize("u, t", [("a", 1.0), (1.0, math.inf), (complex(math.nan, 0), 1.0), (1.0, "1")])
+def test_to_inertial_refuses_bad_input(u, t):
+    with pytest.raises(ParameterError, match="^[ut] = "):
+        to_inertial(u, t)

@@ -143,6 +143,10 @@ def test_design_map_draws_the_map_of_the_settings_given_ranges():
     assert REGIMES == OUTCOMES
     with pytest.raises(ParameterError, match="give no map"):
         design_map(machine, {"damping": (500.0, 1500.0)}, 5)
+    from rotorcontact.studies.design_map import MAX_POINTS
+
+    with pytest.raises(ParameterError, match=f"^n = {MAX_POINTS + 1} .*allowed"):
+        design_map(machine, {"speed": (2000.0, 4000.0)}, MAX_POINTS + 1)
 
 
 def test_recovery_of_a_map_is_one_study_equal_to_the_basins_of_each_point():

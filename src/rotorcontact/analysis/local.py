@@ -63,7 +63,7 @@ from ..model.angles import angle_difference, wrap_angle
 from ..errors import ParameterError
 from ..maps.impact_map import F1Zero, label_f1_zeros, one_impact_orbits, root_branches, stable_quadratic_roots
 from ..model.impact_law import impact_q
-from ..model.validation import check_params
+from ..model.validation import check_params, complex_value
 from ..model.params import Parameters, check_finite, check_range
 
 __all__ = [
@@ -88,19 +88,6 @@ MAX_GRID = 200_000
 #: Default decade of epsilon values for the comparison with the global fixed points.
 DEFAULT_EPSILONS = tuple(float(x) for x in np.geomspace(1e-3, 1e-2, 5))
 
-
-
-def _as_complex(name: str, value: Any) -> complex:
-    """``value`` as a finite complex number, or a `ParameterError`."""
-    if isinstance(value, bool):
-        raise ParameterError(f"{name} = {value!r} is not a number; a finite complex number is required")
-    try:
-        z = complex(value)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} = {value!r} is not a number; a finite complex number is required") from None
-    if not (math.isfinite(z.real) and math.isfinite(z.imag)):
-        raise ParameterError(f"{name} = {value!r} is not finite; a finite complex number is required")
-    return z
 
 
 def _check_eps(eps: Any) -> float:
@@ -180,7 +167,7 @@ class LinearImpactingSystem:
 
     def __post_init__(self) -> None:
         for name in ("alpha0", "beta0", "Gamma0", "alpha1", "beta1", "Gamma1"):
-            object.__setattr__(self, name, _as_complex(name, getattr(self, name)))
+            object.__setattr__(self, name, complex_value(name, getattr(self, name)))
         object.__setattr__(self, "mu", check_range("mu", self.mu, low=0.0))
         object.__setattr__(self, "d", check_range("d", self.d, low=0.0, high=1.0))
         object.__setattr__(self, "sigma", check_range("sigma", self.sigma, low=0.0, low_open=True))
@@ -219,7 +206,7 @@ class LinearImpactingSystem:
         """The system whose equilibrium at eps = 0 is ``z0 = sigma e^{i psi}`` (``Gamma0 = beta0 z0``)."""
         psi = check_finite("psi", psi)
         sigma = check_range("sigma", sigma, low=0.0, low_open=True)
-        beta0 = _as_complex("beta0", beta0)
+        beta0 = complex_value("beta0", beta0)
         return cls(alpha0, beta0, beta0 * sigma * cmath.exp(1j * psi), mu=mu, d=d, sigma=sigma,
                    alpha1=alpha1, beta1=beta1, Gamma1=Gamma1)
 

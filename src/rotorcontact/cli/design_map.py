@@ -94,7 +94,6 @@ def _machine(args: argparse.Namespace):
 MAX_SHOCK = 100.0
 #: Largest --n: about half a millisecond per setting; with --shock, each bistable setting also
 #: simulates 24 disturbances (about 20 ms), hence the smaller bound.
-MAX_POINTS = 100_000
 MAX_POINTS_SHOCK = 2_000
 
 
@@ -102,6 +101,8 @@ def _count(text: str, shock: bool = False) -> int:
     if shock:
         return parse_int("n", text, 2, MAX_POINTS_SHOCK,
                          why="with --shock every bistable setting runs 24 simulations")
+    from ..studies.design_map import MAX_POINTS
+
     return parse_int("n", text, 2, MAX_POINTS)
 
 

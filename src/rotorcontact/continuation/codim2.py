@@ -118,6 +118,11 @@ POINT_TYPES = ("fold-dib", "grazing-dib", "fold-grazing")
 REGIONS = ("R1", "R2", "R3", "R4")
 
 
+#: Most scan lines per axis (``n_seeds``) and points per line (``n_scan``) of the seed scans; they bound the run time.
+MAX_SEEDS = 2000
+MAX_SCAN = 10_000
+
+
 def _settings() -> ContinuationSettings:
     return ContinuationSettings(step=0.01, min_step=1e-9, max_step=0.04, max_points=4000, location_tol=1e-10)
 
@@ -461,7 +466,7 @@ def fold_curve(
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     settings = settings or _settings()
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1), check_int("n_scan", n_scan, 2)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS), check_int("n_scan", n_scan, 2, MAX_SCAN)):
         ex = [_pair_exists(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v), n, t_max) for v in grid]
         for i in range(len(grid) - 1):
             if ex[i] != ex[i + 1]:
@@ -548,8 +553,8 @@ def coalescence_curves(
 
     seeds = []
     for kind in COALESCENCES.values():
-        for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1),
-                                             check_int("n_scan", n_scan, 2)):
+        for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
+                                             check_int("n_scan", n_scan, 2, MAX_SCAN)):
             def at(v, fixed=fixed, axis=axis):
                 return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
 
@@ -618,7 +623,7 @@ def dib_curve(
     plane = _Plane(params, param, ranges)
     settings = settings or _settings()
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1), check_int("n_scan", n_scan, 2)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS), check_int("n_scan", n_scan, 2, MAX_SCAN)):
         def g(v, fixed=fixed, axis=axis):
             return dib_function(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v))
 
@@ -692,7 +697,7 @@ def grazing_curve(
     settings = settings or _settings()
     _check_label(orbit)
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1), check_int("n_scan", n_scan, 2)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS), check_int("n_scan", n_scan, 2, MAX_SCAN)):
         def at(v, fixed=fixed, axis=axis):
             return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
 

@@ -25,6 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..errors import ParameterError
 from ..interpreted import call_kernel, complex_quotient
 from .params import Parameters
 
@@ -168,12 +169,36 @@ def free_flight(params: Parameters, u0: complex, du0: complex, t) -> tuple[np.nd
     U, dU : numpy.ndarray
         Complex position and velocity in the co-rotating frame, shaped like ``t``.
     """
-    tt = np.asarray(t, dtype=float)
-    u, du = call_kernel(_flow_many, complex(u0), complex(du0), np.ascontiguousarray(tt.ravel()), params.gamma,
-                        params.omega, params.k)
+    from .validation import check_params, complex_value, real_array
+
+    check_params(params)
+    u0, du0 = complex_value("u0", u0), complex_value("du0", du0)
+    tt = real_array(t)
+    if tt is None or not np.all(np.isfinite(tt)):
+        raise ParameterError(f"t = {t!r} is invalid; allowed: finite real numbers")
+    u, du = call_kernel(_flow_many, u0, du0, np.ascontiguousarray(tt.ravel()), params.gamma, params.omega, params.k)
+    if not (np.all(np.isfinite(u)) and np.all(np.isfinite(du))):
+        raise ParameterError(
+            f"t = {t!r} reaches times where the contact-free motion overflows (it grows like e^(gamma |t| / 2) "
+            f"backwards, gamma = {params.gamma!r}); allowed: times nearer 0"
+        )
     return u.reshape(tt.shape), du.reshape(tt.shape)
 
 
 def to_inertial(u, t):
-    """Inertial-frame position Z = U e^{i t} (MODEL.md §2)."""
-    return np.asarray(u) * np.exp(1j * np.asarray(t, dtype=float))
+    """Inertial-frame position Z = U e^{i t} (MODEL.md §2).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``u`` holds finite numbers and ``t`` finite real numbers.
+    """
+    from .validation import real_array
+
+    uu = np.asarray(u)
+    tt = real_array(t)
+    if uu.dtype.kind not in "iufc" or not np.all(np.isfinite(uu)):
+        raise ParameterError(f"u = {u!r} is invalid; allowed: finite (complex) numbers")
+    if tt is None or not np.all(np.isfinite(tt)):
+        raise ParameterError(f"t = {t!r} is invalid; allowed: finite real numbers")
+    return uu * np.exp(1j * tt)

@@ -12,7 +12,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import ParameterError
-from .params import Parameters
+from .params import Parameters, check_finite, refuse_bool_or_text
 
 __all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice", "real_array"]
 
@@ -102,3 +102,20 @@ def _range(low: int | None, high: int | None) -> str:
     if high is not None:
         return f" <= {high}"
     return ""
+
+
+def complex_value(name: str, value: Any) -> complex:
+    """``value`` as a finite complex number: a number, or a pair (RE, IM); a `ParameterError` naming ``name``
+    for text, bools, other objects or values that are not finite."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    refuse_bool_or_text(name, value, "give a complex number or RE,IM")
+    if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 2:
+        re, im = value
+    else:
+        try:
+            z = complex(value)
+        except (TypeError, ValueError):
+            raise ParameterError(f"{name} = {value!r} is not a complex number; give RE,IM") from None
+        re, im = z.real, z.imag
+    return complex(check_finite(f"{name} (real part)", re), check_finite(f"{name} (imaginary part)", im))

@@ -16,8 +16,8 @@ from numba import njit
 from ..errors import ParameterError
 from ..interpreted import call_kernel, complex_quotient
 from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
-from ..model.validation import MAX_COUNT, check_int, check_machine, check_params
-from ..model.params import Machine, Parameters, check_finite, check_range, check_velocity, refuse_bool_or_text
+from ..model.validation import MAX_COUNT, check_int, check_machine, check_params, complex_value
+from ..model.params import Machine, Parameters, check_range, check_velocity
 from ..model.impact_law import apply_reset, polar_velocity, relative_velocity
 from ..model.angles import wrap_angle
 from .tables import grow_rows, push_row
@@ -446,8 +446,8 @@ def check_start(u0: Any, du0: Any) -> tuple[complex, complex]:
         Unless both are finite complex numbers (or RE,IM pairs), |u0| <= 1 and
         |du0| <= `rotorcontact.model.params.MAX_VELOCITY`.
     """
-    u0 = _as_complex("u0", u0)
-    du0 = check_velocity("du0", _as_complex("du0", du0))
+    u0 = complex_value("u0", u0)
+    du0 = check_velocity("du0", complex_value("du0", du0))
     if abs(u0) > 1.0 + BOUNDARY_TOL:
         raise ParameterError(
             f"u0 = {u0.real!r},{u0.imag!r} lies outside the clearance (|u0| = {abs(u0)!r}); allowed: |u0| <= 1"
@@ -468,21 +468,6 @@ def check_forced_response(params: Parameters) -> None:
             f"(|k| <= {K_MAX:g}); allowed: rho <= {K_MAX:g} |omega^2 - 1 + i gamma| = {K_MAX * distance:.3g}, or "
             "omega and gamma farther from the undamped resonance (omega = 1, gamma = 0)"
         )
-
-
-def _as_complex(name: str, value) -> complex:
-    if isinstance(value, np.ndarray) and value.ndim == 0:
-        value = value[()]
-    refuse_bool_or_text(name, value, "give a complex number or RE,IM")
-    if isinstance(value, (tuple, list, np.ndarray)) and len(value) == 2:
-        re, im = value
-    else:
-        try:
-            z = complex(value)
-        except (TypeError, ValueError):
-            raise ParameterError(f"{name} = {value!r} is not a complex number; give RE,IM") from None
-        re, im = z.real, z.imag
-    return complex(check_finite(f"{name} (real part)", re), check_finite(f"{name} (imaginary part)", im))
 
 
 def simulate(

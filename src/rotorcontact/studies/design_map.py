@@ -542,6 +542,10 @@ def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], s
     return DesignMap(machine, tuple(axes), (a, b), points, shock)
 
 
+#: Most points along each range of `design_map`; it bounds the run time.
+MAX_POINTS = 100_000
+
+
 def design_map(machine: Machine, ranges: dict[str, tuple[float, float]], n: int, *, shock: float | None = None,
                t_max: float = 12.0, progress: bool = False, n_jobs: int | None = None, scheduler: Any = None,
                processes: bool = True) -> DesignMap:
@@ -568,7 +572,7 @@ def design_map(machine: Machine, ranges: dict[str, tuple[float, float]], n: int,
     if axes is None:
         allowed = "; ".join(" and ".join(sorted(k)) for k in MAP_AXES)
         raise ParameterError(f"ranges of {', '.join(sorted(ranges)) or 'nothing'} give no map; allowed: {allowed}")
-    n = check_int("n", n, 1)
+    n = check_int("n", n, 1, MAX_POINTS)
     side = n if len(ranges) == 1 else min(n, MAX_PLANE_SIDE)
     grids = {name: np.linspace(a, b, side) for name, (a, b) in ranges.items()}
     first, *second = [grids["speed" if axis == "speed_rpm" else axis] for axis in axes]
