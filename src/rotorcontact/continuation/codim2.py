@@ -466,7 +466,8 @@ def fold_curve(
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     settings = settings or _settings()
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS), check_int("n_scan", n_scan, 2, MAX_SCAN)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
+                                         check_int("n_scan", n_scan, 2, MAX_SCAN)):
         ex = [_pair_exists(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v), n, t_max) for v in grid]
         for i in range(len(grid) - 1):
             if ex[i] != ex[i + 1]:
@@ -623,7 +624,8 @@ def dib_curve(
     plane = _Plane(params, param, ranges)
     settings = settings or _settings()
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS), check_int("n_scan", n_scan, 2, MAX_SCAN)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
+                                         check_int("n_scan", n_scan, 2, MAX_SCAN)):
         def g(v, fixed=fixed, axis=axis):
             return dib_function(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v))
 
@@ -697,7 +699,8 @@ def grazing_curve(
     settings = settings or _settings()
     _check_label(orbit)
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS), check_int("n_scan", n_scan, 2, MAX_SCAN)):
+    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
+                                         check_int("n_scan", n_scan, 2, MAX_SCAN)):
         def at(v, fixed=fixed, axis=axis):
             return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
 
