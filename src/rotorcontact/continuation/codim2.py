@@ -920,7 +920,6 @@ def classify_plane(
     """
     plane = _Plane(params, param, ranges)
     n1, n2 = (check_int("shape", s, 2) for s in shape)
-    check_range("t_max", t_max, low=0.0, low_open=True)
     v1 = np.linspace(*plane.ranges[0], n1)
     v2 = np.linspace(*plane.ranges[1], n2)
     labels = np.empty((n2, n1), dtype=object)

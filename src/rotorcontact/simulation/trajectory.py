@@ -233,7 +233,10 @@ class Trajectory:
 
     def in_contact(self, t) -> np.ndarray:
         """Index of the contact phase holding each time, or -1 in free flight."""
-        tt = self._times(t)
+        return self._phase_of(self._times(t))
+
+    def _phase_of(self, tt: np.ndarray) -> np.ndarray:
+        """`in_contact` of times already checked (`_times`)."""
         out = np.full(tt.shape, -1, dtype=int)
         if len(self.contacts) == 0:
             return out
@@ -275,7 +278,7 @@ class Trajectory:
         k = p.k
         starts, u_start, du_start = self._flight_table
         u, du = call_kernel(_evaluate_flights, flat, starts, u_start, du_start, k, p.gamma, p.omega)
-        phase = self.in_contact(flat)
+        phase = self._phase_of(flat)
         for j in np.unique(phase[phase >= 0]):
             sel = phase == j
             u[sel], du[sel] = self._contact_state(int(j), flat[sel])
@@ -291,7 +294,7 @@ class Trajectory:
         """
         tt = self._times(t)
         _r, theta, _rdot, thetadot = self.polar(tt)
-        phase = self.in_contact(tt)
+        phase = self._phase_of(tt)
         n = np.zeros(tt.shape)
         ft = np.zeros(tt.shape)
         for j in np.unique(phase[phase >= 0]):
