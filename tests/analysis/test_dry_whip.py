@@ -93,3 +93,9 @@ def test_bad_machines_are_refused(changes, match):
 def test_a_live_anisotropic_bearing_is_refused():
     with pytest.raises(ParameterError, match=r"anisotropic bearing \(stiffness 1000000.0, 980000.0 N/m"):
         steady_dry_whip(machine(stiffness_x=1e6), bearing_failed=False)
+
+
+@pytest.mark.parametrize("machine", [None, "x"])
+def test_what_is_not_a_machine_is_refused(machine):
+    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+        steady_dry_whip(machine)

@@ -163,6 +163,24 @@ def test_generic_a_matrix_matches_the_rotor_closed_form(rotor):
             assert np.allclose(s.a_matrix(t, eps), rotor_a_matrix(p, t), rtol=1e-12, atol=1e-12)
 
 
+def test_periods_beyond_the_accurate_range_of_e_minus_at_are_refused(general):
+    from rotorcontact.maps.impact_map import MAX_GROWTH
+
+    # the largest |Re lambda| of A, from numpy, sets the limit as period_limit does for the rotor
+    growth = float(np.max(np.abs(np.linalg.eigvals(general.matrix(0.0)).real)))
+    limit = MAX_GROWTH / growth
+    assert np.all(np.isfinite(general.a_matrix(0.999 * limit)))
+    for call in (lambda T: general.a_matrix(T), lambda T: general.f1(T), lambda T: general.f1_derivatives(T),
+                 lambda T: general.f1_zeros(T)):
+        with pytest.raises(ParameterError, match=rf"allowed: .* <= {limit:.6g}$"):
+            call(limit * (1 + 1e-9))
+    with pytest.raises(ParameterError, match=r"^max\(T\) = "):
+        general.f1([1.0, 1.001 * limit])
+    for bad in (True, "3", [1.0, True], None, [1.0, -1.0], []):
+        with pytest.raises(ParameterError, match="^T = "):
+            general.a_matrix(bad)
+
+
 @pytest.mark.parametrize("omega, t_max", [(0.76, 12.0), (0.7565, 40.0)])
 def test_generic_f1_zeros_match_the_guaranteed_isolation(rotor, omega, t_max):
     p = rotor.replace(omega=omega)

@@ -185,3 +185,58 @@ def test_seed_scans_are_bounded(kw):
     name = next(iter(kw))
     with pytest.raises(ParameterError, match=f"^{name} = .*allowed"):
         codim2_diagram(REF, ("gamma", "omega"), ((0.05, 0.1), (0.7, 0.8)), **kw)
+
+
+@pytest.mark.parametrize("ranges, match", [
+    ([(0.05, 0.1)], r"^ranges = .* allowed: two ranges \(low, high\), one for 'gamma' and one for 'omega'"),
+    ([(0.05, 0.1), (0.7, 0.8), (0.1, 0.2)], r"^ranges = .* allowed: two ranges"),
+    ("0.05,0.1", r"^ranges = .* allowed: two ranges"),
+    ({"gamma": (0.05, 0.1)}, r"^ranges = .* allowed: a range for each of 'gamma' and 'omega' and no other"),
+    ({"gamma": (0.05, 0.1), "omega": (0.7, 0.8), "mu": (0, 1)}, r"and no other"),
+    ([(0.05, 0.1, 0.2), (0.7, 0.8)], r"^range of gamma = .* allowed: \(low, high\)"),
+    ([("0.05", "0.1"), (0.7, 0.8)], r"^range of gamma = '0.05' is text"),
+    ([(0.05, 0.1), "ab"], r"^range of omega = 'ab' is invalid"),
+    ([(0.05, 0.1), np.array(0.7)], r"^range of omega = .* is invalid"),
+    (np.array(0.7), r"^ranges = .* allowed: two ranges"),
+])
+def test_malformed_ranges_are_refused_by_name(ranges, match):
+    with pytest.raises(ParameterError, match=match):
+        classify_plane(REF, ("gamma", "omega"), ranges, shape=(2, 2))
+    with pytest.raises(ParameterError, match=match):
+        codim2_diagram(REF.replace(gamma=0.1), ("gamma", "omega"), ranges)
+
+
+def test_ranges_given_by_name_or_as_arrays_are_the_ranges_given_in_order():
+    box = ((0.05, 0.2), (0.6, 1.1))
+    v1, v2, labels = classify_plane(REF, ("gamma", "omega"), box, shape=(4, 3))
+    w1, w2, named = classify_plane(REF, ("gamma", "omega"), {"omega": box[1], "gamma": box[0]}, shape=(4, 3))
+    assert np.array_equal(v1, w1) and np.array_equal(v2, w2) and (labels == named).all()
+    x1, x2, arrays = classify_plane(REF, np.array(["gamma", "omega"]), np.array(box), shape=np.array([4, 3]))
+    assert np.array_equal(v1, x1) and np.array_equal(v2, x2) and (labels == arrays).all()
+
+
+@pytest.mark.parametrize("shape, match", [((3,), "^shape = "), ((2, 2, 2), "^shape = "), (4, "^shape = "),
+                                          ((2, 10**6), r"^shape\[1\] = 1000000 is invalid; allowed: an integer from 2 "
+                                                       r"to 1000"),
+                                          ((1, 3), r"^shape\[0\] = 1 "), (np.array(5), "^shape = ")])
+def test_classify_plane_refuses_a_malformed_or_huge_shape(shape, match):
+    with pytest.raises(ParameterError, match=match):
+        classify_plane(REF, ("gamma", "omega"), ((0.05, 0.1), (0.7, 0.8)), shape=shape)
+
+
+@pytest.mark.parametrize("param", ["gamma", ("gamma",), ("gamma", "omega", "mu")])
+def test_a_plane_is_a_pair_of_parameter_names(param):
+    with pytest.raises(ParameterError, match=r"^param = .* allowed: two different parameters, as a pair"):
+        codim2_diagram(REF.replace(gamma=0.1), param)
+
+
+def test_settings_that_are_not_continuation_settings_are_refused():
+    p = REF.replace(gamma=0.1)
+    box = ((0.05, 0.2), (0.6, 1.1))
+    calls = [lambda: codim2_diagram(p, ("gamma", "omega"), box, settings="x"),
+             lambda: fold_curve(p, ("gamma", "omega"), box, settings="x"),
+             lambda: dib_curve(p, ("gamma", "omega"), box, settings="x"),
+             lambda: orbit_branches(p, "gamma", 0.05, 0.2, settings="x")]
+    for call in calls:
+        with pytest.raises(ParameterError, match=r"^settings = 'x' is not a ContinuationSettings"):
+            call()

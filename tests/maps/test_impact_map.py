@@ -332,6 +332,60 @@ def test_bad_input_raises_parameter_error():
         im.f1_zeros(conservative)
 
 
+PERIOD_FUNCTIONS = [
+    ("a_matrix", lambda p, T: im.a_matrix(p, T)),
+    ("a_derivatives", lambda p, T: im.a_derivatives(p, T)),
+    ("f1", lambda p, T: im.f1(p, T)),
+    ("f1 of an array", lambda p, T: im.f1(p, np.array([1.0, T]))),
+    ("f1_derivative", lambda p, T: im.f1_derivative(p, T)),
+    ("rdot_roots", lambda p, T: im.rdot_roots(p, T)),
+    ("fixed_point_residual", lambda p, T: im.fixed_point_residual(p, T, 0.1)),
+    ("impact_map_jacobian", lambda p, T: im.impact_map_jacobian(p, [0.0, 0.1, 0.0], T)),
+    ("flight_extrema", lambda p, T: im.flight_extrema(p, [0.0, 0.1, 0.0], T)),
+]
+
+
+@pytest.mark.parametrize("name, call", PERIOD_FUNCTIONS, ids=[n for n, _ in PERIOD_FUNCTIONS])
+def test_a_period_beyond_the_limit_of_the_flight_is_refused(name, call):
+    # at gamma = 0.1 the flight grows like e^{0.05 T}: beyond T = 300 / 0.05 e^{-AT} leaves the floats
+    p = REF.replace(gamma=0.1)
+    limit = im.period_limit(p)
+    assert limit == pytest.approx(300.0 / 0.05)
+    for T in (2e4, limit * (1 + 1e-9)):
+        with pytest.raises(ParameterError, match=r"T|time") as err:
+            call(p, T)
+        assert f"{limit:.6g}" in str(err.value)
+    scalars = (True, "3", None, [1.0, "x"], float("nan"), 0.0)
+    arrays = ([1.0, "x"], [1.0, float("nan")], [1.0, 0.0], [], [1.0, True], [[1.0], [1.0, 2.0]])
+    for bad in scalars if name != "f1 of an array" else arrays:
+        with pytest.raises(ParameterError):
+            call(p, bad) if name != "f1 of an array" else im.f1(p, bad)
+
+
+@pytest.mark.parametrize("gamma, omega", [(0.1, 0.5), (-0.1, 0.5), (-0.6, 0.2), (-2.0, 0.1), (3.0, 0.4), (0.0, 0.7)])
+def test_the_growth_rate_is_the_largest_real_part_of_the_flights_eigenvalues(gamma, omega):
+    p = REF.replace(gamma=gamma, omega=omega)
+    assert im.flight_growth(p) == pytest.approx(np.max(np.abs(np.linalg.eigvals(A_of(p)).real)), rel=1e-12, abs=1e-15)
+    if gamma == 0.0:
+        assert im.period_limit(p) == math.inf
+        return
+    # the flight of a whole period just inside the limit is still finite: forward for gamma < 0, backward else
+    T = 0.999 * im.period_limit(p)
+    x1, jac, dtau = im.impact_map_jacobian(p, [0.0, 0.1, 0.0], T)
+    assert np.all(np.isfinite(x1)) and np.all(np.isfinite(jac)) and np.all(np.isfinite(dtau))
+    assert np.all(np.isfinite(im.a_matrix(p, T)))
+
+
+def test_values_just_inside_the_period_limit_are_finite_and_exact():
+    p = REF.replace(gamma=0.1)
+    T = 0.999 * im.period_limit(p)
+    a = im.a_matrix(p, T)
+    assert np.all(np.isfinite(a))
+    assert np.allclose(a, a_expm(p, T), rtol=1e-8, atol=0.0)
+    assert math.isfinite(im.f1(p, T)) and math.isfinite(im.f1_derivative(p, T))
+    assert np.all(np.isfinite(im.fixed_point_residual(p, T, 0.1)[0]))
+
+
 # ---------------------------------------------------------------------------
 # one-impact orbits
 # ---------------------------------------------------------------------------

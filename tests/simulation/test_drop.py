@@ -501,3 +501,13 @@ def test_a_bearing_failing_after_a_long_levitated_run_drops_as_from_that_phase_o
 def test_a_drop_needs_a_machine():
     with pytest.raises(ParameterError, match="^machine = None is not a Machine object; allowed: rotorcontact.Machine$"):
         drop(None, 1000.0, 0.0, 0.05)
+
+
+@pytest.mark.parametrize("machine", [None, "x"])
+def test_the_drop_functions_refuse_what_is_not_a_machine(machine):
+    from rotorcontact.simulation.drop_run import contact_force_history
+
+    for call in (lambda: levitated_state(machine, 300.0), lambda: run_general(machine, 0j, 0j, 300.0, 0.0, 0.1),
+                 lambda: contact_force_history(machine, 300.0, 0.0, [0.01]), lambda: drop(machine)):
+        with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+            call()

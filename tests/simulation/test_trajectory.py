@@ -270,3 +270,21 @@ def test_to_dict_keeps_the_first_and_last_contact_intervals_past_max_rows():
 def test_to_dict_refuses_a_bad_max_rows(traj, bad):
     with pytest.raises(ParameterError, match="max_rows"):
         traj.to_dict(max_rows=bad)
+
+
+@pytest.mark.parametrize("bad", ["x", [1, 2], ("x",), 3])
+def test_contact_dicts_refuses_what_is_not_a_list_of_intervals(bad):
+    from rotorcontact import simulate
+
+    t = simulate(REF.replace(gamma=0.15, d=0.3, mu=0.6), 0.5, 1.5j, 200.0)
+    assert t.contact_intervals
+    assert t.contact_dicts(list(t.contact_intervals[:1])) == t.contact_dicts()[:1]
+    with pytest.raises(ParameterError, match=r"^intervals = .* allowed: a list of ContactInterval"):
+        t.contact_dicts(bad)
+
+
+@pytest.mark.parametrize("bad", ["x", REF])
+def test_the_impact_table_refuses_what_is_not_a_machine(traj, bad):
+    assert traj.impacts.to_dicts(reference_machine())[0]["t_s"] > 0.0
+    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+        traj.impacts.to_dicts(bad)

@@ -176,3 +176,64 @@ def test_labels_and_intervals():
         centre = (ph + z * z / 20) / (1 + z * z / 10)
         half = z / (1 + z * z / 10) * math.sqrt(ph * (1 - ph) / 10 + z * z / 400)
         assert lo == pytest.approx(centre - half, abs=1e-12) and hi == pytest.approx(centre + half, abs=1e-12)
+
+
+@pytest.mark.parametrize("values", [["0.1"], [True], [0.1, True], [0.1 + 1j], "0.1", [], [0.1, math.nan], None,
+                                    [[0.1], [0.1, 0.2]]])
+def test_values_that_are_not_real_numbers_are_refused_by_every_parameter_path(values, tmp_path):
+    from rotorcontact.studies.lyapunov_scan import lyapunov_scan
+
+    with pytest.raises(ParameterError, match=r"^values of 'gamma'"):
+        parameter_path(REF, "gamma", values)
+    with pytest.raises(ParameterError, match=r"^values of 'gamma'"):
+        attractors(REF, "gamma", values, "plane:3", progress=False)
+    with pytest.raises(ParameterError, match=r"^values of 'gamma'"):
+        lyapunov_scan(REF, "gamma", values, t_end=100.0, progress=False, out=tmp_path / "l.nc")
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("machine", ["x", 3, REF])
+def test_a_machine_that_is_not_a_machine_is_refused(machine):
+    from rotorcontact.studies.lyapunov_scan import lyapunov_scan
+
+    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+        attractors(REF, "gamma", [0.1], "plane:3", machine=machine, progress=False)
+    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+        basins(REF, "plane:3", machine=machine, progress=False)
+    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+        lyapunov_scan(REF, "gamma", [0.1], machine=machine, t_end=100.0, progress=False)
+    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+        parameter_path(REF, "gamma", [0.1], machine)
+
+
+@pytest.mark.parametrize("bad", ["x", {"n_record": 5}])
+def test_settings_that_are_not_batch_settings_are_refused_by_the_studies(bad):
+    from rotorcontact.studies.sweep import sweep
+
+    with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
+        attractors(REF, "gamma", [0.1], "plane:3", settings=bad, progress=False)
+    with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
+        basins(REF, "plane:3", settings=bad, progress=False)
+    with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
+        sweep(REF, "gamma", [0.1, 0.2], settings=bad, progress=False)
+
+
+def test_a_study_whose_sections_exceed_the_machines_memory_is_refused_before_it_runs(monkeypatch, tmp_path):
+    import rotorcontact.studies.batch as batch
+    from rotorcontact.studies.sweep import sweep
+
+    # a sweep up and down over 2 values is 4 simulations; 50 kept impacts each
+    monkeypatch.setattr(batch, "physical_memory", lambda: 4 * 50 * batch.SECTION_BYTES - 1)
+    with pytest.raises(ParameterError, match=r"^n_record = 50, n_keep = None: 4 simulations"):
+        sweep(REF, "gamma", [0.1, 0.2], mode="both", n_transient=10, n_record=50, progress=False,
+              out=tmp_path / "s.nc")
+    assert not any(tmp_path.iterdir())
+    # a basin keeps one impact per point of its grid (a point outside the clearance too): 9 on a 3 x 3 plane
+    monkeypatch.setattr(batch, "physical_memory", lambda: 9 * batch.SECTION_BYTES - 1)
+    with pytest.raises(ParameterError, match=r"n_keep = 1: 9 simulations keeping 1 impacts each"):
+        basins(REF, "plane:3", progress=False)
+    # attractors: values x points inside the clearance
+    inside = int(parse_grid("plane:3").initial_states(REF)[2].sum())
+    monkeypatch.setattr(batch, "physical_memory", lambda: 2 * inside * batch.SECTION_BYTES - 1)
+    with pytest.raises(ParameterError, match=rf"n_keep = 1: {2 * inside} simulations keeping 1 impacts each"):
+        attractors(REF, "gamma", [0.1, 0.2], "plane:3", progress=False)

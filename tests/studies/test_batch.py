@@ -27,6 +27,8 @@ from rotorcontact.studies.batch import (
     REGIME_NAMES,
     BatchResult,
     BatchSettings,
+    SECTION_BYTES,
+    check_batch_settings,
     final_state,
     parameter_array,
     run_lanes,
@@ -362,3 +364,45 @@ def test_bad_batches_are_refused_by_name():
         simulate_batch(REF, u0=[], n_transient=2, n_record=1)
     with pytest.raises(ParameterError, match="^unknown setting 'foo'; allowed: n_transient"):
         simulate_batch(REF, foo=3)
+
+
+def test_sections_beyond_the_machines_memory_are_refused_before_the_run(monkeypatch):
+    import rotorcontact.studies.batch as batch
+
+    assert SECTION_BYTES == 8 * len(batch.SECTION_COLUMNS)
+    # a machine of 64 GiB does not hold the sections of 10^13 impacts (290,000 GiB)
+    monkeypatch.setattr(batch, "physical_memory", lambda: 64 * 2**30)
+    with pytest.raises(ParameterError, match=r"^n_record = 10000000000000, n_keep = None: 1 simulation keeping "
+                                             r"10000000000000 impacts each need 2\.98e\+05 GiB of sections"):
+        simulate_batch(REF, n_record=10**13)
+    # the bound is the memory itself: three simulations keeping 100 impacts need 300 * SECTION_BYTES
+    monkeypatch.setattr(batch, "physical_memory", lambda: 300 * SECTION_BYTES)
+    settings = BatchSettings(n_transient=5, n_record=100)
+    assert check_batch_settings(settings, 3) is settings
+    with pytest.raises(ParameterError, match="allowed: at most this machine's memory"):
+        check_batch_settings(settings, 4)
+    with pytest.raises(ParameterError, match="keep fewer impacts .n_keep., run fewer simulations or split"):
+        check_batch_settings(BatchSettings(n_record=101), 3)
+    assert check_batch_settings(BatchSettings(n_record=10**6, n_keep=100), 3).keep == 100
+    res = simulate_batch(REF, u0=[0j, 0.1 + 0j, 0.2 + 0j], settings=settings)  # fits: runs
+    assert res.shape == (3,)
+    with pytest.raises(ParameterError, match="need"):
+        simulate_batch(REF, u0=[0j, 0.1 + 0j, 0.2 + 0j, 0.3 + 0j], settings=settings)
+    # where the system does not tell its memory, nothing is refused for it
+    monkeypatch.setattr(batch, "physical_memory", lambda: None)
+    assert check_batch_settings(BatchSettings(n_record=10**13), 10) is not None
+
+
+def test_physical_memory_is_positive_where_the_system_tells_it():
+    from rotorcontact.studies.batch import physical_memory
+
+    have = physical_memory()
+    assert have is None or have > 2**20
+
+
+@pytest.mark.parametrize("bad", ["x", 3, {"n_record": 5}, BatchSettings])
+def test_settings_that_are_not_batch_settings_are_refused(bad):
+    with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
+        simulate_batch(REF, settings=bad)
+    with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
+        check_batch_settings(bad, 1)

@@ -200,3 +200,72 @@ def test_a_bad_t_max_is_named_before_the_settings_are_checked(t_max):
 
     with pytest.raises(ParameterError, match="^t_max = "):
         speed_map(reference_machine(), [3000.0], t_max=t_max)
+
+
+@pytest.mark.parametrize("ranges, match", [
+    ({"speed": ("1000", "2000")}, r"^range of speed = '1000' is text"),
+    ({"speed": (2000.0, 1000.0)}, r"^range of speed = \(2000.0, 1000.0\) is invalid; allowed: \(first, last\) "
+                                  r"with first < last"),
+    ({"speed": (1000.0, 1000.0)}, r"with first < last \(first = last for a single point\)"),
+    ({"speed": np.array(1000.0)}, r"^range of speed = .* allowed: \(first, last\), two numbers"),
+    ({"speed": (1000.0, 2000.0, 3000.0)}, r"^range of speed = .* allowed: \(first, last\), two numbers"),
+    ({"speed": "1000:2000"}, r"^range of speed = '1000:2000' is invalid"),
+    ({"speed": (1000.0, math.inf)}, r"^range of speed = inf is not finite"),
+    ([("speed", (1000.0, 2000.0))], r"^ranges = .* allowed: a dict of \(first, last\) by setting"),
+    ({"speed": (1000.0, 2000.0), "mass": (1.0, 2.0)}, r"^ranges of mass, speed give no map"),
+])
+def test_design_map_refuses_malformed_ranges_by_name(ranges, match):
+    from rotorcontact.studies.design_map import design_map
+
+    with pytest.raises(ParameterError, match=match):
+        design_map(reference_machine(), ranges, 3)
+
+
+@pytest.mark.parametrize("speeds", [["1000"], [True], [1000 + 1j], "1000"])
+def test_speeds_that_are_not_real_numbers_are_refused(speeds):
+    with pytest.raises(ParameterError, match=r"^speeds_rpm = .* allowed: finite values > 0"):
+        speed_map(reference_machine(), speeds)
+
+
+def test_a_range_of_one_point_may_be_a_single_value():
+    from rotorcontact.studies.design_map import design_map
+
+    one = design_map(reference_machine(), {"speed": (12000.0, 12000.0)}, 1)
+    assert one.axes == ("speed_rpm",) and list(one.values[0]) == [12000.0]
+    assert one.points == speed_map(reference_machine(), [12000.0]).points
+
+
+def test_a_shock_beyond_the_simulators_velocity_bound_is_refused_in_metres_per_second(monkeypatch):
+    import rotorcontact.studies.design_map as dm
+    from rotorcontact.model.params import MAX_VELOCITY
+
+    m = reference_machine()
+    limit = MAX_VELOCITY * m.clearance * m.speed  # the kick shock / (c Omega) is a dimensionless velocity
+    match = rf"^shock = .* m/s is too large at .* rpm: .* allowed: shock <= {limit:.6g} m/s"
+    with pytest.raises(ParameterError, match=match):
+        recovery_probability(m, limit * (1 + 1e-9))
+    # a map refuses it before classifying any setting
+    monkeypatch.setattr(dm, "classify_machine", lambda *a, **k: pytest.fail("classified before the check"))
+    with pytest.raises(ParameterError, match=match):
+        speed_map(m, [m.speed / dm.RPM], shock=limit * (1 + 1e-9))
+
+
+@pytest.mark.parametrize("machines", [["x"], [None]])
+def test_recovery_probabilities_refuses_what_is_not_a_machine(machines):
+    from rotorcontact.studies.design_map import recovery_probabilities
+
+    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+        recovery_probabilities(machines, 0.01)
+
+
+@pytest.mark.parametrize("machine", [None, "x", Parameters.reference()])
+def test_every_design_function_refuses_what_is_not_a_machine(machine):
+    from rotorcontact.studies.design_map import design_map
+
+    calls = [lambda: classify_machine(machine), lambda: recovery_probability(machine, 0.01),
+             lambda: speed_map(machine, [1000.0]), lambda: plane_map(machine, ("speed_rpm", "stiffness"), [1.0], [1.0]),
+             lambda: design_map(machine, {"speed": (1000.0, 2000.0)}, 2)]
+    for call in calls:
+        with pytest.raises(ParameterError,
+                           match=r"^machine = .* is not a Machine object; allowed: rotorcontact.Machine$"):
+            call()

@@ -72,3 +72,9 @@ def test_bad_arguments_are_refused_before_any_drop(kwargs, match):
     args = {"speeds": SPEEDS, **kwargs}
     with pytest.raises(ParameterError, match=match):
         drop_map(M, **args)
+
+
+@pytest.mark.parametrize("machine", [None, "x"])
+def test_what_is_not_a_machine_is_refused(machine):
+    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+        drop_map(machine, [3000.0 * RPM])

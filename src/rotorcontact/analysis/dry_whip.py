@@ -18,6 +18,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine
 from ..model.units import RPM
+from ..model.validation import check_machine
 
 __all__ = ["DryWhip", "steady_dry_whip"]
 
@@ -123,6 +124,7 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
         Without a stator on springs or friction, with an anisotropic support or bearing, where no root lies
         below the coupled frequency, or where the machine's speed is too low for the contact to slide forward.
     """
+    check_machine(machine, optional=False)
     if not machine.has_stator:
         raise ParameterError("stator_mass = None: dry whip needs a stator on springs (stator_mass, stator_stiffness)")
     if machine.has_race:

@@ -61,9 +61,10 @@ from scipy.optimize import brentq, minimize_scalar
 from .equilibria import boundary_gamma
 from ..model.angles import angle_difference, wrap_angle
 from ..errors import ParameterError
-from ..maps.impact_map import F1Zero, label_f1_zeros, one_impact_orbits, root_branches, stable_quadratic_roots
+from ..maps.impact_map import (MAX_GROWTH, F1Zero, label_f1_zeros, one_impact_orbits, root_branches,
+                               stable_quadratic_roots)
 from ..model.impact_law import impact_q
-from ..model.validation import check_params, complex_value
+from ..model.validation import check_params, complex_value, real_array
 from ..model.params import Parameters, check_finite, check_range
 
 __all__ = [
@@ -296,11 +297,20 @@ class LinearImpactingSystem:
 
     # -- the matrix a and F1 --------------------------------------------------
 
+    def _check_period(self, name: str, T: float, eps: float) -> None:
+        """Refuse a period beyond which e^{-AT} leaves the accurate range (as
+        `rotorcontact.maps.impact_map.period_limit`)."""
+        grow = float(np.max(np.abs(self.eigenvalues(eps).real)))
+        if grow * T > MAX_GROWTH:
+            raise ParameterError(f"{name} = {T!r} is too large at eps = {eps!r} (e^{{-AT}} grows like "
+                                 f"e^{{{grow:.3g} T}}); allowed: {name} <= {MAX_GROWTH / grow:.6g}")
+
     def a_matrix(self, T, eps: float = 0.0) -> np.ndarray:
         """[a_ij(T)] = (e^{-AT} - I)^{-1} at ``eps``; T a float (2x2) or an array (..., 2, 2)."""
-        t = np.asarray(T, dtype=float)
-        if not np.all(np.isfinite(t)) or np.any(t <= 0.0):
-            raise ParameterError(f"T must be finite and > 0; got {T!r}")
+        t = real_array(T)
+        if t is None or t.size == 0 or not np.all(np.isfinite(t)) or np.any(t <= 0.0):
+            raise ParameterError(f"T = {T!r} is invalid; allowed: a finite number > 0, or an array of them")
+        self._check_period("T" if t.ndim == 0 else "max(T)", float(t.max()), eps)
         a = self.matrix(eps)
         e = expm2(-t[..., None, None] * a) - np.eye(2)
         # 2x2 inverse in closed form (vectorised)
@@ -339,7 +349,9 @@ class LinearImpactingSystem:
     def f1_derivatives(self, T: float, eps: float = 0.0) -> tuple[float, float]:
         """(dF1/dT, dF1/deps) at (T, eps)."""
         T = check_range("T", T, low=0.0, low_open=True)
-        _, da_dt, da_deps = self._derivatives(T, _check_eps(eps))
+        eps = _check_eps(eps)
+        self._check_period("T", T, eps)
+        _, da_dt, da_deps = self._derivatives(T, eps)
         return float((self.q * da_dt[1, 1]).real), float((self.q * da_deps[1, 1]).real)
 
     def _f1_dt(self, T: float, eps: float) -> float:
@@ -389,10 +401,7 @@ class LinearImpactingSystem:
         if np.any(lam.real >= 0.0):
             raise ParameterError(f"eps = {eps!r}: A has eigenvalues {lam[0]:.6g}, {lam[1]:.6g} (not stable); "
                                  "allowed: eps where both have negative real part")
-        grow = float(np.max(np.abs(lam.real)))
-        if grow * t_max > 300.0:
-            raise ParameterError(f"t_max = {t_max!r} is too large (e^{{-AT}} grows like e^{{{grow:.3g} T}}); "
-                                 f"allowed: t_max <= {300.0 / grow:.6g}")
+        self._check_period("t_max", t_max, eps)
         t = self._grid(t_max, eps)
         f = self.f1(t, eps)
 

@@ -53,6 +53,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+from collections.abc import Mapping
 from typing import Callable, Sequence
 
 import numpy as np
@@ -80,8 +81,8 @@ from ..maps.impact_map import (
     rdot_roots,
 )
 from ..maps.orbit_system import BRANCH_PARAMETERS, orbit_angles, regularised_residual, with_parameters
-from ..model.params import Parameters, check_range
-from ..model.validation import check_int, check_params
+from ..model.params import Parameters, check_finite, check_range
+from ..model.validation import check_int, check_params, settings_or_default
 
 __all__ = [
     "DEFAULT_RANGES",
@@ -121,6 +122,9 @@ REGIONS = ("R1", "R2", "R3", "R4")
 #: Most scan lines per axis (``n_seeds``) and points per line (``n_scan``) of the seed scans; they bound the run time.
 MAX_SEEDS = 2000
 MAX_SCAN = 10_000
+#: Most points on a side of `classify_plane`'s grid: each point finds the orbits of one parameter set
+#: (a few milliseconds), so 1000 x 1000 take an hour or more.
+MAX_PLANE_SIDE = 1000
 
 
 def _settings() -> ContinuationSettings:
@@ -236,14 +240,22 @@ def dib_function(p: Parameters) -> float:
     return p.rho**2 - p.gamma**2 - (1.0 - p.omega**2) ** 2
 
 
+def _is_pair(value) -> bool:
+    """A list, tuple or array of two items (not text, which is a sequence too)."""
+    if isinstance(value, np.ndarray):
+        return value.ndim >= 1 and len(value) == 2
+    return isinstance(value, (list, tuple)) and len(value) == 2
+
+
 class _Plane:
     """Parameters at (p1, p2) for a plane of two parameters (extended beyond physical bounds)."""
 
     def __init__(self, base: Parameters, params: Sequence[str], ranges):
         check_params(base)
-        params = tuple(params)
+        given = params
+        params = tuple(params) if _is_pair(params) else ()
         if len(params) != 2 or params[0] == params[1]:
-            raise ParameterError(f"param = {params!r} is invalid; allowed: two different parameters")
+            raise ParameterError(f"param = {given!r} is invalid; allowed: two different parameters, as a pair")
         for p in params:
             if p not in BRANCH_PARAMETERS:
                 raise ParameterError(
@@ -251,12 +263,19 @@ class _Plane:
                 )
         if ranges is None:
             ranges = (DEFAULT_RANGES[params[0]], DEFAULT_RANGES[params[1]])
+        elif isinstance(ranges, Mapping):
+            if set(ranges) != set(params):
+                raise ParameterError(f"ranges = {ranges!r} is invalid; allowed: a range for each of {params[0]!r} "
+                                     f"and {params[1]!r} and no other")
+            ranges = (ranges[params[0]], ranges[params[1]])
+        elif not _is_pair(ranges):
+            raise ParameterError(f"ranges = {ranges!r} is invalid; allowed: two ranges (low, high), one for "
+                                 f"{params[0]!r} and one for {params[1]!r}")
         checked = []
         for name, rng in zip(params, ranges):
-            try:
-                lo, hi = (float(v) for v in rng)
-            except (TypeError, ValueError):
-                raise ParameterError(f"range of {name} = {rng!r} is invalid; allowed: (low, high)") from None
+            if not _is_pair(rng):
+                raise ParameterError(f"range of {name} = {rng!r} is invalid; allowed: (low, high)")
+            lo, hi = (check_finite(f"range of {name}", v) for v in rng)
             if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
                 raise ParameterError(f"range of {name} = {rng!r} is invalid; allowed: finite low < high")
             base.replace(**{name: lo})
@@ -464,7 +483,7 @@ def fold_curve(
     plane = _Plane(params, param, ranges)
     n = check_int("n", n, 1)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
-    settings = settings or _settings()
+    settings = settings_or_default(settings, ContinuationSettings, _settings)
     seeds = []
     for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
                                          check_int("n_scan", n_scan, 2, MAX_SCAN)):
@@ -546,7 +565,7 @@ def coalescence_curves(
     plane = _Plane(params, param, ranges)
     n = check_int("n", n, 1)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
-    settings = settings or _settings()
+    settings = settings_or_default(settings, ContinuationSettings, _settings)
 
     def residual(y):
         r, j = regularised_residual(plane.at(y[2], y[3]), float(y[0]), float(y[1]))
@@ -622,7 +641,7 @@ def dib_curve(
     Parameters as in `fold_curve`.
     """
     plane = _Plane(params, param, ranges)
-    settings = settings or _settings()
+    settings = settings_or_default(settings, ContinuationSettings, _settings)
     seeds = []
     for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
                                          check_int("n_scan", n_scan, 2, MAX_SCAN)):
@@ -696,7 +715,7 @@ def grazing_curve(
     """
     plane = _Plane(params, param, ranges)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
-    settings = settings or _settings()
+    settings = settings_or_default(settings, ContinuationSettings, _settings)
     _check_label(orbit)
     seeds = []
     for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
@@ -788,8 +807,9 @@ def codim2_diagram(
         The other parameters.
     param : (str, str)
         The plane, default (gamma, omega).
-    ranges : ((float, float), (float, float)), optional
-        The box; `DEFAULT_RANGES` when omitted.
+    ranges : ((float, float), (float, float)) or dict, optional
+        The box: a (low, high) for p1 and one for p2, or a dict of them by parameter name;
+        `DEFAULT_RANGES` when omitted.
     folds : sequence of int
         Pairs n whose fold curves are computed.
     grazing : sequence of str
@@ -919,7 +939,9 @@ def classify_plane(
         ``"R1"`` .. ``"R4"`` or None.
     """
     plane = _Plane(params, param, ranges)
-    n1, n2 = (check_int("shape", s, 2) for s in shape)
+    if not _is_pair(shape):
+        raise ParameterError(f"shape = {shape!r} is invalid; allowed: (n1, n2), two whole numbers >= 2")
+    n1, n2 = (check_int(f"shape[{i}]", s, 2, MAX_PLANE_SIDE) for i, s in enumerate(shape))
     v1 = np.linspace(*plane.ranges[0], n1)
     v2 = np.linspace(*plane.ranges[1], n2)
     labels = np.empty((n2, n1), dtype=object)

@@ -48,6 +48,7 @@ from ..maps.multi_impact import (
 )
 from ..model.flow import propagate
 from ..model.params import Parameters
+from ..model.validation import settings_or_default
 from ..simulation.motion import MAX_PERIOD_IMPACTS
 from .codim2 import Codim2Curve, _Plane, coalescence_curves
 from .engine import (
@@ -129,7 +130,7 @@ def orbit_curve(
     plane = _Plane(orbit.params, param, ranges)
     name = name or f"{CURVE_KINDS[kind]}_{orbit.label.replace(',', '')}"
     curve_kind = "orbit-fold" if kind == "fold" else kind
-    settings = settings or _settings()
+    settings = settings_or_default(settings, ContinuationSettings, _settings)
     p = orbit.impacts
     seed = _seed(orbit, kind, plane)
     if seed is None:
@@ -224,7 +225,7 @@ def grazing_curve_of(orbit: MultiImpactOrbit, param: Sequence[str] = ("gamma", "
         raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
     plane = _Plane(orbit.params, param, ranges)
     name = name or f"grazing_{orbit.label.replace(',', '')}"
-    settings = settings or _settings()
+    settings = settings_or_default(settings, ContinuationSettings, _settings)
     p = orbit.impacts
     seed = None
     for end in plane.ranges[0][::-1]:

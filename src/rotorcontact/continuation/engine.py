@@ -59,7 +59,7 @@ from typing import Callable, Iterator, Literal, Sequence
 import numpy as np
 
 from ..errors import ParameterError
-from ..model.validation import check_int
+from ..model.validation import check_int, settings_or_default
 
 __all__ = [
     "ContinuationSettings",
@@ -408,7 +408,7 @@ def correct_fixed(
     CorrectionError
         When Newton's method does not converge.
     """
-    settings = settings or ContinuationSettings()
+    settings = settings_or_default(settings, ContinuationSettings, ContinuationSettings)
     y = np.array(y, dtype=float)
     e = np.zeros_like(y)
     e[index] = 1.0
@@ -640,7 +640,7 @@ def continue_curve(
     -------
     ContinuationResult
     """
-    settings = settings or ContinuationSettings()
+    settings = settings_or_default(settings, ContinuationSettings, ContinuationSettings)
     y0 = np.array(y0, dtype=float)
     if y0.ndim != 1 or y0.shape[0] < 2 or not np.all(np.isfinite(y0)):
         raise ParameterError(f"y0 = {y0!r} is invalid; allowed: a finite vector of length >= 2")

@@ -27,7 +27,7 @@ from .results import BranchEvent, BranchResult, check_param_range
 from ..maps.impact_map import f1_zeros
 from ..maps.orbit_system import OneImpactSystem, regularised_residual
 from ..model.params import Parameters, check_range
-from ..model.validation import check_int, check_params
+from ..model.validation import check_int, check_params, settings_or_default
 
 __all__ = ["ZeroFold", "ZeroCurve", "F1ZeroCurves", "f1_zero_curves"]
 
@@ -128,7 +128,8 @@ def f1_zero_curves(
     start, stop = check_param_range(param, params, start, stop)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     n_seeds = check_int("n_seeds", n_seeds, 2)
-    settings = settings or ContinuationSettings(step=0.01, max_step=0.03, location_tol=1e-10)
+    settings = settings_or_default(settings, ContinuationSettings,
+                                   lambda: ContinuationSettings(step=0.01, max_step=0.03, location_tol=1e-10))
     span = stop - start
 
     def at(v):

@@ -127,7 +127,7 @@ from ..model.flow import (
     scaled_cs,
 )
 from ..model.params import Parameters, check_finite, check_range
-from ..model.validation import check_params
+from ..model.validation import check_params, real_array
 from ..model.impact_law import (
     apply_reset,
     ideal_reset,
@@ -814,7 +814,7 @@ def impact_map_jacobian(
     """
     g, w, k, d, mu, rr = _params_tuple(params)
     theta, rdot, thetadot = _state(state)
-    time = check_range("time", time, low=0.0, low_open=True)
+    time = _check_period(params, "time", time)
     x1, jac, dtau, branch = call_kernel(_jacobian_kernel, g, w, k, d, mu, rr, theta, rdot, thetadot, time,
                                         _check_law(law))
     return x1, jac, dtau
@@ -825,10 +825,16 @@ def impact_map_jacobian(
 # ---------------------------------------------------------------------------
 
 
-def _check_time(name: str, t) -> np.ndarray:
-    arr = np.asarray(t, dtype=float)
-    if not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
+def _check_times(params: Parameters, name: str, t) -> np.ndarray:
+    """``t``, a period or an array of periods, each in (0, period_limit(params)]."""
+    if not isinstance(t, (list, tuple, np.ndarray)) or (isinstance(t, np.ndarray) and t.ndim == 0):
+        return np.asarray(_check_period(params, name, t[()] if isinstance(t, np.ndarray) else t))
+    arr = real_array(t)
+    if arr is None:
+        raise ParameterError(f"{name} = {t!r} is not a number or an array of numbers; allowed: {name} > 0")
+    if arr.size == 0 or not np.all(np.isfinite(arr)) or np.any(arr <= 0.0):
         raise ParameterError(f"{name} must be finite and > 0; got {t!r}")
+    _check_period_limit(params, f"max({name})", float(arr.max()))
     return arr
 
 
@@ -849,7 +855,7 @@ def a_matrix(params: Parameters, T: float) -> np.ndarray:
         2x2 complex array, from the closed form of the module docstring.
     """
     _params_tuple(params)
-    T = float(_check_time("T", T))
+    T = _check_period(params, "T", T)
     a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
     return np.array([[a11, a12], [a21, a22]], dtype=complex)
 
@@ -857,7 +863,7 @@ def a_matrix(params: Parameters, T: float) -> np.ndarray:
 def a_derivatives(params: Parameters, T: float) -> tuple[complex, complex, complex, complex]:
     """(a12, a22, da12/dT, da22/dT) at T > 0 (for continuation of the fixed points)."""
     _params_tuple(params)
-    T = float(_check_time("T", T))
+    T = _check_period(params, "T", T)
     a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
     return complex(a12), complex(a22), complex(da12), complex(da22)
 
@@ -869,7 +875,7 @@ def _q(params: Parameters) -> complex:
 def f1(params: Parameters, T):
     """F1(T) = 1 + Re(q a22(T)) (MODEL.md §5), for a float or an array of T > 0."""
     _params_tuple(params)
-    arr = _check_time("T", T)
+    arr = _check_times(params, "T", T)
     val, _ = call_kernel(_f1_many, np.atleast_1d(arr).ravel(), params.gamma, params.omega, _q(params))
     return float(val[0]) if arr.ndim == 0 else val.reshape(arr.shape)
 
@@ -877,7 +883,7 @@ def f1(params: Parameters, T):
 def f1_derivative(params: Parameters, T):
     """dF1/dT, for a float or an array of T > 0."""
     _params_tuple(params)
-    arr = _check_time("T", T)
+    arr = _check_times(params, "T", T)
     _, der = call_kernel(_f1_many, np.atleast_1d(arr).ravel(), params.gamma, params.omega, _q(params))
     return float(der[0]) if arr.ndim == 0 else der.reshape(arr.shape)
 
@@ -912,13 +918,14 @@ MAX_GROWTH = 300.0
 
 
 def flight_growth(params: Parameters) -> float:
-    """The rate at which a free flight can grow or decay: max(|gamma| / 2, sqrt(gamma^2 / 4 - omega^2)).
+    """The fastest rate at which a free flight grows or decays: |gamma| / 2 + sqrt(max(gamma^2 / 4 - omega^2, 0)).
 
-    The terms of the flight behave like e^{growth T} (MODEL.md §3), so F1 is
-    evaluated for periods T up to ``MAX_GROWTH / growth`` (`period_limit`).
+    The eigenvalues of the flight are -gamma/2 - i +- h with h^2 = gamma^2/4 - omega^2 (MODEL.md §3), so its
+    terms and those of e^{-AT} behave like e^{growth T} at most; F1 and the flight are evaluated for periods
+    T up to ``MAX_GROWTH / growth`` (`period_limit`). The rate increases with |gamma| and decreases with omega.
     """
     h2 = half_discriminant.py_func(params.gamma, params.omega)
-    return max(abs(params.gamma) / 2.0, math.sqrt(h2) if h2 > 0 else 0.0)
+    return abs(params.gamma) / 2.0 + (math.sqrt(h2) if h2 > 0 else 0.0)
 
 
 def period_limit(params: Parameters) -> float:
@@ -927,15 +934,24 @@ def period_limit(params: Parameters) -> float:
     return math.inf if growth == 0.0 else MAX_GROWTH / growth
 
 
-def _check_t_max(params: Parameters, t_max) -> float:
-    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+def _check_period_limit(params: Parameters, name: str, value: float) -> float:
     limit = period_limit(params)
-    if t_max > limit:
+    if value > limit:
         raise ParameterError(
-            f"t_max = {t_max!r} is too large at gamma = {params.gamma:g}, omega = {params.omega:g} (the flight "
-            f"grows like e^{{{flight_growth(params):.3g} T}}); allowed: t_max <= {limit:.6g}"
+            f"{name} = {value!r} is too large at gamma = {params.gamma:g}, omega = {params.omega:g} (the flight "
+            f"grows like e^{{{flight_growth(params):.3g} T}}); allowed: {name} <= {limit:.6g}"
         )
-    return t_max
+    return value
+
+
+def _check_period(params: Parameters, name: str, value) -> float:
+    """``value`` as a period in (0, period_limit(params)]: beyond it the flight and e^{-AT} leave the range
+    where they are evaluated accurately."""
+    return _check_period_limit(params, name, check_range(name, value, low=0.0, low_open=True))
+
+
+def _check_t_max(params: Parameters, t_max) -> float:
+    return _check_period(params, "t_max", t_max)
 
 
 def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
@@ -1057,7 +1073,7 @@ def rdot_roots(params: Parameters, T: float) -> tuple[float, tuple[float, ...]]:
         The real roots, smaller first (empty where the discriminant is negative).
     """
     _params_tuple(params)
-    T = float(_check_time("T", T))
+    T = _check_period(params, "T", T)
     a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
     qa = _q(params) * a12
     return stable_quadratic_roots(abs(qa) ** 2, qa.real, 1.0 - abs(params.k) ** 2)
@@ -1077,7 +1093,7 @@ def fixed_point_residual(params: Parameters, T: float, rdot: float) -> tuple[np.
         d(R1, R2) / d(T, rdot).
     """
     _params_tuple(params)
-    T = float(_check_time("T", T))
+    T = _check_period(params, "T", T)
     rdot = check_finite("rdot", rdot)
     q = _q(params)
     a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
@@ -1148,7 +1164,7 @@ def flight_extrema(params: Parameters, state, T: float, *, law: str = IDEAL) -> 
     extrema) are not counted.
     """
     _params_tuple(params)
-    T = float(_check_time("T", T))
+    T = _check_period(params, "T", T)
     u0, du0 = post_impact_state(params, state, law=law)
     return _extrema_from_post(params, u0, du0, T)
 

@@ -7,14 +7,15 @@ Every message names the argument, the value given and what is allowed, and is ra
 from __future__ import annotations
 
 import math
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
 from ..errors import ParameterError
 from .params import Parameters, check_finite, refuse_bool_or_text
 
-__all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice", "real_array"]
+__all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice", "real_array",
+           "settings_or_default"]
 
 
 def check_params(params: Any, name: str = "params"):
@@ -41,11 +42,23 @@ MAX_COUNT = 2**63 - 1
 MAX_EQUILIBRIUM_POINTS = 10_000
 
 
+def _holds_bool(value: Any) -> bool:
+    if isinstance(value, (list, tuple)):
+        return any(_holds_bool(v) for v in value)
+    return isinstance(value, (bool, np.bool_))
+
+
 def real_array(value: Any) -> np.ndarray | None:
-    """``value`` as an array of floats if it holds integers or reals only; None for text, bools, complex
-    numbers or other objects, which ``np.asarray(value, dtype=float)`` would read or half-read."""
-    raw = np.asarray(value)
-    return raw.astype(float) if raw.dtype.kind in "iuf" else None
+    """``value`` as an array of floats if it holds integers or reals only; None for text, bools (also
+    mixed into a list of numbers, where numpy would read them as 0 and 1), complex numbers, ragged lists
+    or other objects, which ``np.asarray(value, dtype=float)`` would read or half-read."""
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError):
+        return None
+    if raw.dtype.kind not in "iuf" or _holds_bool(value):
+        return None
+    return raw.astype(float)
 
 
 def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:
@@ -91,6 +104,15 @@ def check_choice(name: str, value: Any, allowed: Sequence[str]) -> str:
     """Return ``value`` if it is one of ``allowed``, else raise `ParameterError` listing them."""
     if not isinstance(value, str) or value not in allowed:
         raise ParameterError(f"{name} = {value!r} is invalid; allowed: {', '.join(map(repr, allowed))}")
+    return value
+
+
+def settings_or_default(value: Any, kind: type, default: Callable[[], Any], name: str = "settings"):
+    """``value`` if it is a ``kind``, ``default()`` if it is None, else a `ParameterError` naming ``name``."""
+    if value is None:
+        return default()
+    if not isinstance(value, kind):
+        raise ParameterError(f"{name} = {value!r} is not a {kind.__name__}; allowed: a {kind.__name__} or None")
     return value
 
 

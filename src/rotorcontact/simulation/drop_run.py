@@ -64,6 +64,7 @@ def levitated_state(machine: Machine, speed: float, *, name: str = "speed") -> t
         force and gravity where their sag alone reaches the wall (no speed helps), else the speed and the
         clearance.
     """
+    check_machine(machine, optional=False)
     m = machine.mass
     fx, fy = call_kernel(unbalance_amplitudes, machine.eccentricity, speed, machine.unbalance_phase)
     whirl = 0j  # the unbalance's part
@@ -345,6 +346,7 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     relative tolerance of compliant contact episodes (MODEL.md §8), in [1e-14, 1e-3]. ``stator_start``: the
     position (m) and velocity (m/s) of a stator on springs at the start (default: at rest at its centre).
     """
+    check_machine(machine, optional=False)
     tol = check_range("tol", tol, low=1e-14, high=1e-3)
     m = machine
     zb0, vb0 = (complex(a) for a in stator_start)
@@ -394,6 +396,7 @@ def contact_force_history(machine: Machine, speed: float, fail_at: float, times,
     ParameterError
         For a machine without the compliant law.
     """
+    check_machine(machine, optional=False)
     if not machine.compliant:
         raise ParameterError(f"contact = {machine.contact!r}; a force history needs contact = 'compliant'")
     chi = restitution_damping(machine.restitution, machine.exponent)

@@ -16,7 +16,7 @@ from ..errors import ParameterError
 from ..interpreted import call_kernel
 from ..model.flow import propagate, to_inertial
 from ..model.impact_law import relative_velocity
-from ..model.validation import check_int, real_array
+from ..model.validation import check_int, check_machine, real_array
 from ..model.params import Machine, Parameters, check_range
 
 __all__ = ["Trajectory", "ImpactTable", "COLUMNS"]
@@ -70,6 +70,7 @@ class ImpactTable:
 
     def to_dicts(self, machine: Machine | None = None) -> list[dict[str, float]]:
         """One plain dict per impact (the JSON form)."""
+        check_machine(machine)
         rows = []
         for rec in self._records:
             row = {name: float(rec[i]) for i, name in enumerate(_PUBLIC)}
@@ -431,9 +432,14 @@ class Trajectory:
         intervals : list of ContactInterval, optional
             The intervals to describe (default: all of `contact_intervals`).
         """
+        if intervals is None:
+            intervals = self.contact_intervals
+        elif not isinstance(intervals, (list, tuple)) or not all(isinstance(c, ContactInterval) for c in intervals):
+            raise ParameterError(f"intervals = {intervals!r} is invalid; allowed: a list of ContactInterval "
+                                 "(from contact_intervals) or None")
         out = []
         m = self.machine
-        for c in self.contact_intervals if intervals is None else intervals:
+        for c in intervals:
             row = c.to_dict()
             if m is not None:
                 f = self.phase_forces(c.t_start, min(c.t_end, self.t_stop), c.kind)

@@ -45,13 +45,13 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_finite
-from ..model.validation import check_int, check_params
+from ..model.validation import check_int, check_machine, check_params
 from .basins import DEFAULT_CHUNK, BasinGrid, class_names, name_points, parse_grid
-from .batch import NSUM, PARAMETER_ORDER, BatchResult, BatchSettings, parameter_array
+from .batch import NSUM, PARAMETER_ORDER, BatchResult, BatchSettings, check_batch_settings, parameter_array
 from .driver import run_study
 from .execution import ChunkTask, backend_manifest, study_digest
 from .lyapunov_scan import SpectrumTask
-from .parameter_path import parameter_path
+from .parameter_path import parameter_path, path_values
 
 __all__ = [
     "CHAOS_MIN",
@@ -309,6 +309,7 @@ def attractors(
     -------
     AttractorsResult
     """
+    check_machine(machine)
     check_params(params)
     if isinstance(grid, str):
         grid = parse_grid(grid)
@@ -316,7 +317,7 @@ def attractors(
         raise ParameterError(f"grid = {grid!r} is not a BasinGrid or a grid string")
     if not isinstance(param, str):
         raise ParameterError(f"param = {param!r} is not a name")
-    vals = np.asarray(values, dtype=float).reshape(-1)
+    vals = path_values(param, values)
     path = parameter_path(params, param, vals, machine)
     match_tol = float(check_finite("match_tol", match_tol))
     if match_tol <= 0:
@@ -325,8 +326,6 @@ def attractors(
     if not 0.0 < t_lyapunov <= 1e5:
         raise ParameterError(f"t_lyapunov = {t_lyapunov!r} is invalid; allowed: 0 < t_lyapunov <= 1e5")
     chunk_size = check_int("chunk_size", chunk_size, 1)
-    if settings is None:
-        settings = BatchSettings(n_transient=n_transient, n_record=n_record, n_keep=1, settle=settle)
     states = []
     for v, p in zip(vals, path):
         try:
@@ -339,6 +338,8 @@ def attractors(
     flat = np.flatnonzero(inside.ravel())
     n_in = flat.size
     n_items = vals.size * n_in
+    settings = check_batch_settings(settings, n_items, lambda: BatchSettings(
+        n_transient=n_transient, n_record=n_record, n_keep=1, settle=settle))
     rows = parameter_array(path)
     u_all = np.stack([s[0].ravel()[flat] for s in states])
     du_all = np.stack([s[1].ravel()[flat] for s in states])

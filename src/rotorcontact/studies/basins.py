@@ -41,11 +41,11 @@ import numpy as np
 
 from .. import __version__
 from ..simulation.motion import IRREGULAR, MIXED, NO_CONTACT, PERIODIC, ROLL, RUB, UNDETERMINED
-from .batch import NSUM, BatchResult, BatchSettings, parameter_array
+from .batch import NSUM, BatchResult, BatchSettings, check_batch_settings, parameter_array
 from ..errors import ParameterError
 from ..model.angles import angle_difference
 from ..model.params import Machine, Parameters, check_finite
-from ..model.validation import check_int, check_params
+from ..model.validation import check_int, check_machine, check_params
 from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 from .driver import run_study
 from .execution import ChunkTask, backend_manifest, study_digest
@@ -261,6 +261,7 @@ def basins(
     -------
     BasinResult
     """
+    check_machine(machine)
     check_params(params)
     if isinstance(grid, str):
         grid = parse_grid(grid)
@@ -271,12 +272,9 @@ def basins(
         raise ParameterError(f"match_tol = {match_tol!r} must be > 0")
     fit_chunks = chunk_size is None
     chunk_size = check_int("chunk_size", DEFAULT_CHUNK if fit_chunks else chunk_size, 1)
-    if settings is None:
-        settings = basin_settings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
-                                  t_record=t_record, settle=settle)
-    elif settings.keep < 1:  # pragma: no cover - BatchSettings forbids it
-        raise ParameterError("settings must keep at least one impact")
     u0, du0, inside = grid.initial_states(params)
+    settings = check_batch_settings(settings, int(inside.size), lambda: basin_settings(  # the sections span the grid
+        n_transient=n_transient, n_record=n_record, t_transient=t_transient, t_record=t_record, settle=settle))
     if not inside.any():
         raise ParameterError("grid: no initial state lies inside the clearance (|U(0)| <= 1); nothing to simulate")
     row = parameter_array(params)

@@ -35,6 +35,7 @@ the stop time; in contact, the point on the stator with its angular velocity.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field, fields
 from typing import Any, Sequence
 
@@ -81,7 +82,7 @@ from ..simulation.motion import (
     WINDOW,
 )
 from ..model.params import MAX_VELOCITY, Parameters, check_range, check_velocity
-from ..model.validation import check_int
+from ..model.validation import check_int, settings_or_default
 from ..simulation.simulator import (
     BOUNDARY_TOL,
     CHATTER_DEFAULTS,
@@ -104,6 +105,7 @@ __all__ = [
     "BatchSettings",
     "BatchResult",
     "CHATTER_DEFAULTS",
+    "check_batch_settings",
     "simulate_batch",
     "final_state",
     "parameter_array",
@@ -424,6 +426,44 @@ class BatchSettings:
         out["t_record"] = self.record_time
         out["n_keep"] = self.keep
         return out
+
+
+#: Bytes of one kept impact of a section: (t, theta, rdot, thetadot) as float64.
+SECTION_BYTES = len(SECTION_COLUMNS) * 8
+
+
+def physical_memory() -> int | None:
+    """This machine's physical memory in bytes, or None where the system does not tell."""
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def check_batch_settings(settings: Any, simulations: int, default: Any = BatchSettings) -> BatchSettings:
+    """``settings`` (``default()`` where None) as `BatchSettings` whose sections fit in this machine's memory.
+
+    The sections of every simulation are held together (``simulations`` x ``keep`` impacts of
+    `SECTION_BYTES`), so a study that needs more than the machine's physical memory is refused before it
+    runs, rather than failing with a `MemoryError` part way.
+
+    Raises
+    ------
+    ParameterError
+        For settings that are not `BatchSettings`, or sections beyond the machine's memory.
+    """
+    settings = settings_or_default(settings, BatchSettings, default)
+    need = simulations * settings.keep * SECTION_BYTES
+    have = physical_memory()
+    if have is not None and need > have:
+        raise ParameterError(
+            f"n_record = {settings.n_record}, n_keep = {settings.n_keep}: {simulations} "
+            f"simulation{'' if simulations == 1 else 's'} keeping "
+            f"{settings.keep} impacts each need {need / 2**30:.3g} GiB of sections; allowed: at most this "
+            f"machine's memory, {have / 2**30:.3g} GiB; keep fewer impacts (n_keep), run fewer simulations "
+            "or split the study"
+        )
+    return settings
 
 
 @dataclass(frozen=True)
@@ -751,6 +791,7 @@ def simulate_batch(
         raise ParameterError(f"the batch is empty (shape {shape}); allowed: at least one item")
     parr = np.broadcast_to(parr, shape + (len(PARAMETER_ORDER),))
     check_initial_states(u0c, du0c)
+    check_batch_settings(settings, int(np.prod(shape, dtype=np.int64)))
     if carry:
         lanes = int(np.prod(shape[:-1], dtype=np.int64))
         steps = shape[-1]

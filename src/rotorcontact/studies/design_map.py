@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field, replace
+from collections.abc import Mapping
 from typing import Any, Sequence
 
 import numpy as np
@@ -33,8 +34,8 @@ import numpy as np
 from ..analysis.equilibria import equilibria
 from ..errors import ParameterError
 from ..maps.impact_map import one_impact_orbits, period_limit
-from ..model.params import MAX_SPEED, Machine, check_range
-from ..model.validation import check_int
+from ..model.params import MAX_SPEED, MAX_VELOCITY, Machine, check_finite, check_range
+from ..model.validation import check_int, check_machine, real_array
 from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
 from ..model.units import RPM
 from .driver import run_study
@@ -199,6 +200,7 @@ def classify_machine(machine: Machine, *, t_max: float = 12.0) -> MapPoint:
     t_max : float
         Longest period (dimensionless) of the impacting orbits searched.
     """
+    check_machine(machine, optional=False)
     p = machine.parameters()
     eq = equilibria(p)
     motions: list[Motion] = []
@@ -243,6 +245,22 @@ def _check_whirl(machine: Machine):
     return p
 
 
+def _check_shock(machines: Sequence[Machine], shock: Any) -> float:
+    """``shock`` (m/s) checked for every machine: the kick shock / (c Omega) it gives is a dimensionless
+    velocity, within the simulator's bound `MAX_VELOCITY`."""
+    shock = check_range("shock", shock, low=0.0)
+    for machine in machines:
+        check_machine(machine, optional=False)
+        kick = shock / (machine.clearance * machine.speed)
+        if kick > MAX_VELOCITY:
+            raise ParameterError(
+                f"shock = {shock!r} m/s is too large at {machine.speed / RPM:.6g} rpm: the kick is "
+                f"{kick:.3g} clearances per unit time; allowed: shock <= "
+                f"{MAX_VELOCITY * machine.clearance * machine.speed:.6g} m/s (far beyond any touchdown shock)"
+            )
+    return shock
+
+
 def recovery_probabilities(
     machines: Sequence[Machine],
     shock: float,
@@ -275,7 +293,7 @@ def recovery_probabilities(
     from .batch import NO_CONTACT, BatchResult, parameter_array
     from .execution import ChunkTask, study_digest
 
-    shock = check_range("shock", shock, low=0.0)
+    shock = _check_shock(machines, shock)
     directions = check_int("directions", directions, 1)
     chunk_size = check_int("chunk_size", chunk_size, 1)
     settings = basin_settings()
@@ -348,6 +366,7 @@ def recovery_probability(
     ParameterError
         If contact-free whirl is not admissible, or on invalid arguments.
     """
+    check_machine(machine, optional=False)
     return float(recovery_probabilities([machine], shock, directions=directions, n_jobs=1)[0])
 
 
@@ -441,10 +460,23 @@ class DesignMap:
 
 
 def _check_grid(name: str, values: Sequence[float], positive: bool = True) -> np.ndarray:
-    arr = np.asarray(values, dtype=float).ravel()
-    if arr.size < 1 or not np.all(np.isfinite(arr)) or (positive and np.any(arr <= 0.0)):
+    arr = real_array(values)
+    if arr is None or arr.size < 1 or not np.all(np.isfinite(arr)) or (positive and np.any(arr <= 0.0)):
         raise ParameterError(f"{name} = {values!r} is invalid; allowed: finite values{' > 0' if positive else ''}")
-    return arr
+    return arr.ravel()
+
+
+def _check_span(name: str, span: Any, points: int) -> tuple[float, float]:
+    """A range of `design_map` of ``points`` points: two finite numbers, the first below the last (or equal
+    to it, for one point)."""
+    if isinstance(span, (str, bytes)) or not isinstance(span, (Sequence, np.ndarray)) or np.ndim(span) == 0 \
+            or len(span) != 2:
+        raise ParameterError(f"range of {name} = {span!r} is invalid; allowed: (first, last), two numbers")
+    first, last = (check_finite(f"range of {name}", v) for v in span)
+    if not (first < last or (first == last and points == 1)):
+        raise ParameterError(f"range of {name} = {span!r} is invalid; allowed: (first, last) with first < last "
+                             "(first = last for a single point)")
+    return first, last
 
 
 def _check_search(machine: Machine, t_max: float) -> None:
@@ -484,6 +516,8 @@ def _classify_all(machines: list[Machine], shock: float | None, t_max: float, pr
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     for m in machines:
         _check_search(m, t_max)
+    if shock is not None:
+        _check_shock(machines, shock)  # before the classification, which can take minutes
     pts = []
     with progress_bar(len(machines), "design map", progress, unit="point") as bar:
         for m in machines:
@@ -507,6 +541,7 @@ def speed_map(machine: Machine, speeds_rpm: Sequence[float], *, shock: float | N
     recovery probabilities are simulated, as one study run as ``n_jobs``, ``scheduler`` and
     ``processes`` say: `rotorcontact.studies.execution.make_executor`).
     """
+    check_machine(machine, optional=False)
     speeds = _check_grid("speeds_rpm", speeds_rpm)
     machines = [machine.with_speed(rpm_to_rad_s(s)) for s in speeds]
     points = _classify_all(machines, shock, t_max, progress, n_jobs=n_jobs, scheduler=scheduler, processes=processes)
@@ -521,6 +556,7 @@ def plane_map(machine: Machine, axes: tuple[str, str], first: Sequence[float], s
     The other fields of ``machine`` stay fixed. ``progress`` shows a progress bar over the points on stderr;
     ``n_jobs``, ``scheduler`` and ``processes`` as for `speed_map`.
     """
+    check_machine(machine, optional=False)
     allowed = (("speed_rpm", "stiffness"), ("stiffness", "damping"), ("speed_rpm", "damping"))
     if tuple(axes) not in allowed:
         raise ParameterError(f"axes = {axes!r} is invalid; allowed: {', '.join(map(str, allowed))}")
@@ -568,13 +604,16 @@ def design_map(machine: Machine, ranges: dict[str, tuple[float, float]], n: int,
     ParameterError
         For another combination of settings.
     """
+    check_machine(machine, optional=False)
+    allowed = "; ".join(" and ".join(sorted(k)) for k in MAP_AXES)
+    if not isinstance(ranges, Mapping) or not all(isinstance(k, str) for k in ranges):
+        raise ParameterError(f"ranges = {ranges!r} is invalid; allowed: a dict of (first, last) by setting: {allowed}")
     axes = MAP_AXES.get(frozenset(ranges))
     if axes is None:
-        allowed = "; ".join(" and ".join(sorted(k)) for k in MAP_AXES)
         raise ParameterError(f"ranges of {', '.join(sorted(ranges)) or 'nothing'} give no map; allowed: {allowed}")
     n = check_int("n", n, 1, MAX_POINTS)
     side = n if len(ranges) == 1 else min(n, MAX_PLANE_SIDE)
-    grids = {name: np.linspace(a, b, side) for name, (a, b) in ranges.items()}
+    grids = {name: np.linspace(*_check_span(name, span, side), side) for name, span in ranges.items()}
     first, *second = [grids["speed" if axis == "speed_rpm" else axis] for axis in axes]
     scale = {"n_jobs": n_jobs, "scheduler": scheduler, "processes": processes}
     if not second:

@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine, check_range
 from ..model.units import RPM
-from ..model.validation import check_int
+from ..model.validation import check_int, check_machine
 from ..simulation.drop_run import MAX_T_END, check_drop_speed, check_failure_before_end, drop
 from .driver import StudyRun, run_study
 from .execution import study_digest
@@ -102,6 +102,7 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
         `rotorcontact.simulation.drop_run.check_drop_speed` (named ``speeds[i]``), each friction
         coefficient must be >= 0 (``frictions[i]``).
     """
+    check_machine(machine, optional=False)
     speeds = np.atleast_1d(np.asarray(speeds, dtype=object))
     frictions = np.atleast_1d(np.asarray([machine.friction] if frictions is None else frictions, dtype=object))
     if speeds.ndim != 1 or speeds.size == 0 or frictions.ndim != 1 or frictions.size == 0:

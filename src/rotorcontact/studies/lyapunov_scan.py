@@ -20,13 +20,13 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_range
-from ..model.validation import check_int, check_params
+from ..model.validation import check_int, check_machine, check_params
 from ..simulation.motion import REGIME_NAMES
 from ..simulation.simulator import check_start
 from .batch import PARAMETER_ORDER, parameter_array
 from .driver import run_study
 from .execution import study_digest
-from .parameter_path import parameter_path
+from .parameter_path import parameter_path, path_values
 
 __all__ = ["FINAL_NAMES", "LyapunovScan", "SpectrumTask", "lyapunov_scan"]
 
@@ -197,10 +197,11 @@ def lyapunov_scan(
     -------
     LyapunovScan
     """
+    check_machine(machine)
     from ..analysis.lyapunov import MAX_T_END, _check_options
 
     check_params(params)
-    vals = np.asarray(values, dtype=float).reshape(-1)
+    vals = path_values(param, values)
     path = parameter_path(params, param, vals, machine)
     t_end = check_range("t_end", t_end, low=0.0, high=MAX_T_END, low_open=True)
     if t_transient is None:

@@ -10,8 +10,22 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters
 from .batch import PARAMETER_ORDER
+from ..model.validation import check_machine, real_array
 
-__all__ = ["parameter_path"]
+__all__ = ["parameter_path", "path_values"]
+
+
+def path_values(param: Any, values: Any) -> np.ndarray:
+    """``values`` of ``param`` as a flat array of finite reals, at least one; text, bools and complex numbers
+    are refused (`rotorcontact.model.validation.real_array`)."""
+    vals = real_array(values)
+    if vals is None:
+        raise ParameterError(f"values of {param!r} = {values!r} are not real numbers; allowed: a list or array of "
+                             "real numbers (not strings, bools or complex numbers)")
+    vals = vals.reshape(-1)
+    if vals.size == 0 or not np.all(np.isfinite(vals)):
+        raise ParameterError(f"values of {param!r} must be finite and at least one")
+    return vals
 
 
 def parameter_path(params: Parameters, param: str, values: Any, machine: Machine | None = None) -> list[Parameters]:
@@ -23,10 +37,9 @@ def parameter_path(params: Parameters, param: str, values: Any, machine: Machine
         For an unknown parameter, a value that gives invalid parameters, or a machine quantity without
         a machine.
     """
+    check_machine(machine)
     machine_fields = tuple(f.name for f in fields(Machine))
-    vals = np.asarray(values, dtype=float).reshape(-1)
-    if vals.size == 0 or not np.all(np.isfinite(vals)):
-        raise ParameterError(f"values of {param!r} must be finite and at least one")
+    vals = path_values(param, values)
     if param in PARAMETER_ORDER:
         return [params.replace(**{param: float(v)}) for v in vals]
     if param in machine_fields:

@@ -54,6 +54,7 @@ from .batch import (
     S_U_RE,
     BatchResult,
     BatchSettings,
+    check_batch_settings,
     parameter_array,
 )
 from .driver import run_study
@@ -304,9 +305,8 @@ def sweep(
     if mode not in MODES:
         raise ParameterError(f"mode = {mode!r} is invalid; allowed: {', '.join(MODES)}")
     vals = _check_values(param, values)
-    if settings is None:
-        settings = BatchSettings(n_transient=n_transient, n_record=n_record, t_transient=t_transient,
-                                 t_record=t_record)
+    settings = check_batch_settings(settings, vals.size * len(MODES[mode]), lambda: BatchSettings(
+        n_transient=n_transient, n_record=n_record, t_transient=t_transient, t_record=t_record))
     carry = mode != "independent"
     fit_chunks = chunk_size is None and not carry  # a carried sweep's chunks of a direction run in turn
     if chunk_size is None:

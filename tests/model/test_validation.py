@@ -1,0 +1,33 @@
+"""The argument checks shared by the public functions (`rotorcontact.model.validation`)."""
+
+from __future__ import annotations
+
+import pytest
+
+from rotorcontact import ParameterError
+from rotorcontact.continuation.engine import ContinuationSettings
+import numpy as np
+
+from rotorcontact.model.validation import real_array, settings_or_default
+
+
+def test_settings_or_default_keeps_settings_builds_the_default_and_refuses_anything_else():
+    given = ContinuationSettings(step=0.02)
+    assert settings_or_default(given, ContinuationSettings, ContinuationSettings) is given
+    assert settings_or_default(None, ContinuationSettings, lambda: given) is given
+    for bad in ("x", 3, {"step": 0.02}, ContinuationSettings):
+        with pytest.raises(ParameterError, match=r"^settings = .* is not a ContinuationSettings; allowed: a "
+                                                 r"ContinuationSettings or None$"):
+            settings_or_default(bad, ContinuationSettings, ContinuationSettings)
+
+
+@pytest.mark.parametrize("value, expected", [([1, 2.5], [1.0, 2.5]), (np.arange(3), [0.0, 1.0, 2.0]), (3, 3.0),
+                                             ((0.5,), [0.5])])
+def test_real_array_reads_numbers(value, expected):
+    assert real_array(value).tolist() == expected
+
+
+@pytest.mark.parametrize("value", [True, [True], [0.1, True], [1, np.bool_(False)], [[1.0], [2.0, True]], "1",
+                                   ["1", 2], [1j], None, [[1.0], [1.0, 2.0]], {"a": 1}, np.array([True])])
+def test_real_array_refuses_bools_text_complex_and_ragged_lists(value):
+    assert real_array(value) is None
