@@ -387,3 +387,13 @@ def test_replace_is_the_constructor_with_the_changes():
         assert str(by_replace.value) == str(by_constructor.value)
     with pytest.raises(ParameterError, match="unknown parameter 'k'"):
         base.replace(k=1.0)
+
+
+@pytest.mark.parametrize("value", [np.complex128(0.1 + 1j), np.complex64(0.1), 0.1 + 0j, np.array(0.1 + 0j)])
+def test_a_complex_number_is_refused_not_cut_to_its_real_part(value):
+    from rotorcontact.model.params import check_finite
+
+    with pytest.raises(ParameterError, match=r"^gamma = .* is complex; a finite real number is required$"):
+        Parameters(gamma=value, omega=0.76, rho=0.4, mu=0.1, d=0.9)
+    with pytest.raises(ParameterError, match=r"^mass = .* is complex"):
+        check_finite("mass", value)

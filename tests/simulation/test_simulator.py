@@ -309,6 +309,8 @@ def test_initial_position_outside_the_clearance(u0, text):
         (dict(t_end=-3.0), "t_end"),
         (dict(t_end=math.nan), "t_end"),
         (dict(t_end=math.inf), "t_end"),
+        (dict(t_end=1e300), "t_end = 1e+300 is out of range; allowed: (0, 1e+07]"),
+        (dict(t_end=np.complex128(5 + 3j)), "t_end"),
         (dict(chatter_rdot=0.0), "chatter_rdot"),
         (dict(chatter_rdot=-1.0), "chatter_rdot"),
         (dict(max_events=2**63), "max_events"),

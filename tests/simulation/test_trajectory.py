@@ -288,3 +288,24 @@ def test_the_impact_table_refuses_what_is_not_a_machine(traj, bad):
     assert traj.impacts.to_dicts(reference_machine())[0]["t_s"] > 0.0
     with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
         traj.impacts.to_dicts(bad)
+
+
+@pytest.mark.parametrize("t_end", [1e3, 1e5, 1e7])
+def test_a_slide_at_rest_on_the_stable_pseudo_equilibrium_stays_there_until_the_end(t_end):
+    from rotorcontact import simulate
+    from rotorcontact.analysis.equilibria import pseudo_equilibria
+
+    p = Parameters.reference()
+    stable = [pe for pe in pseudo_equilibria(p) if pe.exists and pe.stable]
+    assert len(stable) == 1
+    tr = simulate(p, t_end=t_end)
+    last = tr.contact_intervals[-1]
+    assert last.kind == "sliding-forward" and last.t_end == t_end
+    t = np.linspace(last.t_start + 100.0, t_end, 1001)
+    r, theta, rdot, thetadot = tr.polar(t)
+    # the analytic pseudo-equilibrium, whatever the length of the hold
+    np.testing.assert_allclose(theta, stable[0].theta, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(thetadot, 0.0, rtol=0, atol=1e-9)
+    n, f = tr.contact_forces(t)
+    assert np.all(n > 0.0) and np.allclose(f, -p.mu * n, rtol=1e-12)
+    assert np.allclose(n, stable[0].normal_force, rtol=1e-8)

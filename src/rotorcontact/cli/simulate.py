@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from ..errors import ParameterError
+from ..model.params import MAX_T_END
 from .options import (
     add_parameter_options,
     ignored_keys,
@@ -19,8 +20,6 @@ from .options import (
 )
 from .outputs import check_plot_path
 
-#: Largest --t-end: beyond it double precision cannot resolve impact times to 1e-9.
-MAX_T_END = 1e7
 #: Largest --max-events: each event keeps about 150 bytes, so 1e7 events need 1.5 GB.
 MAX_EVENTS = 10_000_000
 #: Default --max-events.

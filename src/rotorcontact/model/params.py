@@ -52,6 +52,9 @@ MAX_MAGNITUDE = 1e6
 #: (c_r Omega: about 0.13 m/s on the reference rig). A million of them is a shock far beyond any
 #: touchdown; beyond it the impact search, whose steps scale like 1/|U'|, cannot finish.
 MAX_VELOCITY = 1e6
+#: Largest final time of a run of the dimensionless model: the spacing of doubles near 1e7 is 2e-9,
+#: so impact and switching times are still resolved to about 1e-9; beyond it they are not.
+MAX_T_END = 1e7
 
 
 def refuse_bool_or_text(name: str, value: Any, required: str) -> None:
@@ -73,6 +76,8 @@ def check_finite(name: str, value: Any) -> float:
     A bool and text are refused (`refuse_bool_or_text`).
     """
     refuse_bool_or_text(name, value, "a finite real number is required")
+    if isinstance(value, (complex, np.complexfloating)) or (isinstance(value, np.ndarray) and value.dtype.kind == "c"):
+        raise ParameterError(f"{name} = {value!r} is complex; a finite real number is required")
     if not isinstance(value, (int, float)):
         try:
             value = float(value)

@@ -17,7 +17,7 @@ from ..errors import ParameterError
 from ..interpreted import call_kernel, complex_quotient
 from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
 from ..model.validation import MAX_COUNT, check_int, check_machine, check_params, complex_value
-from ..model.params import Machine, Parameters, check_range, check_velocity
+from ..model.params import MAX_T_END, Machine, Parameters, check_range, check_velocity
 from ..model.impact_law import apply_reset, polar_velocity, relative_velocity
 from ..model.angles import wrap_angle
 from .tables import grow_rows, push_row
@@ -543,7 +543,8 @@ def simulate(
                 "another machine; allowed: machine.parameters(), or no machine"
             )
     u0, du0 = check_start(u0, du0)
-    t_end = check_range("t_end", t_end, low=0.0, low_open=True)
+    t_end = check_range("t_end", t_end, low=0.0, high=MAX_T_END, low_open=True,
+                        why="beyond it double precision cannot resolve the impact times")
     if on_chatter not in ("contact", "stop"):
         raise ParameterError(f"on_chatter = {on_chatter!r} is invalid; allowed: 'contact', 'stop'")
     max_events = check_int("max_events", max_events, 1, MAX_COUNT)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Any
@@ -209,7 +210,7 @@ class Trajectory:
 
         out = []
         for c in self.contacts:
-            rows = self.path[int(c[3]) : int(c[4]) + 1]
+            rows = self._held_rows(self.path[int(c[3]) : int(c[4]) + 1])[0]
             if int(c[2]) == ROLLING or rows.shape[0] < 2:
                 out.append(None)
                 continue
@@ -219,16 +220,31 @@ class Trajectory:
             out.append(BPoly.from_derivatives(t, rows[keep, 1:4]) if t.size >= 2 else None)
         return out
 
+    @staticmethod
+    def _held_rows(rows: np.ndarray) -> tuple[np.ndarray, float]:
+        """The rows of a sliding phase up to where it comes to rest, and the time it does (inf if it does not).
+
+        A slide that reaches a stable pseudo-equilibrium to the integrator's tolerance is held there until
+        its end (`rotorcontact.simulation.contact.slide`): its last row repeats the state of the one before
+        at the later time. Over that hold the state is constant, not the Hermite curve through the two rows,
+        whose tiny derivatives times a long hold would swing it far from the rest point.
+        """
+        if rows.shape[0] >= 3 and rows[-1, 0] > rows[-2, 0] and np.array_equal(rows[-1, 1:], rows[-2, 1:]):
+            return rows[:-1], float(rows[-2, 0])
+        return rows, math.inf
+
     def _contact_state(self, j: int, t: np.ndarray):
         c = self.contacts[j]
-        rows = self.path[int(c[3]) : int(c[4]) + 1]
+        rows, t_rest = self._held_rows(self.path[int(c[3]) : int(c[4]) + 1])
         spline = self._contact_splines[j]
         if spline is None:
             theta = rows[0, 1] + rows[0, 2] * (t - rows[0, 0])
             thetadot = np.full_like(t, rows[0, 2])
         else:
-            theta = spline(t)
-            thetadot = spline(t, 1)
+            held = t > t_rest
+            moving = np.where(held, t_rest, t)
+            theta = np.where(held, rows[-1, 1], spline(moving))
+            thetadot = np.where(held, rows[-1, 2], spline(moving, 1))
         e = np.exp(1j * theta)
         return e, 1j * thetadot * e
 
