@@ -413,3 +413,10 @@ def test_hazard_check_finds_each_construct():
 
     assert len(_hazards(bad)) == 7
     assert _hazards(good) == []
+
+
+@pytest.mark.parametrize("x, n", [(2.0, -1), (1.5, -7), (-3.0, -2), (0.5, 0), (2.0, 10)])
+def test_int_power_of_any_integer_is_the_power(x, n):
+    from rotorcontact.interpreted import int_power
+
+    assert int_power(x, n) == pytest.approx(x ** n, rel=4e-16)

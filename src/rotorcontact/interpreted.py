@@ -73,7 +73,10 @@ def complex_quotient(a: complex, b: complex) -> complex:
 
 @njit(cache=True)
 def int_power(x: float, n: int) -> float:
-    """x**n for an integer n >= 0 by binary powering, as numba computes ``x ** n`` (Python calls pow)."""
+    """x**n for an integer n by binary powering, as numba computes ``x ** n`` (Python calls pow); 1 / x**-n
+    for n < 0."""
+    if n < 0:
+        return 1.0 / int_power(x, -n)
     r = 1.0
     while n != 0:
         if n & 1:

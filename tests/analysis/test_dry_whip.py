@@ -99,3 +99,9 @@ def test_a_live_anisotropic_bearing_is_refused():
 def test_what_is_not_a_machine_is_refused(machine):
     with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
         steady_dry_whip(machine)
+
+
+@pytest.mark.parametrize("flag", ["False", None, 0])
+def test_a_bearing_failed_flag_that_is_not_a_bool_is_refused(flag):
+    with pytest.raises(ParameterError, match=r"^bearing_failed = .* allowed: True or False$"):
+        steady_dry_whip(reference_machine(), bearing_failed=flag)

@@ -315,6 +315,11 @@ def test_bad_input_raises_parameter_error():
         im.impact_map(p, [0.0, 0.1, float("nan")])
     with pytest.raises(ParameterError):
         im.impact_map(p, [0.0, 0.1, 0.0], law="elastic")
+    for law in (["ideal"], {}, None):
+        with pytest.raises(ParameterError, match="^law = "):
+            im.impact_map(p, [0.0, 0.1, 0.0], law=law)
+    with pytest.raises(ParameterError, match="^jacobian = 'yes'"):
+        im.impact_map(p, [0.0, 0.1, 0.0], jacobian="yes")
     with pytest.raises(ParameterError):
         im.impact_map(p, [0.0, 0.1, 0.0], horizon=-1.0)
     with pytest.raises(ParameterError):
@@ -661,3 +666,14 @@ def test_second_derivative_bound_of_r_rdot_holds():
             ts = np.linspace(t0, t0 + w, 101)
             f2 = np.array([im._f_eval(t, p.gamma, p.omega, k, u0 - k, du0)[2] for t in ts])
             assert np.all(np.abs(f2) <= bound)
+
+
+def test_more_zeros_than_the_isolation_can_follow_are_refused_naming_t_max():
+    # at gamma = 0 the flight neither grows nor decays (no period limit) and F1 has a pair of zeros per
+    # oscillation: about 0.24 per unit of t_max here, so t_max = 1e4 holds thousands
+    p = REF.replace(gamma=0.0)
+    assert im.period_limit(p) == math.inf
+    assert len(im.f1_zeros(p, 1000.0)) > 200
+    with pytest.raises(ParameterError, match=r"^t_max = 10000.0 is too large at gamma = 0, .* needs more than "
+                                             r"\d+ steps; allowed: a smaller t_max$"):
+        im.f1_zeros(p, 1e4)

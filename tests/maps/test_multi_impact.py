@@ -198,3 +198,27 @@ def test_residual_and_bad_input():
         find_period_doubling(p, "B1,d", "gamma", lo=0.09, hi=0.1, n_scan=4)
     with pytest.raises(ParameterError):
         solve_multi_impact(p, [[0.0, float("nan"), 0.0]])
+
+
+def test_orbits_of_more_impacts_than_the_bound_are_refused_before_any_allocation():
+    from rotorcontact.continuation.cascade import cascades
+    from rotorcontact.continuation.multi_impact_families import multi_impact_branches
+    from rotorcontact.maps.multi_impact import MAX_ORBIT_IMPACTS, orbits_from_grid
+
+    p = REF.replace(gamma=0.1)
+    match = rf"^impacts = 1000000 is invalid; allowed: an integer from \d to {MAX_ORBIT_IMPACTS}$"
+    for call in (lambda: orbits_from_simulation(p, 10**6), lambda: orbits_from_grid(p, 10**6),
+                 lambda: multi_impact_orbits(p, 10**6), lambda: multi_impact_branches(p, 10**6),
+                 lambda: cascades(p, "gamma", 0.0, 0.2, impacts=10**6)):
+        with pytest.raises(ParameterError, match=match):
+            call()
+
+
+@pytest.mark.parametrize("kwargs, match", [(dict(lo="0"), r"^lo = '0' is text"), (dict(hi=None), r"^hi = None"),
+                                           (dict(n_scan=10**9), r"^n_scan = 1000000000 is invalid; allowed: an integer "
+                                                                r"from 1 to 10000$")])
+def test_find_period_doubling_refuses_bad_intervals_and_scans(kwargs, match):
+    args = dict(lo=0.0, hi=0.2)
+    args.update(kwargs)
+    with pytest.raises(ParameterError, match=match):
+        find_period_doubling(REF, "B1,d", "gamma", **args)

@@ -31,3 +31,37 @@ def test_real_array_reads_numbers(value, expected):
                                    ["1", 2], [1j], None, [[1.0], [1.0, 2.0]], {"a": 1}, np.array([True])])
 def test_real_array_refuses_bools_text_complex_and_ragged_lists(value):
     assert real_array(value) is None
+
+
+def test_check_bool_takes_true_and_false_only():
+    from rotorcontact.model.validation import check_bool
+
+    assert check_bool("flag", True) is True and check_bool("flag", np.bool_(False)) is False
+    for bad in ("False", "yes", 0, 1, None, 1.0):
+        with pytest.raises(ParameterError, match=r"^flag = .* is invalid; allowed: True or False$"):
+            check_bool("flag", bad)
+
+
+@pytest.mark.parametrize("bad", [None, 1, "", "   ", b"x.nc", ["a.nc"]])
+def test_a_path_is_a_non_empty_name(bad, tmp_path):
+    import matplotlib.pyplot as plt
+
+    from rotorcontact.io.netcdf import write_netcdf
+    from rotorcontact.model.params import load_machine
+    from rotorcontact.model.validation import check_path
+    from rotorcontact.plotting.style import save_figure
+    from rotorcontact.report.reproduce import reproduce
+
+    assert check_path("out", tmp_path / "a.nc") == tmp_path / "a.nc"
+    with pytest.raises(ParameterError, match=r"^out = .* is not a path; allowed: a non-empty file or folder name$"):
+        check_path("out", bad)
+    with pytest.raises(ParameterError, match="^out = "):
+        write_netcdf(None, bad)
+    with pytest.raises(ParameterError, match="^out = "):
+        reproduce(bad, progress=False)
+    with pytest.raises(ParameterError, match="^machine = "):
+        load_machine(bad)
+    fig = plt.figure()
+    with pytest.raises(ParameterError, match="^path = "):
+        save_figure(fig, bad)
+    plt.close(fig)

@@ -511,3 +511,26 @@ def test_the_drop_functions_refuse_what_is_not_a_machine(machine):
                  lambda: contact_force_history(machine, 300.0, 0.0, [0.01]), lambda: drop(machine)):
         with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
             call()
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda m: levitated_state(m, -1.0), r"^speed = -1.0 is out of range"),
+    (lambda m: levitated_state(m, True), r"^speed = True is a bool"),
+    (lambda m: run_general(m, 0j, 0j, 1e300, 0.0, 0.05), r"^speed = 1e\+300 is out of range"),
+    (lambda m: run_general(m, 0j, 0j, "100", 0.0, 0.05), r"^speed = '100' is text"),
+    (lambda m: run_general(m, "x", 0j, 100.0, 0.0, 0.05), r"^z0 = 'x' is text"),
+    (lambda m: run_general(m, 0j, None, 100.0, 0.0, 0.05), r"^v0 = None"),
+    (lambda m: run_general(m, 0j, 0j, 100.0, -1.0, 0.05), r"^fail_at = -1.0 is out of range"),
+    (lambda m: run_general(m, 0j, 0j, 100.0, 0.0, 1e300), r"^t_end = 1e\+300 is out of range; allowed: \(0, 100000\] s"),
+    (lambda m: run_general(m, 0j, 0j, 0.0, 0.0, 1e300), r"^t_end = 1e\+300 is out of range; allowed: \(0, 10000\] s"),
+    (lambda m: run_general(m, 0j, 0j, 100.0, 0.0, 0.05, stator_start=0j), r"^stator_start = "),
+    (lambda m: drop(m, None, 0.0, 1e300), r"^t_end = 1e\+300 is out of range; allowed: \(0, 10000\]"),
+])
+def test_the_drop_functions_refuse_bad_speeds_states_and_times_by_name(call, match):
+    with pytest.raises(ParameterError, match=match):
+        call(reference_machine())
+
+
+def test_a_run_whose_bearing_never_fails_is_a_run_with_fail_at_inf():
+    r = run_general(reference_machine(), 0j, 0j, 100.0, math.inf, 0.05)
+    assert r.status == "completed"

@@ -406,3 +406,17 @@ def test_settings_that_are_not_batch_settings_are_refused(bad):
         simulate_batch(REF, settings=bad)
     with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
         check_batch_settings(bad, 1)
+
+
+@pytest.mark.parametrize("name, value", [("u0", "0.5"), ("u0", np.array(["0.5"])), ("du0", "1"), ("du0", ["1", "2j"]),
+                                         ("u0", True), ("du0", [True, False]), ("u0", [0.1, True]),
+                                         ("u0", [[0.1], [0.1, 0.2]]), ("u0", None)])
+def test_initial_states_that_are_not_complex_numbers_are_refused(name, value):
+    with pytest.raises(ParameterError, match=rf"^{name} = .* is not a complex number or an array of them"):
+        simulate_batch(REF, **{name: value}, n_transient=2, n_record=1)
+
+
+@pytest.mark.parametrize("name", ["parallel", "carry"])
+def test_yes_no_flags_of_a_batch_are_bools(name):
+    with pytest.raises(ParameterError, match=rf"^{name} = 'False' is invalid; allowed: True or False$"):
+        simulate_batch(REF, **{name: "False"}, n_transient=2, n_record=1)

@@ -393,3 +393,16 @@ def test_a_worker_loads_only_what_a_chunk_needs():
     heavy = {"xarray", "matplotlib", "dask", "distributed", "pandas", "pint", "scipy.interpolate", "scipy.optimize",
              "scipy.special", "scipy.integrate"}
     assert sorted(m for m in loaded if m in heavy or m.split(".")[0] in heavy) == []
+
+
+@pytest.mark.parametrize("bad", [0, 2**31, 10**12, 2.5, True, "8"])
+def test_a_chunk_size_beyond_what_the_chunk_files_store_is_refused(bad):
+    from rotorcontact.studies.execution import MAX_CHUNK_SIZE, check_chunk_size
+    from rotorcontact.studies.sweep import sweep
+    from reference_parameters import REF
+
+    assert check_chunk_size(MAX_CHUNK_SIZE) == 2**31 - 1
+    with pytest.raises(ParameterError, match=r"^chunk_size = .* is invalid; allowed: an integer from 1 to 2147483647$"):
+        check_chunk_size(bad)
+    with pytest.raises(ParameterError, match=r"^chunk_size = "):
+        sweep(REF, "gamma", [0.1, 0.2], chunk_size=bad, progress=False)

@@ -18,7 +18,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine
 from ..model.units import RPM
-from ..model.validation import check_machine
+from ..model.validation import check_bool, check_machine
 
 __all__ = ["DryWhip", "steady_dry_whip"]
 
@@ -125,6 +125,7 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
         below the coupled frequency, or where the machine's speed is too low for the contact to slide forward.
     """
     check_machine(machine, optional=False)
+    bearing_failed = check_bool("bearing_failed", bearing_failed)
     if not machine.has_stator:
         raise ParameterError("stator_mass = None: dry whip needs a stator on springs (stator_mass, stator_stiffness)")
     if machine.has_race:

@@ -30,7 +30,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
-from ..maps.multi_impact import NewtonFailure
+from ..maps.multi_impact import MAX_ORBIT_IMPACTS, NewtonFailure
 from ..model.params import Parameters
 from ..model.validation import check_int, check_params
 from .branches import orbit_branches
@@ -210,7 +210,7 @@ def cascades(
     tuple of Cascade
     """
     check_params(params)
-    p = check_int("impacts", impacts, 1)
+    p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
     depth = check_int("depth", depth, 1, MAX_DOUBLINGS)
     start, stop = check_param_range(param, params, start, stop)
     if p == 1:

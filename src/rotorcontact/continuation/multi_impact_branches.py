@@ -37,6 +37,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..maps.impact_map import SLIP_BOUNDED, ImpactOrbit, flight_extrema, one_impact_orbits
 from ..maps.multi_impact import (
+    MAX_ORBIT_IMPACTS,
     NEWTON_TOL,
     MultiImpactOrbit,
     NewtonFailure,
@@ -512,7 +513,7 @@ def multi_impact_orbits(
         Branch-switched orbits first, then the others by period.
     """
     check_params(params)
-    p = check_int("impacts", impacts, 2)
+    p = check_int("impacts", impacts, 2, MAX_ORBIT_IMPACTS)
     scan_width = check_range("scan_width", scan_width, low=0.0, low_open=True)
     out: list[MultiImpactOrbit] = []
     if p == 2 and period_doubling:

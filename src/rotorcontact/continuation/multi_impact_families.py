@@ -36,6 +36,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..maps.multi_impact import (
+    MAX_ORBIT_IMPACTS,
     MultiImpactOrbit,
     NewtonFailure,
     _same_orbit,
@@ -282,7 +283,7 @@ def multi_impact_branches(
     MultiImpactBranches
     """
     check_params(params)
-    p = check_int("impacts", impacts, 1)
+    p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
     doublings = check_int("doublings", doublings, 0, MAX_DOUBLINGS)
     start, stop = check_param_range(param, params, start, stop)
     base_value = float(getattr(params, param))

@@ -25,6 +25,7 @@ from .engine import (
 from ..errors import ParameterError
 from .results import BranchEvent, BranchResult, check_param_range
 from ..maps.impact_map import f1_zeros
+from .branches import MAX_SEEDS
 from ..maps.orbit_system import OneImpactSystem, regularised_residual
 from ..model.params import Parameters, check_range
 from ..model.validation import check_int, check_params, settings_or_default
@@ -127,7 +128,7 @@ def f1_zero_curves(
     system = OneImpactSystem(check_params(params), param)
     start, stop = check_param_range(param, params, start, stop)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
-    n_seeds = check_int("n_seeds", n_seeds, 2)
+    n_seeds = check_int("n_seeds", n_seeds, 2, MAX_SEEDS)
     settings = settings_or_default(settings, ContinuationSettings,
                                    lambda: ContinuationSettings(step=0.01, max_step=0.03, location_tol=1e-10))
     span = stop - start

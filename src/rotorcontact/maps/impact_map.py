@@ -127,7 +127,7 @@ from ..model.flow import (
     scaled_cs,
 )
 from ..model.params import Parameters, check_finite, check_range
-from ..model.validation import check_params, real_array
+from ..model.validation import check_bool, check_params, real_array
 from ..model.impact_law import (
     apply_reset,
     ideal_reset,
@@ -191,7 +191,7 @@ _STICK = 1
 
 
 def _check_law(law: str) -> int:
-    if law not in _LAWS:
+    if not isinstance(law, str) or law not in _LAWS:
         raise ParameterError(f"law = {law!r} is not an impact law; allowed: {', '.join(_LAWS)}")
     return _LAWS[law]
 
@@ -784,6 +784,7 @@ def impact_map(
     theta, rdot, thetadot = _state(state)
     horizon = check_range("horizon", horizon, low=0.0, low_open=True)
     lw = _check_law(law)
+    jacobian = check_bool("jacobian", jacobian)
     code, tau = call_kernel(_impact_map_kernel, g, w, k, d, mu, rr, theta, rdot, thetadot, horizon, lw)
     sticking = call_kernel(_reset, theta, rdot, thetadot, d, mu, rr, lw)[5] == _STICK
     if code != CROSSING:
@@ -982,7 +983,11 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
         )
     zt, zd, zf, s0, status = call_kernel(_f1_zeros_kernel, params.gamma, params.omega, params.d, params.mu, t_max)
     if status != ISO_OK:
-        raise RuntimeError("F1 zero isolation did not finish (iteration limit)")
+        # the steps of the isolation grow with the zeros on (0, t_max], which are unbounded at gamma = 0
+        raise ParameterError(
+            f"t_max = {t_max!r} is too large at gamma = {params.gamma:g}, omega = {params.omega:g}: the isolation of "
+            f"the zeros of F1 on (0, t_max] needs more than {MAX_STEPS} steps; allowed: a smaller t_max"
+        )
     h2 = half_discriminant.py_func(params.gamma, params.omega)
     q = _q(params)
     inside = [(float(t), direction, flag) for t, direction, flag in zip(zt, zd, zf) if 0.0 < t <= t_max]

@@ -78,7 +78,7 @@ from .impact_map import (
     post_impact_state,
 )
 from ..simulation.motion import detect_period
-from ..model.params import BRANCH_PARAMETERS, Parameters, check_range
+from ..model.params import BRANCH_PARAMETERS, Parameters, check_finite, check_range
 from ..model.validation import check_choice, check_int, check_params
 from ..simulation.simulator import simulate
 
@@ -103,6 +103,11 @@ __all__ = [
 #: Parameters in which multi-impact orbits can be continued.
 CONTINUATION_PARAMETERS = BRANCH_PARAMETERS
 
+#: Most impacts per period of an orbit: its Newton system has 3 unknowns per impact, and a dense
+#: Jacobian of (3 x 4096)^2 doubles is 1.2 GB; 4096 still holds 16 impacts doubled 8 times.
+MAX_ORBIT_IMPACTS = 4096
+#: Most intervals of `find_period_doubling`'s scan: each point finds the orbits of one parameter set.
+MAX_SCAN = 10_000
 NEWTON_TOL = 1e-12
 MAX_NEWTON = 40
 HORIZON = 1000.0
@@ -521,7 +526,7 @@ def orbits_from_simulation(
     tuple of MultiImpactOrbit
     """
     check_params(params)
-    p = check_int("impacts", impacts, 1)
+    p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
     t_transient = check_range("t_transient", t_transient, low=0.0)
     t_record = check_range("t_record", t_record, low=0.0, low_open=True)
     found: list[MultiImpactOrbit] = []
@@ -598,7 +603,7 @@ def orbits_from_grid(
     tuple of MultiImpactOrbit
     """
     check_params(params)
-    p = check_int("impacts", impacts, 1)
+    p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
     try:
         n_th, n_r, n_td = (int(n) for n in shape)
     except (TypeError, ValueError):
@@ -747,10 +752,11 @@ def find_period_doubling(
     """
     check_params(params)
     param = _check_parameter(param)
-    lo = float(lo)
-    hi = float(hi)
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+    lo = check_finite("lo", lo)
+    hi = check_finite("hi", hi)
+    if not lo < hi:
         raise ParameterError(f"lo = {lo!r}, hi = {hi!r} is not an interval; allowed: finite lo < hi")
+    n_scan = check_int("n_scan", n_scan, 1, MAX_SCAN)
 
     def measure(v: float) -> float | None:
         try:
@@ -758,7 +764,7 @@ def find_period_doubling(
         except ParameterError:
             return None
 
-    grid = np.linspace(lo, hi, check_int("n_scan", n_scan, 1) + 1)
+    grid = np.linspace(lo, hi, n_scan + 1)
     vals = [measure(v) for v in grid]
     bracket = None
     for i in range(len(grid) - 1):

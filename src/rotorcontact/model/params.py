@@ -12,6 +12,7 @@ through v_rel = r_ratio + 1 + thetadot.
 from __future__ import annotations
 
 import math
+import os
 import tomllib
 from dataclasses import asdict, dataclass, fields, replace
 from importlib import resources
@@ -775,6 +776,8 @@ def load_machine(path: str | Path) -> Machine:
     ParameterError
         If the file is missing, is not valid TOML, or its keys or values are invalid.
     """
+    if not isinstance(path, (str, os.PathLike)) or not str(path).strip():
+        raise ParameterError(f"machine = {path!r} is not a path; give a TOML file or the built-in name 'reference'")
     path_str = str(path)
     if path_str == "reference":
         path = _machine_file("reference")

@@ -7,6 +7,8 @@ Every message names the argument, the value given and what is allowed, and is ra
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -14,7 +16,8 @@ import numpy as np
 from ..errors import ParameterError
 from .params import Parameters, check_finite, refuse_bool_or_text
 
-__all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice", "real_array",
+__all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice", "real_array", "complex_array",
+           "check_bool", "check_path",
            "settings_or_default"]
 
 
@@ -61,6 +64,18 @@ def real_array(value: Any) -> np.ndarray | None:
     return raw.astype(float)
 
 
+def complex_array(value: Any) -> np.ndarray | None:
+    """``value`` as an array of complex numbers if it holds integers, reals or complex numbers only; None
+    for text, bools, ragged lists or other objects (`real_array`'s rule, complex numbers allowed)."""
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError):
+        return None
+    if raw.dtype.kind not in "iufc" or _holds_bool(value):
+        return None
+    return raw.astype(complex)
+
+
 def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:
     """Return ``value`` as an int if it is an integer (not a bool) within [low, high].
 
@@ -98,6 +113,22 @@ def check_float(name: str, value: Any, low: float | None = None, high: float | N
         bounds = f"{lo}{' and' if lo and hi else ''}{hi}"
         raise ParameterError(f"{name} = {value!r} is invalid; allowed: a finite number{bounds}")
     return value
+
+
+def check_path(name: str, value: Any) -> Path:
+    """``value`` as a `pathlib.Path` if it is a non-empty path (text or os.PathLike), else a `ParameterError`:
+    an empty name would mean the current folder."""
+    if not isinstance(value, (str, os.PathLike)) or not str(value).strip():
+        raise ParameterError(f"{name} = {value!r} is not a path; allowed: a non-empty file or folder name")
+    return Path(value)
+
+
+def check_bool(name: str, value: Any) -> bool:
+    """Return ``value`` if it is True or False (numpy's too), else raise `ParameterError`: a yes/no flag
+    given as text such as ``"False"`` would otherwise read as true."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: True or False")
+    return bool(value)
 
 
 def check_choice(name: str, value: Any, allowed: Sequence[str]) -> str:

@@ -13,6 +13,7 @@ import numpy as np  # noqa: E402
 
 from ..errors import ParameterError  # noqa: E402
 from ..io.netcdf import check_output_folder  # noqa: E402
+from ..model.validation import check_path  # noqa: E402
 
 CLEARANCE_COLOR = "0.6"
 
@@ -52,7 +53,7 @@ def draw_clearance(ax, radius: float = 1.0) -> None:
 
 def save_figure(fig, path) -> Path:
     """Save ``fig`` to ``path`` (format from its suffix) in an existing folder; close it."""
-    path = Path(path)
+    path = check_path("path", path)
     if path.suffix.lower() not in {".png", ".svg", ".pdf"}:
         raise ParameterError(f"plot file {str(path)!r} has an unsupported suffix; allowed: .png, .svg, .pdf")
     check_output_folder(path)

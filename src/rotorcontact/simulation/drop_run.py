@@ -19,9 +19,9 @@ from ..model.machine_model import (
     compliant_normal_force, constant_response, harmonic_response, impact_duration_factor, restitution_damping,
     unbalance_amplitudes,
 )
-from ..model.params import Machine, check_machine_value, check_range
+from ..model.params import MAX_SPEED, MAX_T_END as MAX_RUN_TIME, Machine, check_machine_value, check_range
 from ..model.units import RPM
-from ..model.validation import MAX_COUNT, check_int, check_machine
+from ..model.validation import MAX_COUNT, check_int, check_machine, complex_value
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
 __all__ = ["DropResult", "drop", "run_general", "levitated_state", "check_drop_speed", "contact_force_history", "RPM",
@@ -65,6 +65,7 @@ def levitated_state(machine: Machine, speed: float, *, name: str = "speed") -> t
         clearance.
     """
     check_machine(machine, optional=False)
+    speed = check_machine_value("speed", speed, label=name)
     m = machine.mass
     fx, fy = call_kernel(unbalance_amplitudes, machine.eccentricity, speed, machine.unbalance_phase)
     whirl = 0j  # the unbalance's part
@@ -329,7 +330,7 @@ def drop(machine: Machine, speed: float | str | None = None, fail_at: float = 0.
     speed = check_machine_value("speed", machine.speed if speed is None else speed)
     z0, v0 = levitated_state(machine, speed)
     fail_at = check_range("fail_at", fail_at, low=0.0)
-    t_end = check_range("t_end", t_end, low=0.0, low_open=True)
+    t_end = check_range("t_end", t_end, low=0.0, high=MAX_T_END, low_open=True)
     check_failure_before_end(fail_at, t_end)
     max_events = check_int("max_events", max_events, low=1, high=MAX_COUNT)
     return run_general(machine, z0, v0, speed, fail_at, t_end, max_events=max_events)
@@ -348,8 +349,20 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     """
     check_machine(machine, optional=False)
     tol = check_range("tol", tol, low=1e-14, high=1e-3)
+    # the spin may be negative (backwards) or zero here
+    speed = check_range("speed", speed, low=-MAX_SPEED, high=MAX_SPEED, unit="rad/s")
+    # inf: the bearing never fails
+    fail_at = math.inf if isinstance(fail_at, float) and fail_at == math.inf else check_range("fail_at", fail_at,
+                                                                                             low=0.0)
+    # a drop's longest run, or as many radians of spin as the dimensionless model's longest run
+    longest = max(MAX_T_END, MAX_RUN_TIME / abs(speed)) if speed != 0.0 else MAX_T_END
+    t_end = check_range("t_end", t_end, low=0.0, high=longest, low_open=True, unit="s",
+                        why=f"{MAX_T_END:g} s, or {MAX_RUN_TIME:g} radians of spin where that is longer")
+    z0, v0 = complex_value("z0", z0), complex_value("v0", v0)
+    if not (isinstance(stator_start, (tuple, list)) and len(stator_start) == 2):
+        raise ParameterError(f"stator_start = {stator_start!r} is invalid; allowed: (z_s, v_s), two complex numbers")
     m = machine
-    zb0, vb0 = (complex(a) for a in stator_start)
+    zb0, vb0 = complex_value("stator_start[0]", stator_start[0]), complex_value("stator_start[1]", stator_start[1])
     if (zb0 != 0.0 or vb0 != 0.0) and not m.has_stator:
         raise ParameterError(f"stator_start = {stator_start!r} for a fixed stator; allowed: (0, 0) without stator_mass")
     if not abs(z0 - zb0) <= m.clearance * (1.0 + 1e-12) and not m.compliant:

@@ -45,11 +45,11 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_finite
-from ..model.validation import check_int, check_machine, check_params
+from ..model.validation import check_machine, check_params
 from .basins import DEFAULT_CHUNK, BasinGrid, class_names, name_points, parse_grid
 from .batch import NSUM, PARAMETER_ORDER, BatchResult, BatchSettings, check_batch_settings, parameter_array
 from .driver import run_study
-from .execution import ChunkTask, backend_manifest, study_digest
+from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
 from .lyapunov_scan import SpectrumTask
 from .parameter_path import parameter_path, path_values
 
@@ -325,7 +325,7 @@ def attractors(
     t_lyapunov = float(check_finite("t_lyapunov", t_lyapunov))
     if not 0.0 < t_lyapunov <= 1e5:
         raise ParameterError(f"t_lyapunov = {t_lyapunov!r} is invalid; allowed: 0 < t_lyapunov <= 1e5")
-    chunk_size = check_int("chunk_size", chunk_size, 1)
+    chunk_size = check_chunk_size(chunk_size)
     states = []
     for v, p in zip(vals, path):
         try:

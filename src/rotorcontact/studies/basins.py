@@ -45,10 +45,10 @@ from .batch import NSUM, BatchResult, BatchSettings, check_batch_settings, param
 from ..errors import ParameterError
 from ..model.angles import angle_difference
 from ..model.params import Machine, Parameters, check_finite
-from ..model.validation import check_int, check_machine, check_params
+from ..model.validation import check_machine, check_params
 from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 from .driver import run_study
-from .execution import ChunkTask, backend_manifest, study_digest
+from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
 from .grids import (  # noqa: F401  (offered here too, where they were first defined)
     _AXIS_ATTRS,
     GRID_KINDS,
@@ -271,7 +271,7 @@ def basins(
     if match_tol <= 0:
         raise ParameterError(f"match_tol = {match_tol!r} must be > 0")
     fit_chunks = chunk_size is None
-    chunk_size = check_int("chunk_size", DEFAULT_CHUNK if fit_chunks else chunk_size, 1)
+    chunk_size = check_chunk_size(DEFAULT_CHUNK if fit_chunks else chunk_size)
     u0, du0, inside = grid.initial_states(params)
     settings = check_batch_settings(settings, int(inside.size), lambda: basin_settings(  # the sections span the grid
         n_transient=n_transient, n_record=n_record, t_transient=t_transient, t_record=t_record, settle=settle))

@@ -82,7 +82,7 @@ from ..simulation.motion import (
     WINDOW,
 )
 from ..model.params import MAX_VELOCITY, Parameters, check_range, check_velocity
-from ..model.validation import check_int, settings_or_default
+from ..model.validation import check_bool, check_int, complex_array, settings_or_default
 from ..simulation.simulator import (
     BOUNDARY_TOL,
     CHATTER_DEFAULTS,
@@ -615,11 +615,15 @@ def _validate_rows(rows: np.ndarray) -> None:
         check_forced_response(Parameters(**dict(zip(PARAMETER_ORDER, (float(x) for x in row)))))
 
 
+def _complex_values(name: str, value: Any) -> np.ndarray:
+    arr = complex_array(value)
+    if arr is None:
+        raise ParameterError(f"{name} = {value!r} is not a complex number or an array of them (not text or bools)")
+    return arr
+
+
 def _complex_array(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=complex)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} = {value!r} is not a complex number or an array of them") from None
+    arr = _complex_values(name, value)
     try:
         arr = np.broadcast_to(arr, shape)
     except ValueError:
@@ -749,6 +753,7 @@ def simulate_batch(
     >>> res.regime_names.tolist()  # doctest: +SKIP
     ['periodic-impacting', 'periodic-impacting']
     """
+    carry = check_bool("carry", carry)
     if settings is None:
         unknown = sorted(set(kwargs) - {f.name for f in fields(BatchSettings)})
         if unknown:
@@ -759,8 +764,8 @@ def simulate_batch(
         raise ParameterError(f"give either settings or keyword settings, not both ({', '.join(kwargs)})")
     parr = parameter_array(params)
     single = parr.ndim == 1
-    u0a = np.asarray(u0)
-    du0a = np.asarray(du0)
+    u0a = _complex_values("u0", u0)
+    du0a = _complex_values("du0", du0)
     squeeze = False
     if carry:
         if single:
@@ -804,7 +809,7 @@ def simulate_batch(
         du0c.reshape(lanes, steps),
         settings,
         carry=carry,
-        parallel=parallel,
+        parallel=check_bool("parallel", parallel),
     )
     out_shape = (1,) if squeeze else shape
     return BatchResult.from_arrays(

@@ -291,11 +291,11 @@ def recovery_probabilities(
     """
     from .basins import basin_settings, shock_grid
     from .batch import NO_CONTACT, BatchResult, parameter_array
-    from .execution import ChunkTask, study_digest
+    from .execution import ChunkTask, check_chunk_size, study_digest
 
     shock = _check_shock(machines, shock)
     directions = check_int("directions", directions, 1)
-    chunk_size = check_int("chunk_size", chunk_size, 1)
+    chunk_size = check_chunk_size(chunk_size)
     settings = basin_settings()
     step = 2.0 * math.pi / directions
     lanes = []

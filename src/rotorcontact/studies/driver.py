@@ -25,6 +25,7 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
+from ..model.validation import check_bool
 from .netcdf import check_output_path, read_finished, write_netcdf
 from .execution import (ChunkStore, ChunkTask, StoredChunks, chunk_folder, fitted_chunk_size, make_executor,
                         progress_bar, run_waves)
@@ -140,6 +141,8 @@ def run_study(
     -------
     StudyRun
     """
+    resume, keep_chunks, progress = (check_bool(n, v) for n, v in
+                                     (("resume", resume), ("keep_chunks", keep_chunks), ("progress", progress)))
     store = None
     if out is not None:
         out = check_output_path(out)

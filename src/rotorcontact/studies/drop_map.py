@@ -19,10 +19,10 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine, check_range
 from ..model.units import RPM
-from ..model.validation import check_int, check_machine
+from ..model.validation import check_machine
 from ..simulation.drop_run import MAX_T_END, check_drop_speed, check_failure_before_end, drop
 from .driver import StudyRun, run_study
-from .execution import study_digest
+from .execution import check_chunk_size, study_digest
 
 __all__ = ["REGIMES", "FAILED", "DropTask", "drop_map", "failed_points"]
 
@@ -112,7 +112,7 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
     fail_at = check_range("fail_at", fail_at, low=0.0)
     t_end = check_range("t_end", t_end, low=0.0, high=MAX_T_END, low_open=True)
     check_failure_before_end(fail_at, t_end)
-    chunk_size = check_int("chunk_size", chunk_size, low=1)
+    chunk_size = check_chunk_size(chunk_size)
     grid_mu, grid_speed = np.meshgrid(frictions, speeds, indexing="ij")
     flat_speed, flat_mu = grid_speed.ravel(), grid_mu.ravel()
     n = flat_speed.size

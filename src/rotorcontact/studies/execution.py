@@ -66,7 +66,19 @@ from .netcdf import read_finished, umask_permissions, write_netcdf
 
 __all__ = ["BACKENDS", "ChunkTask", "ChunkStore", "CudaExecutor", "StoredChunks", "available_cores",
            "backend_manifest", "check_backend", "check_workers", "fitted_chunk_size", "local_workers", "make_executor",
-           "progress_bar", "run_task", "study_digest", "write_netcdf", "read_finished"]
+           "progress_bar", "run_task", "study_digest", "write_netcdf", "read_finished", "check_chunk_size",
+           "MAX_CHUNK_SIZE"]
+
+#: Largest chunk size: the chunk files store it as a 32-bit integer. A chunk larger than the study is one
+#: chunk of the whole study.
+MAX_CHUNK_SIZE = 2**31 - 1
+
+
+def check_chunk_size(value: Any) -> int:
+    """``value`` as a chunk size, a whole number from 1 to `MAX_CHUNK_SIZE`; a `ParameterError` otherwise."""
+    from ..model.validation import check_int
+
+    return check_int("chunk_size", value, 1, MAX_CHUNK_SIZE)
 
 STORE_FORMAT = 2
 

@@ -20,12 +20,12 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_range
-from ..model.validation import check_int, check_machine, check_params
+from ..model.validation import check_machine, check_params
 from ..simulation.motion import REGIME_NAMES
 from ..simulation.simulator import check_start
 from .batch import PARAMETER_ORDER, parameter_array
 from .driver import run_study
-from .execution import study_digest
+from .execution import check_chunk_size, study_digest
 from .parameter_path import parameter_path, path_values
 
 __all__ = ["FINAL_NAMES", "LyapunovScan", "SpectrumTask", "lyapunov_scan"]
@@ -210,7 +210,7 @@ def lyapunov_scan(
     if t_transient >= t_end:
         raise ParameterError(f"t_transient = {t_transient!r} is not below t_end = {t_end!r}; allowed: [0, t_end)")
     u0, du0 = check_start(u0, du0)
-    chunk_size = check_int("chunk_size", chunk_size, 1)
+    chunk_size = check_chunk_size(chunk_size)
     rows = parameter_array(path)
     manifest = {"study": "lyapunov-scan", "param": param, "values": vals, "rows": rows,
                 "u0": [u0.real, u0.imag], "du0": [du0.real, du0.imag], "t_end": t_end,

@@ -99,7 +99,9 @@ def check_output_path(out: str | Path) -> Path:
         For another suffix, a folder in its place, or a folder that is missing
         or is a file (folders are not created: make them first).
     """
-    out = Path(out)
+    from ..model.validation import check_path  # here: the command line's --help does not import numpy
+
+    out = check_path("out", out)
     if out.suffix.lower() != ".nc":
         raise ParameterError(f"output file {str(out)!r} must end in .nc (NetCDF)")
     if out.exists() and out.is_dir():

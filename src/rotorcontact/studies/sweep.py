@@ -58,7 +58,7 @@ from .batch import (
     parameter_array,
 )
 from .driver import run_study
-from .execution import ChunkTask, backend_manifest, study_digest
+from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
 
 __all__ = [
     "SWEEP_PARAMETERS",
@@ -311,7 +311,7 @@ def sweep(
     fit_chunks = chunk_size is None and not carry  # a carried sweep's chunks of a direction run in turn
     if chunk_size is None:
         chunk_size = DEFAULT_CHUNK_CARRY if carry else DEFAULT_CHUNK_INDEPENDENT
-    chunk_size = check_int("chunk_size", chunk_size, 1)
+    chunk_size = check_chunk_size(chunk_size)
     n = vals.size
     rows = parameter_array([params.replace(**{param: float(v)}) for v in vals])  # validates every value
     directions = MODES[mode]
