@@ -240,3 +240,14 @@ def test_settings_that_are_not_continuation_settings_are_refused():
     for call in calls:
         with pytest.raises(ParameterError, match=r"^settings = 'x' is not a ContinuationSettings"):
             call()
+
+
+def test_a_t_max_beyond_what_the_isolation_follows_is_refused_not_a_point_in_no_region():
+    from rotorcontact.maps.impact_map import IsolationLimit
+
+    p = REF.replace(gamma=0.0)
+    assert region(p, 12.0) is None or region(p, 12.0) in ("R1", "R2", "R3", "R4")
+    with pytest.raises(IsolationLimit, match=r"^t_max = 10000.0 is too large at gamma = 0"):
+        region(p, 1e4)
+    # the undamped resonance has no regular equilibrium: no region, not an error
+    assert region(REF.replace(gamma=0.0, omega=1.0)) is None

@@ -313,6 +313,8 @@ def test_bad_input_raises_parameter_error():
         im.impact_map(p, [0.0, 0.1])
     with pytest.raises(ParameterError):
         im.impact_map(p, [0.0, 0.1, float("nan")])
+    with pytest.raises(ParameterError, match=r"^state = .* three real numbers$"):
+        im.impact_map(p, np.array([0.0, 0.1 + 1j, 0.0]))
     with pytest.raises(ParameterError):
         im.impact_map(p, [0.0, 0.1, 0.0], law="elastic")
     for law in (["ideal"], {}, None):

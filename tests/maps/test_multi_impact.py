@@ -222,3 +222,18 @@ def test_find_period_doubling_refuses_bad_intervals_and_scans(kwargs, match):
     args.update(kwargs)
     with pytest.raises(ParameterError, match=match):
         find_period_doubling(REF, "B1,d", "gamma", **args)
+
+
+def test_the_impact_bound_holds_for_the_doubled_orbits_too():
+    from rotorcontact.continuation.cascade import cascades
+    from rotorcontact.continuation.multi_impact_families import multi_impact_branches
+    from rotorcontact.maps.multi_impact import MAX_ORBIT_IMPACTS
+
+    p = REF.replace(gamma=0.1)
+    with pytest.raises(ParameterError, match=rf"^impacts = 4096 doubled depth = 1 times makes orbits of 8192 impacts; "
+                                             rf"allowed: impacts \* 2\^depth <= {MAX_ORBIT_IMPACTS}$"):
+        cascades(p, "gamma", 0.0, 0.2, impacts=4096, depth=1)
+    with pytest.raises(ParameterError, match=r"^impacts = 16 doubled doublings = 9|^doublings = 9"):
+        multi_impact_branches(p, 16, doublings=9)
+    with pytest.raises(ParameterError, match=r"^impacts = 2048 doubled doublings = 2 times makes orbits of 8192"):
+        multi_impact_branches(p, 2048, doublings=2)

@@ -65,3 +65,12 @@ def test_a_path_is_a_non_empty_name(bad, tmp_path):
     with pytest.raises(ParameterError, match="^path = "):
         save_figure(fig, bad)
     plt.close(fig)
+
+
+def test_reproduce_refuses_a_file_for_its_folder(tmp_path):
+    from rotorcontact.report.reproduce import reproduce
+
+    f = tmp_path / "report"
+    f.write_text("x")
+    with pytest.raises(ParameterError, match=r"^out = .* is a file; allowed: a folder, new or existing$"):
+        reproduce(f, progress=False)

@@ -535,3 +535,12 @@ def test_the_drop_functions_refuse_bad_speeds_states_and_times_by_name(call, mat
 def test_a_run_whose_bearing_never_fails_is_a_run_with_fail_at_inf():
     r = run_general(reference_machine(), 0j, 0j, 100.0, math.inf, 0.05)
     assert r.status == "completed"
+
+
+def test_the_velocity_scale_of_a_backward_spin_is_positive():
+    from rotorcontact.simulation.drop_run import _velocity_scale
+
+    m = reference_machine()
+    weightless = Machine(**{**m.as_dict(), "gravity": 0.0}) if m.g > 0.0 else m
+    assert weightless.g == 0.0
+    assert _velocity_scale(weightless, -100.0) == _velocity_scale(weightless, 100.0) == weightless.clearance * 100.0

@@ -406,3 +406,13 @@ def test_a_chunk_size_beyond_what_the_chunk_files_store_is_refused(bad):
         check_chunk_size(bad)
     with pytest.raises(ParameterError, match=r"^chunk_size = "):
         sweep(REF, "gamma", [0.1, 0.2], chunk_size=bad, progress=False)
+
+
+@pytest.mark.parametrize("flag", ["resume", "keep_chunks", "progress"])
+def test_the_yes_no_flags_of_a_study_are_bools(flag, tmp_path):
+    from rotorcontact.studies.sweep import sweep
+    from reference_parameters import REF
+
+    with pytest.raises(ParameterError, match=rf"^{flag} = 'no' is invalid; allowed: True or False$"):
+        sweep(REF, "gamma", [0.1, 0.2], out=tmp_path / "s.nc", **{flag: "no"})
+    assert not any(tmp_path.iterdir())

@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from ..errors import ParameterError
 from ..maps.multi_impact import MAX_ORBIT_IMPACTS, NewtonFailure
 from ..model.params import Parameters
 from ..model.validation import check_int, check_params
@@ -212,6 +213,9 @@ def cascades(
     check_params(params)
     p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
     depth = check_int("depth", depth, 1, MAX_DOUBLINGS)
+    if p * 2**depth > MAX_ORBIT_IMPACTS:
+        raise ParameterError(f"impacts = {p} doubled depth = {depth} times makes orbits of {p * 2**depth} impacts; "
+                             f"allowed: impacts * 2^depth <= {MAX_ORBIT_IMPACTS}")
     start, stop = check_param_range(param, params, start, stop)
     if p == 1:
         one = orbit_branches(params, param, start, stop, t_max=t_max, n_seeds=n_seeds)

@@ -73,6 +73,7 @@ from .results import BranchEvent, BranchResult
 from ..model.flow import propagate
 from ..maps.impact_map import (
     IDEAL,
+    IsolationLimit,
     _check_t_max,
     f1_zeros,
     flight_extrema,
@@ -904,6 +905,8 @@ def region(params: Parameters, t_max: float = 12.0) -> str | None:
     orbits = []  # (small root?, rdot) of the orbits of the pair 1
     try:
         zeros = f1_zeros(params, t_max)
+    except IsolationLimit:
+        raise  # a t_max too large for this point: not a point in no region
     except ParameterError:
         return None  # the undamped resonance (gamma = 0, omega = 1): no regular equilibrium at all
     for z in zeros:

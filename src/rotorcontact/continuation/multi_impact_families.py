@@ -285,6 +285,9 @@ def multi_impact_branches(
     check_params(params)
     p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
     doublings = check_int("doublings", doublings, 0, MAX_DOUBLINGS)
+    if p * 2**doublings > MAX_ORBIT_IMPACTS:
+        raise ParameterError(f"impacts = {p} doubled doublings = {doublings} times makes orbits of "
+                             f"{p * 2**doublings} impacts; allowed: impacts * 2^doublings <= {MAX_ORBIT_IMPACTS}")
     start, stop = check_param_range(param, params, start, stop)
     base_value = float(getattr(params, param))
     if not start <= base_value <= stop:

@@ -144,6 +144,7 @@ __all__ = [
     "SLIP_BOUNDED",
     "ImpactMapResult",
     "F1Zero",
+    "IsolationLimit",
     "FlightExtrema",
     "ImpactOrbit",
     "impact_map",
@@ -188,6 +189,10 @@ _KIND_F = 1  # f(t) = Re(conj(U) U') = r rdot along a flight
 # reset branches
 _SLIP = 0
 _STICK = 1
+
+
+class IsolationLimit(ParameterError):
+    """``t_max`` holds more zeros of F1 than the isolation follows within its `MAX_STEPS` steps."""
 
 
 def _check_law(law: str) -> int:
@@ -700,10 +705,10 @@ def _params_tuple(params: Parameters):
 
 
 def _state(state) -> tuple[float, float, float]:
-    try:
-        arr = np.asarray(state, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise ParameterError(f"state = {state!r} is not (theta, rdot, thetadot)") from None
+    arr = real_array(state)
+    if arr is None:
+        raise ParameterError(f"state = {state!r} is not (theta, rdot, thetadot), three real numbers")
+    arr = arr.reshape(-1)
     if arr.shape != (3,):
         raise ParameterError(f"state = {state!r} is not (theta, rdot, thetadot): need 3 numbers")
     names = ("theta", "rdot", "thetadot")
@@ -984,9 +989,10 @@ def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:
     zt, zd, zf, s0, status = call_kernel(_f1_zeros_kernel, params.gamma, params.omega, params.d, params.mu, t_max)
     if status != ISO_OK:
         # the steps of the isolation grow with the zeros on (0, t_max], which are unbounded at gamma = 0
-        raise ParameterError(
-            f"t_max = {t_max!r} is too large at gamma = {params.gamma:g}, omega = {params.omega:g}: the isolation of "
-            f"the zeros of F1 on (0, t_max] needs more than {MAX_STEPS} steps; allowed: a smaller t_max"
+        raise IsolationLimit(
+            f"t_max = {t_max!r} is too large at gamma = {params.gamma:g}, omega = {params.omega:g}, d = {params.d:g}, "
+            f"mu = {params.mu:g}: the isolation of the zeros of F1 on (0, t_max] needs more than {MAX_STEPS} steps; "
+            "allowed: a smaller t_max"
         )
     h2 = half_discriminant.py_func(params.gamma, params.omega)
     q = _q(params)

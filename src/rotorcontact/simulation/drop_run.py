@@ -352,14 +352,14 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     # the spin may be negative (backwards) or zero here
     speed = check_range("speed", speed, low=-MAX_SPEED, high=MAX_SPEED, unit="rad/s")
     # inf: the bearing never fails
-    fail_at = math.inf if isinstance(fail_at, float) and fail_at == math.inf else check_range("fail_at", fail_at,
-                                                                                             low=0.0)
+    never = isinstance(fail_at, (float, np.floating)) and fail_at == math.inf
+    fail_at = math.inf if never else check_range("fail_at", fail_at, low=0.0)
     # a drop's longest run, or as many radians of spin as the dimensionless model's longest run
     longest = max(MAX_T_END, MAX_RUN_TIME / abs(speed)) if speed != 0.0 else MAX_T_END
     t_end = check_range("t_end", t_end, low=0.0, high=longest, low_open=True, unit="s",
                         why=f"{MAX_T_END:g} s, or {MAX_RUN_TIME:g} radians of spin where that is longer")
     z0, v0 = complex_value("z0", z0), complex_value("v0", v0)
-    if not (isinstance(stator_start, (tuple, list)) and len(stator_start) == 2):
+    if not (isinstance(stator_start, (tuple, list, np.ndarray)) and np.shape(stator_start) == (2,)):
         raise ParameterError(f"stator_start = {stator_start!r} is invalid; allowed: (z_s, v_s), two complex numbers")
     m = machine
     zb0, vb0 = complex_value("stator_start[0]", stator_start[0]), complex_value("stator_start[1]", stator_start[1])
@@ -392,7 +392,7 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
 
 def _velocity_scale(machine: Machine, speed: float) -> float:
     """sqrt(g c_r) with gravity, else c_r Omega, m/s: the scale of the chatter and damping floors."""
-    return math.sqrt(machine.g * machine.clearance) if machine.g > 0.0 else machine.clearance * speed
+    return math.sqrt(machine.g * machine.clearance) if machine.g > 0.0 else machine.clearance * abs(speed)
 
 
 def contact_force_history(machine: Machine, speed: float, fail_at: float, times,

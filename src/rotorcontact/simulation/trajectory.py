@@ -286,8 +286,9 @@ class Trajectory:
 
         In free flight the closed form is evaluated; in contact phases the
         rolling motion is exact and sliding is the integrator's solution,
-        interpolated by quintic Hermite polynomials. At an impact time the
-        state just after the impact is returned.
+        interpolated by quintic Hermite polynomials (constant where a slide
+        comes to rest on a stable pseudo-equilibrium and is held there). At an
+        impact time the state just after the impact is returned.
         """
         tt = self._times(t)
         flat = tt.ravel()
