@@ -192,30 +192,28 @@ def test_values_that_are_not_real_numbers_are_refused_by_every_parameter_path(va
     assert not any(tmp_path.iterdir())
 
 
+def _study_calls(**kw):
+    from rotorcontact.studies.lyapunov_scan import lyapunov_scan
+    from rotorcontact.studies.sweep import sweep
+
+    return [lambda: attractors(REF, "gamma", [0.1], "plane:3", progress=False, **kw),
+            lambda: basins(REF, "plane:3", progress=False, **kw),
+            lambda: (lyapunov_scan(REF, "gamma", [0.1], t_end=100.0, progress=False, **kw) if "machine" in kw
+                     else sweep(REF, "gamma", [0.1, 0.2], progress=False, **kw))]
+
+
 @pytest.mark.parametrize("machine", ["x", 3, REF])
 def test_a_machine_that_is_not_a_machine_is_refused(machine):
-    from rotorcontact.studies.lyapunov_scan import lyapunov_scan
-
-    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
-        attractors(REF, "gamma", [0.1], "plane:3", machine=machine, progress=False)
-    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
-        basins(REF, "plane:3", machine=machine, progress=False)
-    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
-        lyapunov_scan(REF, "gamma", [0.1], machine=machine, t_end=100.0, progress=False)
-    with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
-        parameter_path(REF, "gamma", [0.1], machine)
+    for call in _study_calls(machine=machine) + [lambda: parameter_path(REF, "gamma", [0.1], machine)]:
+        with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
+            call()
 
 
 @pytest.mark.parametrize("bad", ["x", {"n_record": 5}])
 def test_settings_that_are_not_batch_settings_are_refused_by_the_studies(bad):
-    from rotorcontact.studies.sweep import sweep
-
-    with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
-        attractors(REF, "gamma", [0.1], "plane:3", settings=bad, progress=False)
-    with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
-        basins(REF, "plane:3", settings=bad, progress=False)
-    with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
-        sweep(REF, "gamma", [0.1, 0.2], settings=bad, progress=False)
+    for call in _study_calls(settings=bad):
+        with pytest.raises(ParameterError, match=r"^settings = .* is not a BatchSettings"):
+            call()
 
 
 def test_a_study_whose_sections_exceed_the_machines_memory_is_refused_before_it_runs(monkeypatch, tmp_path):

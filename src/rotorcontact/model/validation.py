@@ -51,29 +51,28 @@ def _holds_bool(value: Any) -> bool:
     return isinstance(value, (bool, np.bool_))
 
 
-def real_array(value: Any) -> np.ndarray | None:
-    """``value`` as an array of floats if it holds integers or reals only; None for text, bools (also
-    mixed into a list of numbers, where numpy would read them as 0 and 1), complex numbers, ragged lists
-    or other objects, which ``np.asarray(value, dtype=float)`` would read or half-read."""
+def _numbers(value: Any, kinds: str, dtype: type) -> np.ndarray | None:
+    """``value`` as an array of ``dtype`` if numpy reads it with a kind in ``kinds`` and it holds no bool."""
     try:
         raw = np.asarray(value)
     except (TypeError, ValueError):
         return None
-    if raw.dtype.kind not in "iuf" or _holds_bool(value):
+    if raw.dtype.kind not in kinds or _holds_bool(value):
         return None
-    return raw.astype(float)
+    return raw.astype(dtype)
+
+
+def real_array(value: Any) -> np.ndarray | None:
+    """``value`` as an array of floats if it holds integers or reals only; None for text, bools (also
+    mixed into a list of numbers, where numpy would read them as 0 and 1), complex numbers, ragged lists
+    or other objects, which ``np.asarray(value, dtype=float)`` would read or half-read."""
+    return _numbers(value, "iuf", float)
 
 
 def complex_array(value: Any) -> np.ndarray | None:
     """``value`` as an array of complex numbers if it holds integers, reals or complex numbers only; None
     for text, bools, ragged lists or other objects (`real_array`'s rule, complex numbers allowed)."""
-    try:
-        raw = np.asarray(value)
-    except (TypeError, ValueError):
-        return None
-    if raw.dtype.kind not in "iufc" or _holds_bool(value):
-        return None
-    return raw.astype(complex)
+    return _numbers(value, "iufc", complex)
 
 
 def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:
