@@ -488,3 +488,17 @@ def test_comparison_table_and_bad_input(rotor, general):
         comp.rows[0].error("r")
     with pytest.raises(ParameterError, match="t_max"):
         general.f1_zeros(-1.0)
+
+
+@pytest.mark.parametrize("epsilons", [0.001, None, ["0.001"], [], [0.001] * 1001])
+def test_compare_local_global_refuses_a_malformed_or_huge_list_of_eps(rotor, epsilons):
+    with pytest.raises(ParameterError, match=r"^epsilons = .* allowed: a list of 1 to 1000 numbers$"):
+        compare_local_global(rotor, epsilons)
+
+
+def test_compare_local_global_takes_one_label_as_a_label(rotor):
+    one = compare_local_global(rotor, [0.001], labels="B1,a")
+    assert [r.label for r in one.rows] == ["B1,a"]
+    assert one.rows == compare_local_global(rotor, [0.001], labels=["B1,a"]).rows
+    with pytest.raises(ParameterError, match=r"^labels = 3 is invalid"):
+        compare_local_global(rotor, [0.001], labels=3)

@@ -251,3 +251,18 @@ def test_a_t_max_beyond_what_the_isolation_follows_is_refused_not_a_point_in_no_
         region(p, 1e4)
     # the undamped resonance has no regular equilibrium: no region, not an error
     assert region(REF.replace(gamma=0.0, omega=1.0)) is None
+
+
+@pytest.mark.parametrize("kw", [dict(folds=None), dict(folds=1.0), dict(grazing=None), dict(grazing=3)])
+def test_the_curves_asked_for_are_lists(kw):
+    name = next(iter(kw))
+    with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: a list"):
+        codim2_diagram(REF.replace(gamma=0.1), ("gamma", "omega"), **kw)
+
+
+def test_one_fold_and_one_orbit_may_be_given_alone():
+    p = REF.replace(gamma=0.1)
+    box = ((0.05, 0.2), (0.7, 0.8))
+    alone = codim2_diagram(p, ("gamma", "omega"), box, folds=1, grazing="B1,d", n_seeds=3, n_scan=11)
+    listed = codim2_diagram(p, ("gamma", "omega"), box, folds=[1], grazing=["B1,d"], n_seeds=3, n_scan=11)
+    assert sorted(alone.curves) == sorted(listed.curves) and alone.events == listed.events

@@ -188,3 +188,18 @@ def test_a_finished_basin_is_read_back_and_an_interrupted_one_resumes_with_its_c
     assert not resumed.reused_file and resumed.chunks_reused == 2 and resumed.chunks_computed == 1
     assert int(resumed.dataset.attrs["chunk_size"]) == 4
     assert np.array_equal(resumed.image, first.image)
+
+
+@pytest.mark.parametrize("x, match", [((0.0, 1.0), r"^x = \(0.0, 1.0\) is invalid; allowed: \(start, stop, count\)"),
+                                      (None, r"^x = None is invalid"),
+                                      ((0.0, 1.0, 10**9), r"^x count = 1000000000 is invalid; allowed: an integer "
+                                                          r"from 1 to 16000000$")])
+def test_a_malformed_or_huge_axis_is_refused_before_it_is_built(x, match):
+    with pytest.raises(ParameterError, match=match):
+        displacement_grid(x, (-1.0, 1.0, 2))
+
+
+@pytest.mark.parametrize("axis", [["x", "y"], [True, False], [0.1 + 1j], []])
+def test_grid_axes_hold_finite_real_values(axis):
+    with pytest.raises(ParameterError, match=r"^grid axis0 = .* allowed: finite real values$"):
+        BasinGrid("displacement", axis, [0.0])

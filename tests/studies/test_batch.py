@@ -420,3 +420,9 @@ def test_initial_states_that_are_not_complex_numbers_are_refused(name, value):
 def test_yes_no_flags_of_a_batch_are_bools(name):
     with pytest.raises(ParameterError, match=rf"^{name} = 'False' is invalid; allowed: True or False$"):
         simulate_batch(REF, **{name: "False"}, n_transient=2, n_record=1)
+
+
+@pytest.mark.parametrize("chatter", ["x", [1, 2], 3])
+def test_chatter_criteria_are_a_dict(chatter):
+    with pytest.raises(ParameterError, match=r"^chatter = .* is invalid; allowed: a dict of criteria by name"):
+        BatchSettings(chatter=chatter)

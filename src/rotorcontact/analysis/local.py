@@ -886,6 +886,10 @@ class LocalComparison:
         return "\n".join(lines)
 
 
+#: Most values of eps in `compare_local_global`: each finds the global orbits at one eps.
+MAX_EPSILONS = 1000
+
+
 def compare_local_global(
     model: LinearImpactingSystem | Parameters,
     epsilons: Iterable[float] = DEFAULT_EPSILONS,
@@ -913,10 +917,17 @@ def compare_local_global(
     offset = 0.0
     if isinstance(model, Parameters):
         offset = float(boundary_gamma(model))
-    eps_list = [_check_eps(e) for e in epsilons]
+    eps_arr = real_array(epsilons)
+    if eps_arr is None or eps_arr.ndim != 1 or not 1 <= eps_arr.size <= MAX_EPSILONS:
+        raise ParameterError(f"epsilons = {epsilons!r} is invalid; allowed: a list of 1 to {MAX_EPSILONS} numbers")
+    eps_list = [_check_eps(e) for e in eps_arr.tolist()]
     local = {o.label: o for o in analysis.orbits}
     if labels is None:
         labels = tuple(local)
+    elif isinstance(labels, str):
+        labels = (labels,)  # one label
+    elif not isinstance(labels, (list, tuple)):
+        raise ParameterError(f"labels = {labels!r} is invalid; allowed: a list of orbit labels such as ['B1,a'], or None")
     for lab in labels:
         if lab not in local:
             raise ParameterError(f"no local orbit {lab!r}; allowed: {', '.join(local) or 'none'}")

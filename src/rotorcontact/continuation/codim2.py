@@ -823,6 +823,14 @@ def codim2_diagram(
     Codim2Diagram
     """
     plane = _Plane(params, param, ranges)
+    if isinstance(folds, (int, np.integer)) and not isinstance(folds, bool):
+        folds = (folds,)  # one pair
+    if isinstance(grazing, str):
+        grazing = (grazing,)  # one orbit
+    for name, given in (("folds", folds), ("grazing", grazing)):
+        if not isinstance(given, (list, tuple)):
+            raise ParameterError(f"{name} = {given!r} is invalid; allowed: a list, such as {name}=[1] or "
+                                 f"grazing=['B1,d'] (empty for none)")
     for label in grazing:
         _check_label(label)
     for n in folds:

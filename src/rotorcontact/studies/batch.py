@@ -383,7 +383,11 @@ class BatchSettings:
             value = getattr(self, name)
             if value is not None:
                 object.__setattr__(self, name, check_range(name, value, low=0.0, low_open=True))
-        given = dict(self.chatter or {})
+        try:
+            given = dict(self.chatter or {})
+        except (TypeError, ValueError):
+            raise ParameterError(f"chatter = {self.chatter!r} is invalid; allowed: a dict of criteria by name "
+                                 f"({', '.join(CHATTER_DEFAULTS)}), or None") from None
         unknown = sorted(set(given) - set(CHATTER_DEFAULTS))
         if unknown:
             raise ParameterError(

@@ -9,12 +9,13 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from ..errors import ParameterError
 from ..model.params import MAX_VELOCITY, Parameters, check_finite
-from ..model.validation import check_int
+from ..model.validation import check_int, real_array
 
 __all__ = ["GRID_KINDS", "GRID_SYNTAX", "MAX_GRID_POINTS", "BasinGrid", "displacement_grid", "shock_grid",
            "parse_grid"]
@@ -66,9 +67,10 @@ class BasinGrid:
         if self.kind not in GRID_KINDS:
             raise ParameterError(f"grid kind {self.kind!r} is invalid; allowed: {', '.join(GRID_KINDS)}")
         for name in ("axis0", "axis1"):
-            arr = np.asarray(getattr(self, name), dtype=float).reshape(-1)
-            if arr.size == 0 or not np.all(np.isfinite(arr)):
-                raise ParameterError(f"grid {name} must hold finite values")
+            arr = real_array(getattr(self, name))
+            if arr is None or arr.size == 0 or not np.all(np.isfinite(arr)):
+                raise ParameterError(f"grid {name} = {getattr(self, name)!r} is invalid; allowed: finite real values")
+            arr = arr.reshape(-1)
             object.__setattr__(self, name, arr)
         if self.kind == "shock" and np.any(self.axis0 < 0):
             raise ParameterError("grid amplitude values must be >= 0")
@@ -125,10 +127,13 @@ class BasinGrid:
         return u0, du0, inside
 
 
-def _axis(name: str, lo: float, hi: float, n: int) -> np.ndarray:
+def _axis(name: str, spec: Any) -> np.ndarray:
+    if not isinstance(spec, (tuple, list)) or len(spec) != 3:
+        raise ParameterError(f"{name} = {spec!r} is invalid; allowed: (start, stop, count)")
+    lo, hi, n = spec
     lo = check_finite(f"{name} start", lo)
     hi = check_finite(f"{name} stop", hi)
-    n = check_int(f"{name} count", n, 1)
+    n = check_int(f"{name} count", n, 1, MAX_GRID_POINTS)
     if n > 1 and not lo < hi:
         raise ParameterError(f"{name}: start {lo!r} must be smaller than stop {hi!r}")
     return np.linspace(lo, hi, int(n))
@@ -137,13 +142,13 @@ def _axis(name: str, lo: float, hi: float, n: int) -> np.ndarray:
 def displacement_grid(x: tuple[float, float, int] = (-1.0, 1.0, 101),
                       y: tuple[float, float, int] = (-1.0, 1.0, 101)) -> BasinGrid:
     """Initial displacements U(0) = x + i y at zero velocity; ``x`` and ``y`` are (start, stop, count)."""
-    return BasinGrid("displacement", _axis("x", *x), _axis("y", *y))
+    return BasinGrid("displacement", _axis("x", x), _axis("y", y))
 
 
 def shock_grid(amplitude: tuple[float, float, int] = (0.0, 1.0, 101),
                direction: tuple[float, float, int] = (-math.pi, math.pi, 101)) -> BasinGrid:
     """Velocity kicks at x_R: amplitude and direction from the outward radial direction, each (start, stop, count)."""
-    return BasinGrid("shock", _axis("amplitude", *amplitude), _axis("direction", *direction))
+    return BasinGrid("shock", _axis("amplitude", amplitude), _axis("direction", direction))
 
 
 #: The forms of a grid, in one line (the syntax in full: `GRID_SYNTAX`, shown by ``--help``).

@@ -59,6 +59,7 @@ from .batch import (
 )
 from .driver import run_study
 from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
+from .grids import MAX_GRID_POINTS
 
 __all__ = [
     "SWEEP_PARAMETERS",
@@ -94,7 +95,9 @@ def sweep_values(start: float, stop: float, n: int) -> np.ndarray:
     """``n`` equally spaced values from ``start`` to ``stop`` (both included; one value needs start = stop)."""
     start = check_finite("from", start)
     stop = check_finite("to", stop)
-    n = check_int("n", n, 1)
+    n = check_int("n", n, 1, MAX_GRID_POINTS)
+    if not math.isfinite(stop - start):
+        raise ParameterError(f"from = {start!r} to = {stop!r} spans more than the largest float")
     if n > 1 and not start < stop:
         raise ParameterError(f"from = {start!r} must be smaller than to = {stop!r}")
     if n == 1 and start != stop:
