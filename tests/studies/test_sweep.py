@@ -338,9 +338,10 @@ def test_a_value_beyond_the_simulators_accurate_range_is_refused(param, value):
         simulate(base.replace(**{param: value}), 0j, 0j, 1.0)
 
 
-@pytest.mark.parametrize("args, match", [((0.0, 1.0, 10**12), r"^n = 1000000000000 is invalid; allowed: an integer from "
-                                                              r"1 to 16000000$"),
-                                         ((-1e308, 1e308, 3), r"^from = -1e\+308 to = 1e\+308 spans more than")])
+@pytest.mark.parametrize("args, match", [
+    ((0.0, 1.0, 10**12), r"^n = 1000000000000 is invalid; allowed: an integer from 1 to 16000000$"),
+    ((-1e308, 1e308, 3), r"^from = -1e\+308 to = 1e\+308 spans more than"),
+])
 def test_sweep_values_refuses_what_it_cannot_build(args, match):
     with pytest.raises(ParameterError, match=match):
         sweep_values(*args)

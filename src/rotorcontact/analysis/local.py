@@ -927,7 +927,8 @@ def compare_local_global(
     elif isinstance(labels, str):
         labels = (labels,)  # one label
     elif not isinstance(labels, (list, tuple)):
-        raise ParameterError(f"labels = {labels!r} is invalid; allowed: a list of orbit labels such as ['B1,a'], or None")
+        raise ParameterError(f"labels = {labels!r} is invalid; allowed: a list of orbit labels such as ['B1,a'], "
+                             "or None")
     for lab in labels:
         if lab not in local:
             raise ParameterError(f"no local orbit {lab!r}; allowed: {', '.join(local) or 'none'}")
