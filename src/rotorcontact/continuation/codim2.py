@@ -827,10 +827,9 @@ def codim2_diagram(
         folds = (folds,)  # one pair
     if isinstance(grazing, str):
         grazing = (grazing,)  # one orbit
-    for name, given in (("folds", folds), ("grazing", grazing)):
+    for name, given, example in (("folds", folds, "[1, 2]"), ("grazing", grazing, "['B1,d']")):
         if not isinstance(given, (list, tuple)):
-            raise ParameterError(f"{name} = {given!r} is invalid; allowed: a list, such as {name}=[1] or "
-                                 f"grazing=['B1,d'] (empty for none)")
+            raise ParameterError(f"{name} = {given!r} is invalid; allowed: a list such as {example} (empty for none)")
     for label in grazing:
         _check_label(label)
     for n in folds:
