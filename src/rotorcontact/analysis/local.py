@@ -61,7 +61,7 @@ from scipy.optimize import brentq, minimize_scalar
 from .equilibria import boundary_gamma
 from ..model.angles import angle_difference, wrap_angle
 from ..errors import ParameterError
-from ..maps.impact_map import (MAX_GROWTH, F1Zero, label_f1_zeros, one_impact_orbits, root_branches,
+from ..maps.impact_map import (F1Zero, check_growth, label_f1_zeros, one_impact_orbits, root_branches,
                                stable_quadratic_roots)
 from ..model.impact_law import impact_q
 from ..model.validation import check_params, complex_value, real_array
@@ -300,10 +300,7 @@ class LinearImpactingSystem:
     def _check_period(self, name: str, T: float, eps: float) -> None:
         """Refuse a period beyond which e^{-AT} leaves the accurate range (as
         `rotorcontact.maps.impact_map.period_limit`)."""
-        grow = float(np.max(np.abs(self.eigenvalues(eps).real)))
-        if grow * T > MAX_GROWTH:
-            raise ParameterError(f"{name} = {T!r} is too large at eps = {eps!r} (e^{{-AT}} grows like "
-                                 f"e^{{{grow:.3g} T}}); allowed: {name} <= {MAX_GROWTH / grow:.6g}")
+        check_growth(name, T, float(np.max(np.abs(self.eigenvalues(eps).real))), f"eps = {eps!r}")
 
     def a_matrix(self, T, eps: float = 0.0) -> np.ndarray:
         """[a_ij(T)] = (e^{-AT} - I)^{-1} at ``eps``; T a float (2x2) or an array (..., 2, 2)."""

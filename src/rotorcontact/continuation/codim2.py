@@ -83,7 +83,7 @@ from ..maps.impact_map import (
 )
 from ..maps.orbit_system import BRANCH_PARAMETERS, orbit_angles, regularised_residual, with_parameters
 from ..model.params import Parameters, check_finite, check_range
-from ..model.validation import check_int, check_params, settings_or_default
+from ..model.validation import check_int, check_params, is_pair, settings_or_default
 
 __all__ = [
     "DEFAULT_RANGES",
@@ -241,20 +241,13 @@ def dib_function(p: Parameters) -> float:
     return p.rho**2 - p.gamma**2 - (1.0 - p.omega**2) ** 2
 
 
-def _is_pair(value) -> bool:
-    """A list, tuple or array of two items (not text, which is a sequence too)."""
-    if isinstance(value, np.ndarray):
-        return value.ndim >= 1 and len(value) == 2
-    return isinstance(value, (list, tuple)) and len(value) == 2
-
-
 class _Plane:
     """Parameters at (p1, p2) for a plane of two parameters (extended beyond physical bounds)."""
 
     def __init__(self, base: Parameters, params: Sequence[str], ranges):
         check_params(base)
         given = params
-        params = tuple(params) if _is_pair(params) else ()
+        params = tuple(params) if is_pair(params) else ()
         if len(params) != 2 or params[0] == params[1]:
             raise ParameterError(f"param = {given!r} is invalid; allowed: two different parameters, as a pair")
         for p in params:
@@ -269,12 +262,12 @@ class _Plane:
                 raise ParameterError(f"ranges = {ranges!r} is invalid; allowed: a range for each of {params[0]!r} "
                                      f"and {params[1]!r} and no other")
             ranges = (ranges[params[0]], ranges[params[1]])
-        elif not _is_pair(ranges):
+        elif not is_pair(ranges):
             raise ParameterError(f"ranges = {ranges!r} is invalid; allowed: two ranges (low, high), one for "
                                  f"{params[0]!r} and one for {params[1]!r}")
         checked = []
         for name, rng in zip(params, ranges):
-            if not _is_pair(rng):
+            if not is_pair(rng):
                 raise ParameterError(f"range of {name} = {rng!r} is invalid; allowed: (low, high)")
             lo, hi = (check_finite(f"range of {name}", v) for v in rng)
             if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
@@ -949,7 +942,7 @@ def classify_plane(
         ``"R1"`` .. ``"R4"`` or None.
     """
     plane = _Plane(params, param, ranges)
-    if not _is_pair(shape):
+    if not is_pair(shape):
         raise ParameterError(f"shape = {shape!r} is invalid; allowed: (n1, n2), two whole numbers >= 2")
     n1, n2 = (check_int(f"shape[{i}]", s, 2, MAX_PLANE_SIDE) for i, s in enumerate(shape))
     v1 = np.linspace(*plane.ranges[0], n1)

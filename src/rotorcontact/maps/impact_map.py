@@ -163,6 +163,7 @@ __all__ = [
     "flight_extrema",
     "flight_growth",
     "period_limit",
+    "check_growth",
     "one_impact_orbits",
     "orbit_stability",
 ]
@@ -940,14 +941,18 @@ def period_limit(params: Parameters) -> float:
     return math.inf if growth == 0.0 else MAX_GROWTH / growth
 
 
-def _check_period_limit(params: Parameters, name: str, value: float) -> float:
-    limit = period_limit(params)
-    if value > limit:
-        raise ParameterError(
-            f"{name} = {value!r} is too large at gamma = {params.gamma:g}, omega = {params.omega:g} (the flight "
-            f"grows like e^{{{flight_growth(params):.3g} T}}); allowed: {name} <= {limit:.6g}"
-        )
+def check_growth(name: str, value: float, growth: float, where: str) -> float:
+    """Return the period ``value`` unless it exceeds ``MAX_GROWTH / growth``, beyond which a flight growing or
+    decaying like e^{growth T} leaves the range where it is evaluated accurately; ``where`` names the
+    parameters in the `ParameterError`."""
+    if growth > 0.0 and value > MAX_GROWTH / growth:
+        raise ParameterError(f"{name} = {value!r} is too large at {where} (the flight grows like "
+                             f"e^{{{growth:.3g} T}}); allowed: {name} <= {MAX_GROWTH / growth:.6g}")
     return value
+
+
+def _check_period_limit(params: Parameters, name: str, value: float) -> float:
+    return check_growth(name, value, flight_growth(params), f"gamma = {params.gamma:g}, omega = {params.omega:g}")
 
 
 def _check_period(params: Parameters, name: str, value) -> float:

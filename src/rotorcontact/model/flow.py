@@ -193,11 +193,11 @@ def to_inertial(u, t):
     ParameterError
         Unless ``u`` holds finite numbers and ``t`` finite real numbers.
     """
-    from .validation import real_array
+    from .validation import complex_array, real_array
 
-    uu = np.asarray(u)
+    uu = complex_array(u)
     tt = real_array(t)
-    if uu.dtype.kind not in "iufc" or not np.all(np.isfinite(uu)):
+    if uu is None or not np.all(np.isfinite(uu)):
         raise ParameterError(f"u = {u!r} is invalid; allowed: finite (complex) numbers")
     if tt is None or not np.all(np.isfinite(tt)):
         raise ParameterError(f"t = {t!r} is invalid; allowed: finite real numbers")

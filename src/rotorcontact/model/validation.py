@@ -17,7 +17,7 @@ from ..errors import ParameterError
 from .params import Parameters, check_finite, refuse_bool_or_text
 
 __all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice", "real_array", "complex_array",
-           "check_bool", "check_path",
+           "check_bool", "check_path", "is_pair",
            "settings_or_default"]
 
 
@@ -73,6 +73,13 @@ def complex_array(value: Any) -> np.ndarray | None:
     """``value`` as an array of complex numbers if it holds integers, reals or complex numbers only; None
     for text, bools, ragged lists or other objects (`real_array`'s rule, complex numbers allowed)."""
     return _numbers(value, "iufc", complex)
+
+
+def is_pair(value: Any) -> bool:
+    """A sequence (a list, tuple, array ...) of two items, not text, which is a sequence too."""
+    if isinstance(value, np.ndarray):
+        return value.ndim >= 1 and len(value) == 2
+    return isinstance(value, Sequence) and not isinstance(value, (str, bytes)) and len(value) == 2
 
 
 def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:

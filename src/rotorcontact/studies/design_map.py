@@ -35,7 +35,7 @@ from ..analysis.equilibria import equilibria
 from ..errors import ParameterError
 from ..maps.impact_map import one_impact_orbits, period_limit
 from ..model.params import MAX_SPEED, MAX_VELOCITY, Machine, check_finite, check_range
-from ..model.validation import check_int, check_machine, real_array
+from ..model.validation import check_int, check_machine, is_pair, real_array
 from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
 from ..model.units import RPM
 from .driver import run_study
@@ -469,8 +469,7 @@ def _check_grid(name: str, values: Sequence[float], positive: bool = True) -> np
 def _check_span(name: str, span: Any, points: int) -> tuple[float, float]:
     """A range of `design_map` of ``points`` points: two finite numbers, the first below the last (or equal
     to it, for one point)."""
-    if isinstance(span, (str, bytes)) or not isinstance(span, (Sequence, np.ndarray)) or np.ndim(span) == 0 \
-            or len(span) != 2:
+    if not is_pair(span):
         raise ParameterError(f"range of {name} = {span!r} is invalid; allowed: (first, last), two numbers")
     first, last = (check_finite(f"range of {name}", v) for v in span)
     if not (first < last or (first == last and points == 1)):
