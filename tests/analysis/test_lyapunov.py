@@ -282,3 +282,9 @@ def test_bad_input_raises_parameter_error():
         trajectory_lyapunov(simulate(REF.replace(gamma=0.15), 0j, 0j, 300.0, on_chatter="stop"))
     with pytest.raises(ParameterError):
         trajectory_tangent(None)
+    with pytest.raises(ParameterError, match=r"^align = 'no' is invalid; allowed: True or False$"):
+        lyapunov_spectrum(p, 0j, 0j, 100.0, align="no")
+    with pytest.raises(ParameterError, match=r"^align = 0 is invalid; allowed: True or False$"):
+        trajectory_lyapunov(simulate(p, 0j, 0j, 10.0), align=0)
+    with pytest.raises(ParameterError, match=r"^traj = None is not a Trajectory object"):
+        trajectory_lyapunov(None)

@@ -294,7 +294,7 @@ def test_to_dict_has_no_nan_and_aligned_arrays(ref_branches):
 @pytest.mark.parametrize(
     "kw",
     [dict(param="phi"), dict(start=0.2, stop=0.1), dict(t_max=-1.0), dict(n_seeds=1), dict(rdot_max=0.0),
-     dict(param="d", start=0.5, stop=1.5)],
+     dict(param="d", start=0.5, stop=1.5), dict(events_on_virtual="yes")],
 )
 def test_bad_input_is_rejected(kw):
     args = dict(param="gamma", start=0.0, stop=0.2)

@@ -21,8 +21,10 @@ from rotorcontact import ParameterError
 from rotorcontact.continuation.cascade import (
     FEIGENBAUM_DELTA,
     cascades,
+    cascades_of,
     feigenbaum_ratios,
 )
+from rotorcontact.continuation.multi_impact_families import MultiImpactBranches
 from reference_parameters import REF
 
 
@@ -69,6 +71,18 @@ def test_ratios_helper_and_bad_input():
     v = [1.0 - sum(4.0 ** -k for k in range(n)) for n in range(6)]
     assert all(d == pytest.approx(4.0, rel=1e-12) for d in feigenbaum_ratios(v))
     assert feigenbaum_ratios([1.0, 2.0]) == ()
-    assert math.isnan(feigenbaum_ratios([0.0, 1.0, 1.0])[0])
+    assert feigenbaum_ratios([0.0, 1.0, 1.0]) == (None,)  # a zero interval has no ratio
+    assert feigenbaum_ratios([-1e308, 1e308, 1e308 * (1 + 2**-52)])[0] is None  # the interval 2e308 overflows
+    for bad in ([0.0, math.nan, 1.0], "abc", [[0.0, 1.0]], [0.0, True, 1.0], None):
+        with pytest.raises(ParameterError, match=r"^values = .* is invalid; allowed: a sequence of finite real"):
+            feigenbaum_ratios(bad)
+    for bad_family in (None, "x", ()):
+        with pytest.raises(ParameterError, match=r"^family = .* is not a MultiImpactBranches object"):
+            cascades_of(bad_family)
+    empty = MultiImpactBranches(param="gamma", events=(), impacts=2, start=0.0, stop=0.1, base=REF, branches=())
+    assert cascades_of(empty) == ()
+    for bad_events in ("x", (None,), None):
+        with pytest.raises(ParameterError, match=r"^one_impact = .* is invalid; allowed: a tuple of BranchEvent"):
+            cascades_of(empty, bad_events)
     with pytest.raises(ParameterError, match="depth"):
         cascades(REF, "gamma", 0.08, 0.1, depth=0)

@@ -266,3 +266,14 @@ def test_one_fold_and_one_orbit_may_be_given_alone():
     alone = codim2_diagram(p, ("gamma", "omega"), box, folds=1, grazing="B1,d", n_seeds=3, n_scan=11)
     listed = codim2_diagram(p, ("gamma", "omega"), box, folds=[1], grazing=["B1,d"], n_seeds=3, n_scan=11)
     assert sorted(alone.curves) == sorted(listed.curves) and alone.events == listed.events
+
+
+def test_the_dib_function_is_that_of_k_and_needs_parameters():
+    from rotorcontact import reference_machine
+    from rotorcontact.continuation.codim2 import dib_function
+
+    p = REF.replace(gamma=0.3, omega=0.8)
+    assert dib_function(p) == pytest.approx((abs(p.k) ** 2 - 1.0) * (p.gamma**2 + (1.0 - p.omega**2) ** 2), rel=1e-12)
+    for bad in (None, reference_machine()):
+        with pytest.raises(ParameterError, match=r"^p = .* is not a Parameters object"):
+            dib_function(bad)

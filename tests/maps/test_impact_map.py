@@ -679,3 +679,26 @@ def test_more_zeros_than_the_isolation_can_follow_are_refused_naming_t_max():
     with pytest.raises(ParameterError, match=r"^t_max = 10000.0 is too large at gamma = 0, .* needs more than "
                                              r"\d+ steps; allowed: a smaller t_max$"):
         im.f1_zeros(p, 1e4)
+
+
+def test_the_growth_and_the_period_limit_need_parameters():
+    from rotorcontact import reference_machine
+
+    for bad in (None, reference_machine(), "x"):
+        for call in (im.flight_growth, im.period_limit):
+            with pytest.raises(ParameterError, match=r"^params = .* is not a Parameters object"):
+                call(bad)
+
+
+def test_stable_quadratic_roots_against_the_formula_and_bad_coefficients():
+    # (x - 1)(x - 3) = x^2 - 4 x + 3: a = 1, b = -2, c = 3
+    disc, roots = im.stable_quadratic_roots(1.0, -2.0, 3.0)
+    assert disc == 1.0 and roots == (1.0, 3.0)
+    # roots 1e-9 and 1e9 without cancellation: x^2 - (1e9 + 1e-9) x + 1
+    disc, roots = im.stable_quadratic_roots(1.0, -0.5 * (1e9 + 1e-9), 1.0)
+    assert roots[0] == pytest.approx(1e-9, rel=1e-15) and roots[1] == pytest.approx(1e9, rel=1e-15)
+    assert im.stable_quadratic_roots(1.0, 0.0, 1.0) == (-1.0, ())
+    for name, args in (("a", (math.nan, 0.0, 1.0)), ("b", (1.0, math.inf, 1.0)), ("c", (1.0, 0.0, "1")),
+                       ("a", (1j, 0.0, 1.0))):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            im.stable_quadratic_roots(*args)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import cmath
+import math
 
 import pytest
 
@@ -26,3 +27,31 @@ def test_a_point_beyond_a_bound_has_its_own_equilibrium_not_the_bases(changes):
     assert all(getattr(p, name) == value for name, value in changes.items())
     assert p.k == pytest.approx(_k(p), rel=1e-14)
     assert (p.k != base.k) == ("d" not in changes)  # the restitution does not enter k
+
+
+def test_with_parameters_needs_parameters_and_a_dict():
+    from rotorcontact import reference_machine
+
+    for bad in (None, reference_machine()):
+        with pytest.raises(ParameterError, match=r"^base = .* is not a Parameters object"):
+            with_parameters(bad, {"gamma": 0.1})
+    for bad in (None, [("gamma", 0.1)], "gamma"):
+        with pytest.raises(ParameterError, match=r"^changes = .* is invalid; allowed: a dict of parameter names"):
+            with_parameters(REF, bad)
+    assert with_parameters(REF, {"gamma": 0.1}).gamma == 0.1
+
+
+def test_closed_form_is_finite_or_refused():
+    from rotorcontact.maps.impact_map import period_limit
+    from rotorcontact.maps.orbit_system import closed_form
+
+    p = REF.replace(gamma=-1.0)
+    limit = period_limit(p)
+    cf = closed_form(0.99 * limit, p.gamma, p.omega)
+    assert all(cmath.isfinite(v) for v in (cf.D, cf.P, cf.D_T, cf.P_T, cf.D_TT, cf.P_TT, cf.S, cf.C))
+    with pytest.raises(ParameterError, match=r"^T = .* is too large at gamma = -1, omega = .*: the flight's closed"):
+        closed_form(1e4, p.gamma, p.omega)
+    for name, args in (("T", (math.nan, 0.1, 0.5)), ("T", (0.0, 0.1, 0.5)), ("T", (-1.0, 0.1, 0.5)),
+                       ("gamma", (1.0, math.inf, 0.5)), ("omega", (1.0, 0.1, "x"))):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            closed_form(*args)

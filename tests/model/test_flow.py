@@ -165,3 +165,13 @@ def test_free_flight_refuses_bad_input(args, match):
 def test_to_inertial_refuses_bad_input(u, t):
     with pytest.raises(ParameterError, match="^[ut] = "):
         to_inertial(u, t)
+
+
+def test_to_inertial_takes_shapes_that_broadcast_and_refuses_others():
+    u = np.array([1.0 + 0.5j, -0.2j, 0.3])
+    t = np.array([0.0, 1.0, 2.0])
+    assert np.allclose(to_inertial(u, t), [u[i] * complex(math.cos(t[i]), math.sin(t[i])) for i in range(3)],
+                       rtol=1e-15, atol=0.0)
+    assert to_inertial(u, 0.0).shape == (3,) and to_inertial(1j, t).shape == (3,)
+    with pytest.raises(ParameterError, match=r"^u of shape \(3,\) and t of shape \(2,\) do not match"):
+        to_inertial(u, [0.0, 1.0])

@@ -74,3 +74,31 @@ def test_reproduce_refuses_a_file_for_its_folder(tmp_path):
     f.write_text("x")
     with pytest.raises(ParameterError, match=r"^out = .* is a file; allowed: a folder, new or existing$"):
         reproduce(f, progress=False)
+
+
+def test_check_type_names_the_argument_and_cuts_a_long_value():
+    from rotorcontact.model.params import Parameters
+    from rotorcontact.model.validation import MAX_QUOTED, check_type, quoted
+
+    assert check_type("x", 3, int, "an int") == 3
+    assert check_type("x", None, int, "an int", optional=True) is None
+    with pytest.raises(ParameterError, match=r"^x = 'a' is not a int or float object; allowed: a number or None$"):
+        check_type("x", "a", (int, float), "a number", optional=True)
+    with pytest.raises(ParameterError, match=r"^params = None is not a Parameters object"):
+        check_type("params", None, Parameters, "rotorcontact.Parameters")
+    long = list(range(1000))
+    text = quoted(long)
+    assert len(text) == MAX_QUOTED and text.endswith("...") and text.startswith("[0, 1, 2")
+    assert quoted("a\n  b") == repr("a\n  b")  # short values are quoted whole
+    assert quoted(np.arange(40).reshape(4, 10)).count("\n") == 0
+
+
+def test_check_fields_takes_an_object_with_every_field():
+    from types import SimpleNamespace
+
+    from rotorcontact.model.validation import check_fields
+
+    ok = SimpleNamespace(a=1, b=2)
+    assert check_fields("v", ok, ("a", "b"), "an object with a and b") is ok
+    with pytest.raises(ParameterError, match=r"^v = namespace\(a=1\) is invalid; allowed: an object with a and b$"):
+        check_fields("v", SimpleNamespace(a=1), ("a", "b"), "an object with a and b")

@@ -157,6 +157,8 @@ def test_machine_speed_in_si_and_bad_input():
         attractors(REF, "gamma", [0.01, 0.1], "shock:3", progress=False)
     with pytest.raises(ParameterError):
         attractors(REF, "gamma", [0.1], "plane:3", t_lyapunov=0.0, progress=False)
+    with pytest.raises(ParameterError, match=r"^lyapunov = 'False' is invalid; allowed: True or False$"):
+        attractors(REF, "gamma", [0.1], "plane:3", lyapunov="False", progress=False)
 
 
 def test_labels_and_intervals():
@@ -176,6 +178,13 @@ def test_labels_and_intervals():
         centre = (ph + z * z / 20) / (1 + z * z / 10)
         half = z / (1 + z * z / 10) * math.sqrt(ph * (1 - ph) / 10 + z * z / 400)
         assert lo == pytest.approx(centre - half, abs=1e-12) and hi == pytest.approx(centre + half, abs=1e-12)
+    for count, total, confidence, name in (([0, 11], 10, 0.95, "count"), ([0.5], 10, 0.95, "count"),
+                                           ([-1], 10, 0.95, "count"), (["1"], 10, 0.95, "count"),
+                                           ([[1]], 10, 0.95, "count"), ([1], 0, 0.95, "total"),
+                                           ([1], 10.0, 0.95, "total"), ([1], 10, 1.0, "confidence"),
+                                           ([1], 10, 0.0, "confidence"), ([1], 10, math.nan, "confidence")):
+        with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: "):
+            wilson_interval(count, total, confidence)
 
 
 @pytest.mark.parametrize("values", [["0.1"], [True], [0.1, True], [0.1 + 1j], "0.1", [], [0.1, math.nan], None,

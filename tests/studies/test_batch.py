@@ -370,11 +370,11 @@ def test_sections_beyond_the_machines_memory_are_refused_before_the_run(monkeypa
     import rotorcontact.studies.batch as batch
 
     assert SECTION_BYTES == 8 * len(batch.SECTION_COLUMNS)
-    # a machine of 64 GiB does not hold the sections of 10^13 impacts (290,000 GiB)
-    monkeypatch.setattr(batch, "physical_memory", lambda: 64 * 2**30)
-    with pytest.raises(ParameterError, match=r"^n_record = 10000000000000, n_keep = None: 1 simulation keeping "
-                                             r"10000000000000 impacts each need 2\.98e\+05 GiB of sections"):
-        simulate_batch(REF, n_record=10**13)
+    # a machine of 2 GiB does not hold the sections of 10^8 impacts (2.98 GiB)
+    monkeypatch.setattr(batch, "physical_memory", lambda: 2 * 2**30)
+    with pytest.raises(ParameterError, match=r"^n_record = 100000000, n_keep = None: 1 simulation keeping "
+                                             r"100000000 impacts each need 2\.98 GiB of sections"):
+        simulate_batch(REF, n_record=10**8, t_record=1e7)
     # the bound is the memory itself: three simulations keeping 100 impacts need 300 * SECTION_BYTES
     monkeypatch.setattr(batch, "physical_memory", lambda: 300 * SECTION_BYTES)
     settings = BatchSettings(n_transient=5, n_record=100)
@@ -390,7 +390,7 @@ def test_sections_beyond_the_machines_memory_are_refused_before_the_run(monkeypa
         simulate_batch(REF, u0=[0j, 0.1 + 0j, 0.2 + 0j, 0.3 + 0j], settings=settings)
     # where the system does not tell its memory, nothing is refused for it
     monkeypatch.setattr(batch, "physical_memory", lambda: None)
-    assert check_batch_settings(BatchSettings(n_record=10**13), 10) is not None
+    assert check_batch_settings(BatchSettings(n_record=10**8, t_record=1e7), 10**6) is not None
 
 
 def test_physical_memory_is_positive_where_the_system_tells_it():
@@ -426,3 +426,21 @@ def test_yes_no_flags_of_a_batch_are_bools(name):
 def test_chatter_criteria_are_a_dict(chatter):
     with pytest.raises(ParameterError, match=r"^chatter = .* is invalid; allowed: a dict of criteria by name"):
         BatchSettings(chatter=chatter)
+
+
+def test_settings_bound_the_events_and_the_times_of_a_simulation():
+    from rotorcontact.model.params import MAX_T_END
+    from rotorcontact.studies.batch import MAX_BATCH_EVENTS
+
+    for name in ("n_transient", "n_record", "n_keep", "settle"):
+        with pytest.raises(ParameterError, match=rf"^{name} = {MAX_BATCH_EVENTS + 1} is invalid; allowed: an integer"):
+            BatchSettings(**{name: MAX_BATCH_EVENTS + 1})
+    for name in ("t_transient", "t_record"):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            BatchSettings(**{name: 2 * MAX_T_END})
+        assert getattr(BatchSettings(**{name: MAX_T_END}), name) == MAX_T_END
+    # the default time, 5 per event, must stay within the bound too; given explicitly, it may
+    with pytest.raises(ParameterError, match=r"^n_transient = 10000000 gives the default t_transient = 5 x "):
+        BatchSettings(n_transient=10**7)
+    assert BatchSettings(n_transient=10**7, t_transient=1e6).transient_time == 1e6
+    assert BatchSettings(n_record=2 * 10**6).record_time == MAX_T_END

@@ -49,3 +49,17 @@ def test_output_paths_are_checked(tmp_path):
     (tmp_path / "file").write_text("")
     with pytest.raises(ParameterError, match="is not a folder"):
         check_output_folder(tmp_path / "file" / "f.nc")
+
+
+def test_a_folder_gets_the_permissions_of_an_ordinary_new_folder(tmp_path):
+    import tempfile
+
+    from rotorcontact.studies.netcdf import umask_permissions
+
+    folder = tempfile.mkdtemp(dir=tmp_path)
+    mask = os.umask(0o022)
+    try:
+        umask_permissions(folder)
+    finally:
+        os.umask(mask)
+    assert stat.S_IMODE(os.stat(folder).st_mode) == 0o755  # searchable: the execute bits kept

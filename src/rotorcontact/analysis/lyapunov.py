@@ -123,7 +123,7 @@ from ..model import contact_law
 from ..model.flow import flight_accel, propagate
 from ..model.impact_law import ideal_reset, impact_q, relative_velocity, reset_jacobian, slip_bound
 from ..model.params import Parameters, check_range
-from ..model.validation import check_params
+from ..model.validation import check_bool, check_params, check_type
 from ..simulation.simulator import simulate
 from ..simulation.trajectory import Trajectory
 from .regime_change import SUBWINDOWS, final_regime, spread, subwindow_rates
@@ -944,8 +944,8 @@ def trajectory_lyapunov(
     -------
     LyapunovResult
     """
-    if not isinstance(traj, Trajectory):
-        raise ParameterError(f"traj = {traj!r} is not a Trajectory")
+    check_type("traj", traj, Trajectory, "a Trajectory (rotorcontact.simulate)")
+    align = check_bool("align", align)
     t_transient, qr_interval = _check_options(t_transient, qr_interval, traj.t_stop)
     if traj.status == "chatter":
         raise ParameterError(
@@ -957,7 +957,7 @@ def trajectory_lyapunov(
             f"t_transient = {t_transient!r} is not below the end of the run t = {traj.t_stop!r}; "
             "allowed: t_transient < t_end"
         )
-    walker = _Walker(traj, t_transient, qr_interval, bool(align))
+    walker = _Walker(traj, t_transient, qr_interval, align)
     walker.run()
     return walker.result()
 
@@ -1033,6 +1033,7 @@ def lyapunov_spectrum(
         Exponents of `COORDINATES`, largest first (-inf for annihilated directions).
     """
     check_params(params)
+    align = check_bool("align", align)
     t_end = check_range("t_end", t_end, low=0.0, low_open=True)
     if t_transient is None:
         t_transient = 0.25 * t_end

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..simulation.motion import MAX_PERIOD_IMPACTS, REPEAT_TOL
+from ..model.validation import check_float, check_type
 from ..simulation.trajectory import Trajectory
 
 __all__ = ["FINAL_REGIMES", "SUBWINDOWS", "FinalRegime", "final_regime", "spread", "subwindow_rates"]
@@ -87,7 +88,15 @@ def _periodic_start(t, theta, rdot, thetadot, tol: float) -> tuple[int, int] | N
 
 
 def final_regime(traj: Trajectory, tol: float = REPEAT_TOL) -> FinalRegime | None:
-    """The regime ``traj`` ends in and when it began (module docstring); None when it ends unsettled."""
+    """The regime ``traj`` ends in and when it began (module docstring); None when it ends unsettled.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``traj`` is a `Trajectory` and ``tol`` a finite number > 0.
+    """
+    check_type("traj", traj, Trajectory, "a Trajectory (rotorcontact.simulate)")
+    tol = check_float("tol", tol, 0.0, low_open=True)
     t_stop = float(traj.t_stop)
     contacts = traj.contact_intervals
     imp = traj.impacts

@@ -81,7 +81,7 @@ from ..errors import ParameterError
 from ..maps.impact_map import f1_zeros, rdot_roots
 from ..maps.orbit_system import BRANCH_PARAMETERS, OneImpactSystem, orbit_with_extrema
 from ..model.params import Parameters, check_range
-from ..model.validation import check_int, check_params, settings_or_default
+from ..model.validation import check_bool, check_int, check_params, settings_or_default
 
 __all__ = [
     "EVENT_TYPES",
@@ -254,6 +254,7 @@ def orbit_branches(
     n_seeds = default_seeds(param, start, stop) if n_seeds is None else check_int("n_seeds", n_seeds, 2, MAX_SEEDS)
     span = stop - start
     settings = settings_or_default(settings, ContinuationSettings, default_settings)
+    events_on_virtual = check_bool("events_on_virtual", events_on_virtual)
     weights = np.array([1.0, 1.0, 1.0 / span])
     an = BranchAnalyser(system, virtual=events_on_virtual)
     funcs = branch_event_functions(an, start, stop, t_min, t_max, rdot_max)

@@ -30,10 +30,12 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+import numpy as np
+
 from ..errors import ParameterError
 from ..maps.multi_impact import MAX_ORBIT_IMPACTS, NewtonFailure
 from ..model.params import Parameters
-from ..model.validation import check_int, check_params
+from ..model.validation import check_int, check_params, check_type, quoted, real_array
 from .branches import orbit_branches
 from .multi_impact_families import (
     MAX_DOUBLINGS,
@@ -61,8 +63,9 @@ class Cascade:
         The period doublings, in order (``orbits`` the branch that doubles there).
     labels : tuple of str
         The branches born at the doublings, in order.
-    ratios : tuple of float
-        delta_k of successive intervals (empty with fewer than three points).
+    ratios : tuple of float or None
+        delta_k of successive intervals (empty with fewer than three points; None where an interval is
+        zero).
     end : str
         ``"accumulation"``, ``"grazing"``, ``"fold"``, ``"range"``, ``"step-failure"`` or
         ``"period-doubling"`` (module docstring).
@@ -75,7 +78,7 @@ class Cascade:
     param: str
     points: tuple[BranchEvent, ...]
     labels: tuple[str, ...]
-    ratios: tuple[float, ...]
+    ratios: tuple[float | None, ...]
     end: str
     end_value: float | None
     accumulation: float | None
@@ -92,19 +95,38 @@ class Cascade:
         }
 
 
-def feigenbaum_ratios(values) -> tuple[float, ...]:
-    """delta_k = (v_k - v_{k-1}) / (v_{k+1} - v_k) for k = 1 .. n - 2 (nan where an interval is zero)."""
-    v = [float(x) for x in values]
-    out = []
+def feigenbaum_ratios(values) -> tuple[float | None, ...]:
+    """delta_k = (v_k - v_{k-1}) / (v_{k+1} - v_k) for k = 1 .. n - 2.
+
+    Parameters
+    ----------
+    values : sequence of float
+        The parameter values of successive period doublings.
+
+    Returns
+    -------
+    tuple of float or None
+        The ratios; None where an interval v_{k+1} - v_k is zero (no ratio), or where the ratio overflows.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``values`` is a sequence of finite real numbers.
+    """
+    v = real_array(values)
+    if v is None or v.ndim != 1 or not np.all(np.isfinite(v)):
+        raise ParameterError(f"values = {quoted(values)} is invalid; allowed: a sequence of finite real numbers")
+    out: list[float | None] = []
     for k in range(1, len(v) - 1):
-        den = v[k + 1] - v[k]
-        out.append((v[k] - v[k - 1]) / den if den != 0.0 else math.nan)
+        den = float(v[k + 1] - v[k])
+        ratio = float(v[k] - v[k - 1]) / den if den != 0.0 else math.inf
+        out.append(ratio if math.isfinite(ratio) else None)
     return tuple(out)
 
 
 def _end(branch, doublings_left: BranchEvent | None, values: list[float], ratios: tuple[float, ...]):
     if doublings_left is not None:
-        delta = ratios[-1] if ratios and math.isfinite(ratios[-1]) and ratios[-1] > 1.0 else FEIGENBAUM_DELTA
+        delta = ratios[-1] if ratios and ratios[-1] is not None and ratios[-1] > 1.0 else FEIGENBAUM_DELTA
         if len(values) >= 2:
             acc = values[-1] + (values[-1] - values[-2]) / (delta - 1.0)
         else:
@@ -128,7 +150,16 @@ def cascades_of(family: MultiImpactBranches, one_impact: tuple[BranchEvent, ...]
         From `multi_impact_branches` with ``doublings`` > 0.
     one_impact : tuple of BranchEvent
         The period doublings of one-impact branches the family was switched at.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``family`` is a `MultiImpactBranches` and ``one_impact`` a sequence of `BranchEvent`.
     """
+    check_type("family", family, MultiImpactBranches, "a MultiImpactBranches (multi_impact_branches)")
+    if not isinstance(one_impact, (tuple, list)) or not all(isinstance(e, BranchEvent) for e in one_impact):
+        raise ParameterError(f"one_impact = {quoted(one_impact)} is invalid; allowed: a tuple of BranchEvent "
+                             "(the period doublings of one-impact branches)")
     out = []
     n = len(family.branches)
     children = {i: [j for j in range(n) if family.parents[j] == i] for i in range(-1, n)}

@@ -238,6 +238,7 @@ def dib_function(p: Parameters) -> float:
     It equals (|k|^2 - 1)(gamma^2 + (1 - omega^2)^2), without the pole of |k| at the
     undamped resonance.
     """
+    check_params(p, "p")
     return p.rho**2 - p.gamma**2 - (1.0 - p.omega**2) ** 2
 
 

@@ -931,6 +931,7 @@ def flight_growth(params: Parameters) -> float:
     terms and those of e^{-AT} behave like e^{growth T} at most; F1 and the flight are evaluated for periods
     T up to ``MAX_GROWTH / growth`` (`period_limit`). The rate increases with |gamma| and decreases with omega.
     """
+    check_params(params)
     h2 = half_discriminant.py_func(params.gamma, params.omega)
     return abs(params.gamma) / 2.0 + (math.sqrt(h2) if h2 > 0 else 0.0)
 
@@ -1068,7 +1069,13 @@ def stable_quadratic_roots(a: float, b: float, c: float) -> tuple[float, tuple[f
     roots : tuple of float
         The two real roots, smaller first; empty where the discriminant is
         negative or a = 0.
+
+    Raises
+    ------
+    ParameterError
+        Unless a, b and c are finite real numbers.
     """
+    a, b, c = (check_finite(name, value) for name, value in (("a", a), ("b", b), ("c", c)))
     disc = b * b - a * c
     if disc < 0.0 or a == 0.0:
         return float(disc), ()

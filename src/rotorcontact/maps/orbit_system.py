@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import cmath
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,7 +53,7 @@ import numpy as np
 from ..model.angles import wrap_angle
 from ..model.flow import half_discriminant, period_closed_form
 from ..model.impact_law import impact_q, slides_forward
-from ..model.validation import check_params
+from ..model.validation import check_params, quoted
 from ..errors import ParameterError
 from .impact_map import (
     IDEAL,
@@ -64,7 +65,7 @@ from .impact_map import (
     impact_map_jacobian,
     orbit_stability,
 )
-from ..model.params import BRANCH_PARAMETERS, Parameters
+from ..model.params import BRANCH_PARAMETERS, Parameters, check_finite
 
 __all__ = [
     "BRANCH_PARAMETERS",
@@ -97,9 +98,25 @@ class ClosedForm:
 
 
 def closed_form(T: float, gamma: float, omega: float) -> ClosedForm:
-    """D(T), P(T), S(T), C(T) and derivatives for the given damping and stiffness."""
+    """D(T), P(T), S(T), C(T) and derivatives for the given damping and stiffness.
+
+    Raises
+    ------
+    ParameterError
+        Unless T > 0, gamma and omega are finite, and the closed form is finite at T: a flight growing or
+        decaying like e^{growth T} overflows beyond a period that depends on gamma and omega
+        (`rotorcontact.maps.impact_map.period_limit`).
+    """
+    T = check_finite("T", T)
+    gamma = check_finite("gamma", gamma)
+    omega = check_finite("omega", omega)
+    if T <= 0.0:
+        raise ParameterError(f"T = {T!r} is invalid; allowed: a finite number > 0")
     h2 = half_discriminant.py_func(gamma, omega)
-    c, s, em, ch, d0, d1, d2, p0, p1, p2 = period_closed_form(float(T), float(gamma), h2)
+    c, s, em, ch, d0, d1, d2, p0, p1, p2 = period_closed_form(T, gamma, h2)
+    if not all(cmath.isfinite(v) for v in (c, s, d0, d1, d2, p0, p1, p2)):
+        raise ParameterError(f"T = {T!r} is too large at gamma = {gamma:g}, omega = {omega:g}: the flight's closed "
+                             "form overflows; allowed: T <= period_limit(params)")
     return ClosedForm(D=complex(d0), P=complex(p0), S=float(s), C=float(c), D_T=complex(d1), P_T=complex(p1),
                       D_TT=complex(d2), P_TT=complex(p2), h2=h2)
 
@@ -110,7 +127,17 @@ def with_parameters(base: Parameters, changes: dict[str, float], *, extend: bool
     With ``extend``, values outside the range that `Parameters` validates (but
     finite) are accepted without validation, for the evaluation of analytic
     equations just beyond a physical bound during a continuation.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``base`` is a `Parameters` and ``changes`` a dict of parameter names to values that
+        `Parameters` accepts (with ``extend``, finite real numbers).
     """
+    check_params(base, "base")
+    if not isinstance(changes, Mapping):
+        raise ParameterError(f"changes = {quoted(changes)} is invalid; allowed: a dict of parameter names to values, "
+                             "e.g. {'gamma': 0.1}")
     try:
         return base.replace(**changes)
     except ParameterError:

@@ -17,7 +17,10 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, Sequence
 
+import numpy as np
+
 from ..errors import ParameterError
+from .validation import check_fields, check_machine
 
 if TYPE_CHECKING:
     from ..analysis.equilibria import Equilibria, PseudoEquilibrium, RegularEquilibrium
@@ -51,11 +54,13 @@ _PARAMETER_SI = {
 
 def velocity_scale(machine: "Machine") -> float:
     """Metres per second per unit of dimensionless velocity (c_r Omega)."""
+    check_machine(machine, optional=False)
     return machine.length_scale / machine.time_scale
 
 
 def rate_scale(machine: "Machine") -> float:
     """Per second per unit of dimensionless rate (Omega): angular velocities, exponents, frequencies."""
+    check_machine(machine, optional=False)
     return 1.0 / machine.time_scale
 
 
@@ -63,6 +68,16 @@ def _scaled(value: float | None, scale: float) -> float | None:
     if value is None or not math.isfinite(value):
         return None
     return float(value) * scale
+
+
+def _value(name: str, value: Any) -> float | None:
+    """``value`` as a float, or None where it is None or not finite (a value that does not exist); a
+    `ParameterError` for text, bools and other objects."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: a real number or None")
+    return float(value) if math.isfinite(value) else None
 
 
 def parameter_si(machine: "Machine", name: str, value: float | None) -> dict[str, float | None]:
@@ -87,8 +102,11 @@ def parameter_si(machine: "Machine", name: str, value: float | None) -> dict[str
     Raises
     ------
     ParameterError
-        For an unknown parameter name.
+        For an unknown parameter name, a value that is not a number or None, or an object that is not a
+        `Machine`.
     """
+    check_machine(machine, optional=False)
+    value = _value("value", value)
     if name in ("mu", "d", "phi"):
         return {}
     if name not in _PARAMETER_SI:
@@ -96,14 +114,15 @@ def parameter_si(machine: "Machine", name: str, value: float | None) -> dict[str
             f"parameter = {name!r} is unknown; allowed: {', '.join([*_PARAMETER_SI, 'mu', 'd', 'phi'])}"
         )
     key, convert = _PARAMETER_SI[name]
-    if value is None or not math.isfinite(value):
+    if value is None:
         return {key: None}
-    return {key: float(convert(machine, float(value)))}
+    return {key: float(convert(machine, value))}
 
 
 def times_si(machine: "Machine", **times: float | None) -> dict[str, float | None]:
     """Dimensionless times in seconds: ``times_si(m, T=2.8)`` gives ``{"T_s": ...}``."""
-    return {f"{name}_s": _scaled(t, machine.time_scale) for name, t in times.items()}
+    check_machine(machine, optional=False)
+    return {f"{name}_s": _scaled(_value(name, t), machine.time_scale) for name, t in times.items()}
 
 
 def orbit_si(machine: "Machine", orbit: "ImpactOrbit") -> dict[str, Any]:
@@ -119,6 +138,9 @@ def orbit_si(machine: "Machine", orbit: "ImpactOrbit") -> dict[str, Any]:
         MODEL.md §2) and ``friction_power_W`` (mean power dissipated by
         friction). The impulses and power are None for a virtual orbit.
     """
+    check_machine(machine, optional=False)
+    check_fields("orbit", orbit, ("params", "T", "rdot", "thetadot", "r_max_interior", "admissible"),
+                 "an ImpactOrbit (rotorcontact.maps.impact_map)")
     p = orbit.params
     period_s = orbit.T * machine.time_scale
     out: dict[str, Any] = {
@@ -149,6 +171,8 @@ def orbit_si(machine: "Machine", orbit: "ImpactOrbit") -> dict[str, Any]:
 
 def regular_si(machine: "Machine", regular: "RegularEquilibrium") -> dict[str, Any]:
     """SI value of the regular equilibrium x_R: ``amplitude_um``, the whirl radius |k| c_r."""
+    check_machine(machine, optional=False)
+    check_fields("regular", regular, ("r",), "a RegularEquilibrium (the regular field of an Equilibria)")
     return {"amplitude_um": _scaled(regular.r, machine.clearance * MICROMETRE)}
 
 
@@ -162,6 +186,9 @@ def pseudo_si(machine: "Machine", pseudo: "PseudoEquilibrium") -> dict[str, Any]
         ``friction_power_W`` (mu N v_rel with v_rel = R Omega + c_r Omega); None
         where it does not exist.
     """
+    check_machine(machine, optional=False)
+    check_fields("pseudo", pseudo, ("normal_force",),
+                 "a PseudoEquilibrium (an item of the pseudo field of an Equilibria)")
     force = _scaled(pseudo.normal_force, machine.force_scale)
     if force is None:
         return {"normal_force_N": None, "friction_power_W": None}
@@ -179,6 +206,7 @@ def equilibria_si(machine: "Machine", eq: "Equilibria") -> dict[str, Any]:
         ``{"regular": regular_si, "pseudo": [pseudo_si, ...], "boundary":
         {"damping_star_Ns_per_m": c*}}`` with c* the damping at gamma*.
     """
+    check_fields("eq", eq, ("regular", "pseudo", "boundary"), "an Equilibria (rotorcontact.analysis.equilibria)")
     star = parameter_si(machine, "gamma", eq.boundary.gamma_star)["damping_Ns_per_m"]
     return {
         "regular": regular_si(machine, eq.regular),

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -16,16 +17,43 @@ import numpy as np
 from ..errors import ParameterError
 from .params import Parameters, check_finite, refuse_bool_or_text
 
-__all__ = ["MAX_COUNT", "check_params", "check_int", "check_float", "check_choice", "real_array", "complex_array",
-           "check_bool", "check_path", "is_pair",
+__all__ = ["MAX_COUNT", "check_params", "check_machine", "check_type", "check_fields", "quoted", "check_int",
+           "check_float", "check_choice", "real_array", "complex_array", "check_bool", "check_path", "is_pair",
            "settings_or_default"]
+
+
+#: Longest repr of a value quoted in a message; longer ones (a dataset, a long list) are cut.
+MAX_QUOTED = 80
+
+
+def quoted(value: Any) -> str:
+    """``repr(value)`` on one line (each line break and the indentation around it one space), cut to
+    `MAX_QUOTED` characters: the value as a message quotes it."""
+    text = re.sub(r"\s*\n\s*", " ", repr(value))
+    return text if len(text) <= MAX_QUOTED else text[: MAX_QUOTED - 3] + "..."
+
+
+def check_type(name: str, value: Any, kind: type | tuple[type, ...], allowed: str, *, optional: bool = False):
+    """Return ``value`` if it is an instance of ``kind`` (or None where ``optional``), else raise
+    `ParameterError` naming ``name``, the value and ``allowed``, the object expected in words."""
+    if (value is None and optional) or isinstance(value, kind):
+        return value
+    what = kind.__name__ if isinstance(kind, type) else " or ".join(k.__name__ for k in kind)
+    raise ParameterError(f"{name} = {quoted(value)} is not a {what} object; "
+                         f"allowed: {allowed}{' or None' if optional else ''}")
+
+
+def check_fields(name: str, value: Any, fields: Sequence[str], allowed: str):
+    """Return ``value`` if it has every attribute in ``fields``, else raise `ParameterError` naming ``name``,
+    the value and ``allowed``: the type check of a result defined in a layer above the caller's."""
+    if not all(hasattr(value, f) for f in fields):
+        raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {allowed}")
+    return value
 
 
 def check_params(params: Any, name: str = "params"):
     """Return ``params`` if it is a `rotorcontact.model.params.Parameters`, else raise `ParameterError`."""
-    if not isinstance(params, Parameters):
-        raise ParameterError(f"{name} = {params!r} is not a Parameters object; allowed: rotorcontact.Parameters")
-    return params
+    return check_type(name, params, Parameters, "rotorcontact.Parameters")
 
 
 def check_machine(machine: Any, name: str = "machine", optional: bool = True):
@@ -33,10 +61,7 @@ def check_machine(machine: Any, name: str = "machine", optional: bool = True):
     raise `ParameterError`."""
     from .params import Machine
 
-    if (machine is None and optional) or isinstance(machine, Machine):
-        return machine
-    allowed = "rotorcontact.Machine" + (" or None" if optional else "")
-    raise ParameterError(f"{name} = {machine!r} is not a Machine object; allowed: {allowed}")
+    return check_type(name, machine, Machine, "rotorcontact.Machine", optional=optional)
 
 
 #: The largest count a kernel takes (numba's int64).

@@ -45,7 +45,7 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_finite
-from ..model.validation import check_machine, check_params
+from ..model.validation import check_bool, check_float, check_int, check_machine, check_params, quoted, real_array
 from .basins import DEFAULT_CHUNK, BasinGrid, class_names, name_points, parse_grid
 from .batch import NSUM, PARAMETER_ORDER, BatchResult, BatchSettings, check_batch_settings, parameter_array
 from .driver import run_study
@@ -190,13 +190,27 @@ class AttractorsResult:
 
 
 def wilson_interval(count: np.ndarray, total: int, confidence: float = CONFIDENCE) -> tuple[np.ndarray, np.ndarray]:
-    """Wilson score intervals of binomial proportions ``count / total`` (`scipy.stats.binomtest`)."""
+    """Wilson score intervals of binomial proportions ``count / total`` (`scipy.stats.binomtest`).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``total`` is a whole number >= 1, ``count`` whole numbers from 0 to ``total``, and
+        ``confidence`` in (0, 1) (at 1 the interval would be the whole of [0, 1] with no information).
+    """
     from scipy.stats import binomtest
 
-    low = np.empty(len(count))
-    high = np.empty(len(count))
-    for i, k in enumerate(count):
-        ci = binomtest(int(k), int(total)).proportion_ci(confidence_level=confidence, method="wilson")
+    total = check_int("total", total, 1)
+    confidence = check_float("confidence", confidence, 0.0, 1.0, low_open=True, high_open=True)
+    counts = real_array(count)
+    if counts is None or counts.ndim != 1 or not np.all((counts == np.round(counts)) & (counts >= 0)
+                                                         & (counts <= total)):
+        raise ParameterError(f"count = {quoted(count)} is invalid; allowed: a sequence of whole numbers from 0 "
+                             f"to total = {total}")
+    low = np.empty(len(counts))
+    high = np.empty(len(counts))
+    for i, k in enumerate(counts):
+        ci = binomtest(int(k), total).proportion_ci(confidence_level=confidence, method="wilson")
         low[i], high[i] = ci.low, ci.high
     return low, high
 
@@ -322,6 +336,7 @@ def attractors(
     match_tol = float(check_finite("match_tol", match_tol))
     if match_tol <= 0:
         raise ParameterError(f"match_tol = {match_tol!r} must be > 0")
+    lyapunov = check_bool("lyapunov", lyapunov)
     t_lyapunov = float(check_finite("t_lyapunov", t_lyapunov))
     if not 0.0 < t_lyapunov <= 1e5:
         raise ParameterError(f"t_lyapunov = {t_lyapunov!r} is invalid; allowed: 0 < t_lyapunov <= 1e5")

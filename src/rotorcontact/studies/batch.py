@@ -81,7 +81,7 @@ from ..simulation.motion import (
     REPEAT_TOL,
     WINDOW,
 )
-from ..model.params import MAX_VELOCITY, Parameters, check_range, check_velocity
+from ..model.params import MAX_T_END, MAX_VELOCITY, Parameters, check_range, check_velocity
 from ..model.validation import check_bool, check_int, complex_array, settings_or_default
 from ..simulation.simulator import (
     BOUNDARY_TOL,
@@ -123,6 +123,8 @@ FINAL_KIND_NAMES = {-1: "flight", **{i: name for i, name in enumerate(KIND_NAMES
 
 
 DEFAULT_TIME_PER_EVENT = 5.0
+#: Most events of a transient or a window: at a few million impacts a second, about a minute per simulation.
+MAX_BATCH_EVENTS = 10**8
 
 
 # ---------------------------------------------------------------------------
@@ -341,11 +343,12 @@ class BatchSettings:
     ----------
     n_transient : int
         Events (flights and contact phases; impacts in impacting motion) of
-        the transient, >= 0.
+        the transient, from 0 to `MAX_BATCH_EVENTS`.
     n_record : int
-        Events of the recorded window, >= 1.
+        Events of the recorded window, from 1 to `MAX_BATCH_EVENTS`.
     t_transient, t_record : float or None
-        Time limits of the transient and of the window; None gives
+        Time limits of the transient and of the window, at most
+        `rotorcontact.model.params.MAX_T_END` as in `rotorcontact.simulate`; None gives
         ``5 * n_transient`` and ``5 * n_record`` (at least 100).
     n_keep : int or None
         Number of impacts of the window kept in the section (the last ones);
@@ -374,15 +377,20 @@ class BatchSettings:
     chatter: Any = None
 
     def __post_init__(self) -> None:
-        check_int("n_transient", self.n_transient, 0)
-        check_int("n_record", self.n_record, 1)
+        check_int("n_transient", self.n_transient, 0, MAX_BATCH_EVENTS)
+        check_int("n_record", self.n_record, 1, MAX_BATCH_EVENTS)
         if self.n_keep is not None:
-            check_int("n_keep", self.n_keep, 1)
-        check_int("settle", self.settle, 0)
-        for name in ("t_transient", "t_record"):
+            check_int("n_keep", self.n_keep, 1, MAX_BATCH_EVENTS)
+        check_int("settle", self.settle, 0, MAX_BATCH_EVENTS)
+        for name, count in (("t_transient", "n_transient"), ("t_record", "n_record")):
             value = getattr(self, name)
             if value is not None:
-                object.__setattr__(self, name, check_range(name, value, low=0.0, low_open=True))
+                object.__setattr__(self, name, check_range(name, value, low=0.0, high=MAX_T_END, low_open=True))
+            elif max(100.0, DEFAULT_TIME_PER_EVENT * getattr(self, count)) > MAX_T_END:
+                raise ParameterError(
+                    f"{count} = {getattr(self, count)} gives the default {name} = {DEFAULT_TIME_PER_EVENT:g} x "
+                    f"{count}, beyond {MAX_T_END:g}; allowed: {name} <= {MAX_T_END:g} given explicitly"
+                )
         try:
             given = dict(self.chatter or {})
         except (TypeError, ValueError):

@@ -21,10 +21,11 @@ __all__ = ["write_netcdf", "read_finished", "check_output_path", "check_output_f
 
 
 def umask_permissions(path: str | Path) -> None:
-    """Give a file made by `tempfile.mkstemp` (mode 0600) the permissions of an ordinary new file (0666 & ~umask)."""
+    """Give a file made by `tempfile.mkstemp` (mode 0600) the permissions of an ordinary new file (0666 & ~umask),
+    or a folder made by `tempfile.mkdtemp` (mode 0700) those of an ordinary new folder (0777 & ~umask)."""
     mask = os.umask(0)
     os.umask(mask)
-    os.chmod(path, 0o666 & ~mask)
+    os.chmod(path, (0o777 if os.path.isdir(path) else 0o666) & ~mask)
 
 
 def write_netcdf(ds, out: str | Path) -> Path:
