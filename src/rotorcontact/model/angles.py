@@ -1,4 +1,8 @@
-"""Angles in the package's convention, (-pi, pi]."""
+"""Angles in the package's convention, (-pi, pi].
+
+`wrap_angle` is a compiled kernel for compiled loops: it takes a float unchecked. `angle_difference` is
+its checked form for Python.
+"""
 
 from __future__ import annotations
 
@@ -7,6 +11,7 @@ import math
 import numpy as np
 from numba import njit
 
+from ..errors import ParameterError
 from ..interpreted import call_kernel
 
 __all__ = ["wrap_angle", "angle_difference"]
@@ -33,15 +38,34 @@ def angle_difference(a, b):
     Parameters
     ----------
     a, b : float or array_like
-        Angles in radians (broadcast together).
+        Angles in radians (broadcast together); NaN, a missing value as in the sections of a batch, gives
+        NaN.
 
     Returns
     -------
     float or numpy.ndarray
         A float for scalar inputs, else an array of the broadcast shape; each
         value is `wrap_angle` of the difference.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``a`` and ``b`` hold real numbers (not infinite), of shapes that broadcast together.
     """
-    x = np.subtract(a, b, dtype=float)
+    from .validation import quoted, real_array
+
+    arrays = []
+    for name, value in (("a", a), ("b", b)):
+        array = real_array(value)
+        if array is None or np.any(np.isinf(array)):
+            raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: finite real numbers (radians), or "
+                                 "NaN for a missing value")
+        arrays.append(array)
+    try:
+        x = np.subtract(arrays[0], arrays[1])
+    except ValueError:
+        raise ParameterError(f"a of shape {arrays[0].shape} and b of shape {arrays[1].shape} do not match; allowed: "
+                             "the same shape, or shapes numpy broadcasts together") from None
     if x.ndim == 0:
         return call_kernel(wrap_angle, float(x))
     return call_kernel(_wrap_many, np.ascontiguousarray(x).ravel()).reshape(x.shape)

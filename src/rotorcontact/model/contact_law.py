@@ -10,7 +10,9 @@ and contact persists while N > 0. The tangential motion is
 
 with v_rel = r_ratio + 1 + thetadot (`rotorcontact.model.impact_law.relative_velocity`).
 Every function is compiled and takes scalars, or arrays where noted, so that the
-contact integrator of `rotorcontact.simulation.contact` and the analyses call the same code.
+contact integrator of `rotorcontact.simulation.contact` and the analyses call the same code. They take
+their arguments unchecked (NaN gives NaN; text is a numba typing error): the checked entry points are
+`Trajectory.contact_forces` and `rotorcontact.analysis.equilibria`.
 """
 
 from __future__ import annotations

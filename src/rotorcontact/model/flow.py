@@ -15,6 +15,10 @@ with C and S real: cos / sin(nu t)/nu when underdamped (h = i nu), cosh /
 sinh(kappa t)/kappa when overdamped, and 1 / t at critical damping. This form
 has no eigenvector cancellation near gamma = 2 omega, and the factor e^{-it}
 is exactly the rotation between the co-rotating and the inertial frame.
+
+`free_flight` and `to_inertial` are the checked Python entry points. The other functions are compiled
+kernels, the one home of each formula for the compiled loops: they take floats and complex numbers
+unchecked (NaN gives NaN; text is a numba typing error).
 """
 
 from __future__ import annotations

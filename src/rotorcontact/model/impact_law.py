@@ -12,7 +12,9 @@ For v_rel > 0 and no sticking this is U'+ = U'- - q rdot- U, q = (1 + d)(1 + i m
 Every formula of the law lives here: `apply_reset` (the slip-bounded law),
 `ideal_reset` (the law of MODEL.md §5), `impact_q`, `relative_velocity`,
 `slip_bound`, `sticks`, `slides_forward` and the polar reset Jacobian
-`reset_jacobian`. All are compiled and callable from Python and from kernels.
+`reset_jacobian`. All are compiled and callable from Python and from kernels, and take their arguments
+unchecked (NaN gives NaN; text is a numba typing error): the checked entry points are `simulate` and
+`rotorcontact.maps.impact_map.impact_map`.
 """
 
 from __future__ import annotations

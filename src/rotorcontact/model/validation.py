@@ -148,7 +148,8 @@ def check_float(name: str, value: Any, low: float | None = None, high: float | N
 
 def check_path(name: str, value: Any) -> Path:
     """``value`` as a `pathlib.Path` if it is a non-empty path (text or os.PathLike), else a `ParameterError`:
-    an empty name would mean the current folder."""
+    an empty name would mean the current folder. ``Path("")`` is ``Path(".")`` itself, the current folder
+    named explicitly, and is taken as such."""
     if not isinstance(value, (str, os.PathLike)) or not str(value).strip():
         raise ParameterError(f"{name} = {value!r} is not a path; allowed: a non-empty file or folder name")
     return Path(value)
