@@ -58,3 +58,21 @@ def test_sweep_overlay_bad_input(cli, tmp_path, args):
     code, _out, err = cli.run("sweep", "--from", "0.08", "--to", "0.09", "--n", "3", "--out",
                              str(tmp_path / "s.nc"), *[str(tmp_path / a) if a.endswith(".png") else a for a in args])
     assert code == 2 and "error" in err and "Traceback" not in err
+
+
+def test_text_says_where_a_ratio_is_undefined():
+    from dataclasses import replace
+
+    from rotorcontact.cli.cascade import _text
+    from rotorcontact.continuation.cascade import Cascade, feigenbaum_ratios
+    from rotorcontact.continuation.results import BranchEvent
+
+    values = (0.1, 0.09, 0.09)  # two doublings at the same value: the second interval is zero
+    points = tuple(replace(BranchEvent("period-doubling", v, "gamma", (f"M{i}",)), impacts=2 ** i)
+                   for i, v in enumerate(values))
+    c = Cascade(param="gamma", points=points, labels=("M1", "M2"), ratios=feigenbaum_ratios(values),
+                end="range", end_value=None, accumulation=None)
+    lines = _text((c,), "gamma")
+    # delta_1 is shown at the second doubling, and none at the third (two intervals give one ratio)
+    assert c.ratios == (None,) and lines[2].endswith("(2 impacts)  delta undefined") and lines[3].endswith(
+        "(4 impacts)")

@@ -73,6 +73,7 @@ def test_ratios_helper_and_bad_input():
     assert feigenbaum_ratios([1.0, 2.0]) == ()
     assert feigenbaum_ratios([0.0, 1.0, 1.0]) == (None,)  # a zero interval has no ratio
     assert feigenbaum_ratios([-1e308, 1e308, 1e308 * (1 + 2**-52)])[0] is None  # the interval 2e308 overflows
+    assert feigenbaum_ratios([0.0, -1e308, 1e308])[0] is None  # so does this one, the second
     for bad in ([0.0, math.nan, 1.0], "abc", [[0.0, 1.0]], [0.0, True, 1.0], None):
         with pytest.raises(ParameterError, match=r"^values = .* is invalid; allowed: a sequence of finite real"):
             feigenbaum_ratios(bad)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import cmath
 import math
 
+import numpy as np
 import pytest
 
 from rotorcontact import ParameterError
@@ -39,18 +40,30 @@ def test_with_parameters_needs_parameters_and_a_dict():
         with pytest.raises(ParameterError, match=r"^changes = .* is invalid; allowed: a dict of parameter names"):
             with_parameters(REF, bad)
     assert with_parameters(REF, {"gamma": 0.1}).gamma == 0.1
+    # beyond a physical bound with extend, numpy's floats as well as Python's
+    assert with_parameters(REF, {"d": np.float32(1.25)}, extend=True).d == 1.25
+    with pytest.raises(ParameterError, match=r"^d = "):
+        with_parameters(REF, {"d": np.float32(1.25)})
+    with pytest.raises(ParameterError, match=r"^d = "):
+        with_parameters(REF, {"d": math.inf}, extend=True)
 
 
 def test_closed_form_is_finite_or_refused():
-    from rotorcontact.maps.impact_map import period_limit
-    from rotorcontact.maps.orbit_system import closed_form
+    from rotorcontact.maps.impact_map import flight_growth, period_limit
+    from rotorcontact.maps.orbit_system import LN_MAX_FLOAT, closed_form
 
     p = REF.replace(gamma=-1.0)
     limit = period_limit(p)
     cf = closed_form(0.99 * limit, p.gamma, p.omega)
     assert all(cmath.isfinite(v) for v in (cf.D, cf.P, cf.D_T, cf.P_T, cf.D_TT, cf.P_TT, cf.S, cf.C))
-    with pytest.raises(ParameterError, match=r"^T = .* is too large at gamma = -1, omega = .*: the flight's closed"):
-        closed_form(1e4, p.gamma, p.omega)
+    # the closed form overflows near ln(largest float) / growth, beyond the analyses' limit MAX_GROWTH / growth
+    growth = flight_growth(p)
+    cf = closed_form(0.95 * LN_MAX_FLOAT / growth, p.gamma, p.omega)
+    assert cmath.isfinite(cf.D) and cmath.isfinite(cf.P)
+    with pytest.raises(ParameterError, match=rf"^T = .* is too large at gamma = -1, omega = .*: the flight's closed "
+                                             rf"form, growing like e\^\{{{growth:.3g} T\}} at most, overflows; "
+                                             r"allowed: a smaller T$"):
+        closed_form(1.05 * LN_MAX_FLOAT / growth, p.gamma, p.omega)
     for name, args in (("T", (math.nan, 0.1, 0.5)), ("T", (0.0, 0.1, 0.5)), ("T", (-1.0, 0.1, 0.5)),
                        ("gamma", (1.0, math.inf, 0.5)), ("omega", (1.0, 0.1, "x"))):
         with pytest.raises(ParameterError, match=rf"^{name} = "):

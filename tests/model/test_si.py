@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from rotorcontact import ParameterError, reference_machine
@@ -21,6 +22,9 @@ def test_scales_are_those_of_the_machine():
     assert si.parameter_si(m, "gamma", math.nan) == {"damping_Ns_per_m": None}
     assert si.parameter_si(m, "gamma", None) == {"damping_Ns_per_m": None}
     assert si.times_si(m, T=2.0, none=None) == {"T_s": pytest.approx(2.0 / m.speed, rel=1e-14), "none_s": None}
+    # numpy's scalars and 0-d arrays (as xarray gives) are numbers too
+    assert si.times_si(m, T=np.array(2.0), U=np.float32(2.0)) == si.times_si(m, T=2.0, U=2.0)
+    assert si.parameter_si(m, "rho", np.array(0.5)) == si.parameter_si(m, "rho", 0.5)
 
 
 @pytest.mark.parametrize("call", [
@@ -47,7 +51,7 @@ def test_results_of_the_wrong_kind_are_refused():
                        (lambda: si.equilibria_si(MACHINE, eq.regular), "eq")):
         with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: an? "):
             call()
-    for bad in ("0.1", True, 1j):
+    for bad in ("0.1", True, np.bool_(True), 1j, np.array([0.1]), np.array("0.1")):
         with pytest.raises(ParameterError, match=r"^value = .* is invalid; allowed: a real number or None$"):
             si.parameter_si(MACHINE, "gamma", bad)
         with pytest.raises(ParameterError, match=r"^T = .* is invalid; allowed: a real number or None$"):

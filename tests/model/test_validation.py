@@ -16,7 +16,7 @@ def test_settings_or_default_keeps_settings_builds_the_default_and_refuses_anyth
     assert settings_or_default(given, ContinuationSettings, ContinuationSettings) is given
     assert settings_or_default(None, ContinuationSettings, lambda: given) is given
     for bad in ("x", 3, {"step": 0.02}, ContinuationSettings):
-        with pytest.raises(ParameterError, match=r"^settings = .* is not a ContinuationSettings; allowed: a "
+        with pytest.raises(ParameterError, match=r"^settings = .* is not a ContinuationSettings object; allowed: a "
                                                  r"ContinuationSettings or None$"):
             settings_or_default(bad, ContinuationSettings, ContinuationSettings)
 
@@ -82,7 +82,7 @@ def test_check_type_names_the_argument_and_cuts_a_long_value():
 
     assert check_type("x", 3, int, "an int") == 3
     assert check_type("x", None, int, "an int", optional=True) is None
-    with pytest.raises(ParameterError, match=r"^x = 'a' is not a int or float object; allowed: a number or None$"):
+    with pytest.raises(ParameterError, match=r"^x = 'a' is not an int or float object; allowed: a number or None$"):
         check_type("x", "a", (int, float), "a number", optional=True)
     with pytest.raises(ParameterError, match=r"^params = None is not a Parameters object"):
         check_type("params", None, Parameters, "rotorcontact.Parameters")

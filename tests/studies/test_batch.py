@@ -439,8 +439,9 @@ def test_settings_bound_the_events_and_the_times_of_a_simulation():
         with pytest.raises(ParameterError, match=rf"^{name} = "):
             BatchSettings(**{name: 2 * MAX_T_END})
         assert getattr(BatchSettings(**{name: MAX_T_END}), name) == MAX_T_END
-    # the default time, 5 per event, must stay within the bound too; given explicitly, it may
-    with pytest.raises(ParameterError, match=r"^n_transient = 10000000 gives the default t_transient = 5 x "):
-        BatchSettings(n_transient=10**7)
+    # the default time, 5 per event (at least 100), stops at the bound
+    assert BatchSettings(n_transient=10, n_record=1000).transient_time == 100.0
+    assert BatchSettings(n_record=1000).record_time == 5000.0
+    assert BatchSettings(n_transient=10**7).transient_time == MAX_T_END
+    assert BatchSettings(n_record=2 * 10**6 + 1).record_time == MAX_T_END
     assert BatchSettings(n_transient=10**7, t_transient=1e6).transient_time == 1e6
-    assert BatchSettings(n_record=2 * 10**6).record_time == MAX_T_END

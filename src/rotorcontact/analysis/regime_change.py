@@ -28,8 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..simulation.motion import MAX_PERIOD_IMPACTS, REPEAT_TOL
 from ..model.validation import check_float, check_type
+from ..simulation.motion import MAX_PERIOD_IMPACTS, REPEAT_TOL
 from ..simulation.trajectory import Trajectory
 
 __all__ = ["FINAL_REGIMES", "SUBWINDOWS", "FinalRegime", "final_regime", "spread", "subwindow_rates"]

@@ -63,8 +63,10 @@ def _text(found: tuple[Cascade, ...], param: str) -> list[str]:
     for c in found:
         lines.append(f"cascade {' -> '.join((c.points[0].orbits[0],) + c.labels)}:")
         for k, e in enumerate(c.points):
-            delta = c.ratios[k - 1] if 1 <= k <= len(c.ratios) else None
-            ratio = "" if delta is None else f"  delta = {delta:.6g}"
+            ratio = ""
+            if 1 <= k <= len(c.ratios):
+                delta = c.ratios[k - 1]
+                ratio = "  delta undefined" if delta is None else f"  delta = {delta:.6g}"
             lines.append(f"  period-doubling {param} = {e.value:.12g}  {e.orbits[0]} ({e.impacts} impacts){ratio}")
         where = "" if c.end_value is None else f" at {param} = {c.end_value:.12g}"
         lines.append(f"  ends: {c.end}{where}")

@@ -116,15 +116,16 @@ def feigenbaum_ratios(values) -> tuple[float | None, ...]:
     v = real_array(values)
     if v is None or v.ndim != 1 or not np.all(np.isfinite(v)):
         raise ParameterError(f"values = {quoted(values)} is invalid; allowed: a sequence of finite real numbers")
+    v = v.tolist()  # Python floats: an interval that overflows is inf, without a numpy warning
     out: list[float | None] = []
     for k in range(1, len(v) - 1):
-        den = float(v[k + 1] - v[k])
-        ratio = float(v[k] - v[k - 1]) / den if den != 0.0 else math.inf
+        num, den = v[k] - v[k - 1], v[k + 1] - v[k]
+        ratio = num / den if math.isfinite(num) and math.isfinite(den) and den != 0.0 else math.inf
         out.append(ratio if math.isfinite(ratio) else None)
     return tuple(out)
 
 
-def _end(branch, doublings_left: BranchEvent | None, values: list[float], ratios: tuple[float, ...]):
+def _end(branch, doublings_left: BranchEvent | None, values: list[float], ratios: tuple[float | None, ...]):
     if doublings_left is not None:
         delta = ratios[-1] if ratios and ratios[-1] is not None and ratios[-1] > 1.0 else FEIGENBAUM_DELTA
         if len(values) >= 2:

@@ -162,6 +162,7 @@ __all__ = [
     "fixed_point_residual",
     "flight_extrema",
     "flight_growth",
+    "growth_rate",
     "period_limit",
     "check_growth",
     "one_impact_orbits",
@@ -932,8 +933,13 @@ def flight_growth(params: Parameters) -> float:
     T up to ``MAX_GROWTH / growth`` (`period_limit`). The rate increases with |gamma| and decreases with omega.
     """
     check_params(params)
-    h2 = half_discriminant.py_func(params.gamma, params.omega)
-    return abs(params.gamma) / 2.0 + (math.sqrt(h2) if h2 > 0 else 0.0)
+    return growth_rate(params.gamma, half_discriminant.py_func(params.gamma, params.omega))
+
+
+def growth_rate(gamma: float, h2: float) -> float:
+    """|gamma| / 2 + sqrt(max(h2, 0)) with h2 = gamma^2/4 - omega^2 (`half_discriminant`): `flight_growth`
+    from the damping and the half discriminant."""
+    return abs(gamma) / 2.0 + (math.sqrt(h2) if h2 > 0 else 0.0)
 
 
 def period_limit(params: Parameters) -> float:

@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import cmath
 import math
+import sys
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -53,7 +54,7 @@ import numpy as np
 from ..model.angles import wrap_angle
 from ..model.flow import half_discriminant, period_closed_form
 from ..model.impact_law import impact_q, slides_forward
-from ..model.validation import check_params, quoted
+from ..model.validation import check_float, check_params, quoted
 from ..errors import ParameterError
 from .impact_map import (
     IDEAL,
@@ -61,11 +62,12 @@ from .impact_map import (
     ImpactOrbit,
     f1_zeros,
     flight_extrema,
+    growth_rate,
     impact_map,
     impact_map_jacobian,
     orbit_stability,
 )
-from ..model.params import BRANCH_PARAMETERS, Parameters, check_finite
+from ..model.params import BRANCH_PARAMETERS, Parameters
 
 __all__ = [
     "BRANCH_PARAMETERS",
@@ -97,26 +99,30 @@ class ClosedForm:
     h2: float
 
 
+#: ln of the largest float: e^x overflows beyond it.
+LN_MAX_FLOAT = math.log(sys.float_info.max)
+
+
 def closed_form(T: float, gamma: float, omega: float) -> ClosedForm:
     """D(T), P(T), S(T), C(T) and derivatives for the given damping and stiffness.
 
     Raises
     ------
     ParameterError
-        Unless T > 0, gamma and omega are finite, and the closed form is finite at T: a flight growing or
-        decaying like e^{growth T} overflows beyond a period that depends on gamma and omega
-        (`rotorcontact.maps.impact_map.period_limit`).
+        Unless T > 0, gamma and omega are finite, and the closed form is finite at T. A flight growing or
+        decaying like e^{growth T} (`rotorcontact.maps.impact_map.flight_growth`) may overflow from
+        T = ln(largest float) / growth, about 709.8 / growth, on; the analyses stop well before, at
+        `rotorcontact.maps.impact_map.period_limit`.
     """
-    T = check_finite("T", T)
-    gamma = check_finite("gamma", gamma)
-    omega = check_finite("omega", omega)
-    if T <= 0.0:
-        raise ParameterError(f"T = {T!r} is invalid; allowed: a finite number > 0")
+    T = check_float("T", T, 0.0, low_open=True)
+    gamma = check_float("gamma", gamma)
+    omega = check_float("omega", omega)
     h2 = half_discriminant.py_func(gamma, omega)
     c, s, em, ch, d0, d1, d2, p0, p1, p2 = period_closed_form(T, gamma, h2)
     if not all(cmath.isfinite(v) for v in (c, s, d0, d1, d2, p0, p1, p2)):
         raise ParameterError(f"T = {T!r} is too large at gamma = {gamma:g}, omega = {omega:g}: the flight's closed "
-                             "form overflows; allowed: T <= period_limit(params)")
+                             f"form, growing like e^{{{growth_rate(gamma, h2):.3g} T}} at most, overflows; allowed: "
+                             "a smaller T")
     return ClosedForm(D=complex(d0), P=complex(p0), S=float(s), C=float(c), D_T=complex(d1), P_T=complex(p1),
                       D_TT=complex(d2), P_TT=complex(p2), h2=h2)
 
@@ -140,13 +146,14 @@ def with_parameters(base: Parameters, changes: dict[str, float], *, extend: bool
                              "e.g. {'gamma': 0.1}")
     try:
         return base.replace(**changes)
-    except ParameterError:
-        if not extend or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in changes.values()):
+    except ParameterError as refused:
+        if not extend or set(changes) - set(base.as_dict()):
             raise
-        unknown = set(changes) - set(base.as_dict())
-        if unknown:
-            raise
-        return base.unchecked_replace(**{name: float(value) for name, value in changes.items()})
+        try:
+            values = {name: check_float(name, value) for name, value in changes.items()}
+        except ParameterError:
+            raise refused from None
+        return base.unchecked_replace(**values)
 
 
 def _q(p: Parameters) -> complex:

@@ -52,7 +52,7 @@ def angle_difference(a, b):
     ParameterError
         Unless ``a`` and ``b`` hold real numbers (not infinite), of shapes that broadcast together.
     """
-    from .validation import quoted, real_array
+    from .validation import check_broadcast, quoted, real_array
 
     arrays = []
     for name, value in (("a", a), ("b", b)):
@@ -61,11 +61,8 @@ def angle_difference(a, b):
             raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: finite real numbers (radians), or "
                                  "NaN for a missing value")
         arrays.append(array)
-    try:
-        x = np.subtract(arrays[0], arrays[1])
-    except ValueError:
-        raise ParameterError(f"a of shape {arrays[0].shape} and b of shape {arrays[1].shape} do not match; allowed: "
-                             "the same shape, or shapes numpy broadcasts together") from None
+    check_broadcast(a=arrays[0], b=arrays[1])
+    x = np.subtract(arrays[0], arrays[1])
     if x.ndim == 0:
         return call_kernel(wrap_angle, float(x))
     return call_kernel(_wrap_many, np.ascontiguousarray(x).ravel()).reshape(x.shape)

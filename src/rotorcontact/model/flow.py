@@ -197,7 +197,7 @@ def to_inertial(u, t):
     ParameterError
         Unless ``u`` holds finite numbers and ``t`` finite real numbers, of shapes that broadcast together.
     """
-    from .validation import complex_array, real_array
+    from .validation import check_broadcast, complex_array, real_array
 
     uu = complex_array(u)
     tt = real_array(t)
@@ -205,9 +205,5 @@ def to_inertial(u, t):
         raise ParameterError(f"u = {u!r} is invalid; allowed: finite (complex) numbers")
     if tt is None or not np.all(np.isfinite(tt)):
         raise ParameterError(f"t = {t!r} is invalid; allowed: finite real numbers")
-    try:
-        np.broadcast_shapes(uu.shape, tt.shape)
-    except ValueError:
-        raise ParameterError(f"u of shape {uu.shape} and t of shape {tt.shape} do not match; allowed: the same "
-                             "shape, or shapes numpy broadcasts together (one a single value)") from None
+    check_broadcast(u=uu, t=tt)
     return uu * np.exp(1j * tt)

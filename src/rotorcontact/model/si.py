@@ -72,10 +72,13 @@ def _scaled(value: float | None, scale: float) -> float | None:
 
 def _value(name: str, value: Any) -> float | None:
     """``value`` as a float, or None where it is None or not finite (a value that does not exist); a
-    `ParameterError` for text, bools and other objects."""
+    `ParameterError` for text, bools and other objects. A 0-d array (an xarray or numpy scalar) is its
+    value."""
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
     if value is None:
         return None
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
         raise ParameterError(f"{name} = {value!r} is invalid; allowed: a real number or None")
     return float(value) if math.isfinite(value) else None
 

@@ -17,9 +17,9 @@ import numpy as np
 from ..errors import ParameterError
 from .params import Parameters, check_finite, refuse_bool_or_text
 
-__all__ = ["MAX_COUNT", "check_params", "check_machine", "check_type", "check_fields", "quoted", "check_int",
-           "check_float", "check_choice", "real_array", "complex_array", "check_bool", "check_path", "is_pair",
-           "settings_or_default"]
+__all__ = ["MAX_COUNT", "check_params", "check_machine", "check_type", "check_fields", "check_broadcast", "quoted",
+           "check_int", "check_float", "check_choice", "real_array", "complex_array", "check_bool", "check_path",
+           "is_pair", "settings_or_default"]
 
 
 #: Longest repr of a value quoted in a message; longer ones (a dataset, a long list) are cut.
@@ -39,8 +39,19 @@ def check_type(name: str, value: Any, kind: type | tuple[type, ...], allowed: st
     if (value is None and optional) or isinstance(value, kind):
         return value
     what = kind.__name__ if isinstance(kind, type) else " or ".join(k.__name__ for k in kind)
-    raise ParameterError(f"{name} = {quoted(value)} is not a {what} object; "
+    article = "an" if what[0].lower() in "aeiou" else "a"
+    raise ParameterError(f"{name} = {quoted(value)} is not {article} {what} object; "
                          f"allowed: {allowed}{' or None' if optional else ''}")
+
+
+def check_broadcast(**arrays: np.ndarray) -> tuple[int, ...]:
+    """The shape that the named arrays broadcast to, or a `ParameterError` naming them and their shapes."""
+    try:
+        return np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    except ValueError:
+        shapes = " and ".join(f"{name} of shape {a.shape}" for name, a in arrays.items())
+        raise ParameterError(f"{shapes} do not match; allowed: the same shape, or shapes numpy broadcasts "
+                             "together (one a single value)") from None
 
 
 def check_fields(name: str, value: Any, fields: Sequence[str], allowed: str):
@@ -174,9 +185,7 @@ def settings_or_default(value: Any, kind: type, default: Callable[[], Any], name
     """``value`` if it is a ``kind``, ``default()`` if it is None, else a `ParameterError` naming ``name``."""
     if value is None:
         return default()
-    if not isinstance(value, kind):
-        raise ParameterError(f"{name} = {value!r} is not a {kind.__name__}; allowed: a {kind.__name__} or None")
-    return value
+    return check_type(name, value, kind, f"a {kind.__name__}", optional=True)
 
 
 def _range(low: int | None, high: int | None) -> str:

@@ -335,6 +335,13 @@ def _batch_serial(params, u0, du0, carry, n_transient, n_record, t_transient, t_
 # ---------------------------------------------------------------------------
 
 
+def _time_limit(given: float | None, events: int) -> float:
+    """``given``, or by default 5 per event, at least 100 and at most `MAX_T_END`."""
+    if given is not None:
+        return float(given)
+    return min(MAX_T_END, max(100.0, DEFAULT_TIME_PER_EVENT * events))
+
+
 @dataclass(frozen=True)
 class BatchSettings:
     """How long each item runs and what is kept.
@@ -349,7 +356,7 @@ class BatchSettings:
     t_transient, t_record : float or None
         Time limits of the transient and of the window, at most
         `rotorcontact.model.params.MAX_T_END` as in `rotorcontact.simulate`; None gives
-        ``5 * n_transient`` and ``5 * n_record`` (at least 100).
+        ``5 * n_transient`` and ``5 * n_record``, at least 100 and at most `MAX_T_END`.
     n_keep : int or None
         Number of impacts of the window kept in the section (the last ones);
         None keeps ``n_record``.
@@ -382,15 +389,10 @@ class BatchSettings:
         if self.n_keep is not None:
             check_int("n_keep", self.n_keep, 1, MAX_BATCH_EVENTS)
         check_int("settle", self.settle, 0, MAX_BATCH_EVENTS)
-        for name, count in (("t_transient", "n_transient"), ("t_record", "n_record")):
+        for name in ("t_transient", "t_record"):
             value = getattr(self, name)
             if value is not None:
                 object.__setattr__(self, name, check_range(name, value, low=0.0, high=MAX_T_END, low_open=True))
-            elif max(100.0, DEFAULT_TIME_PER_EVENT * getattr(self, count)) > MAX_T_END:
-                raise ParameterError(
-                    f"{count} = {getattr(self, count)} gives the default {name} = {DEFAULT_TIME_PER_EVENT:g} x "
-                    f"{count}, beyond {MAX_T_END:g}; allowed: {name} <= {MAX_T_END:g} given explicitly"
-                )
         try:
             given = dict(self.chatter or {})
         except (TypeError, ValueError):
@@ -414,16 +416,12 @@ class BatchSettings:
     @property
     def transient_time(self) -> float:
         """Time limit of the transient."""
-        if self.t_transient is not None:
-            return float(self.t_transient)
-        return max(100.0, DEFAULT_TIME_PER_EVENT * self.n_transient)
+        return _time_limit(self.t_transient, self.n_transient)
 
     @property
     def record_time(self) -> float:
         """Time limit of the window."""
-        if self.t_record is not None:
-            return float(self.t_record)
-        return max(100.0, DEFAULT_TIME_PER_EVENT * self.n_record)
+        return _time_limit(self.t_record, self.n_record)
 
     @property
     def keep(self) -> int:
