@@ -6,7 +6,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+import matplotlib.pyplot as plt
 import numpy as np
+import pytest
 
 from rotorcontact.plotting.attractors import plot_attractors, save_attractors_figure
 from rotorcontact.studies.attractors import attractors
@@ -36,3 +38,52 @@ def test_stacked_areas_bands_and_exponents(tmp_path):
         np.testing.assert_allclose(y[att.present], att.exponent[att.present])
     matplotlib.pyplot.close(fig)
     assert save_attractors_figure(ds, tmp_path / "a.png").stat().st_size > 0
+
+
+@pytest.fixture(scope="module")
+def small_result():
+    return attractors(REF, "gamma", [0.12], "plane:3", t_lyapunov=20.0, progress=False)
+
+
+@pytest.fixture(scope="module")
+def small(small_result):
+    return small_result.dataset
+
+
+def test_refuses_what_is_not_an_attractors_dataset(refused, small, sweep_dataset, basins_dataset, tmp_path):
+    refused(r"^ds = None is not an? Dataset object; allowed: a rotorcontact\.studies\.attractors\."
+            r"attractors result or its Dataset$", plot_attractors, None)
+    refused(r"^ds = .* is not an? Dataset object", plot_attractors, small["count"])
+    for other in (sweep_dataset, basins_dataset):
+        refused(r"^ds = <xarray\.Dataset> .* is not a result of rotorcontact\.studies\.attractors\.attractors; "
+                r"allowed: a rotorcontact\.studies\.attractors\.attractors result or its Dataset \(it needs "
+                r"variables 'value', 'attractor', .*; this one lacks ", plot_attractors, other)
+        refused(r"^ds = <xarray\.Dataset> .* is not a result of rotorcontact\.studies\.attractors\.attractors",
+                save_attractors_figure, other, tmp_path / "a.png")
+    assert not (tmp_path / "a.png").exists()
+
+
+def test_refuses_axes_that_are_not_two(refused, small):
+    fig, grid = plt.subplots(1, 3)
+    refused(r"^axes = 'ab' is not a sequence of Axes; allowed: None or a sequence of 2 matplotlib\.axes\.Axes "
+            r"\(basin fractions, exponents\)$", plot_attractors, small, "ab")
+    refused(r"^axes = .* holds 3 axes; allowed: None or a sequence of 2", plot_attractors, small, grid)
+    assert plot_attractors(small, grid[:2])[0] is fig
+    plt.close(fig)
+
+
+def test_the_result_draws_as_its_dataset(small_result):
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from rotorcontact.plotting.attractors import plot_attractors
+
+    fig_a, axes_a = plot_attractors(small_result)
+    fig_b, axes_b = plot_attractors(small_result.dataset)
+    for ax_a, ax_b in zip(axes_a, axes_b):
+        lines_a = [np.asarray(line.get_xydata()) for line in ax_a.get_lines()]
+        lines_b = [np.asarray(line.get_xydata()) for line in ax_b.get_lines()]
+        assert len(lines_a) == len(lines_b) and all(np.array_equal(a, b) for a, b in zip(lines_a, lines_b))
+        assert len(ax_a.collections) == len(ax_b.collections)
+    plt.close(fig_a)
+    plt.close(fig_b)

@@ -37,3 +37,19 @@ def test_a_map_over_two_frictions_draws_a_cell_per_point():
         np.testing.assert_array_equal(np.asarray(mesh.get_array()).reshape(2, 3), ds["regime"].values)
     finally:
         plt.close(fig)
+
+
+def test_refuses_what_is_not_a_drop_map(refused, basins_dataset, tmp_path):
+    from rotorcontact.plotting.drop_map import save_drop_map_figure
+
+    made_by = r"rotorcontact\.studies\.drop_map\.drop_map"
+    refused(rf"^ds = None is not an? Dataset object; allowed: a {made_by} result or its Dataset$", plot_drop_map, None)
+    refused(rf"^ds = <xarray\.Dataset> .* is not a result of {made_by}; allowed: a {made_by} result or its "
+            r"Dataset \(it needs variables 'speed_rpm', 'friction', 'regime', 'backward_whirl_onset_s', "
+            r"'max_normal_impulse_Ns' and attributes 'regimes', 'fail_at_s', 't_end_s'; this one lacks variable "
+            r"'speed_rpm', variable 'friction', variable 'backward_whirl_onset_s', variable "
+            r"'max_normal_impulse_Ns', attribute 'regimes', attribute 'fail_at_s', attribute 't_end_s'\)$",
+            plot_drop_map, basins_dataset)
+    refused(rf"^ds = <xarray\.Dataset> .* is not a result of {made_by}", save_drop_map_figure, basins_dataset,
+            tmp_path / "m.png")
+    assert not (tmp_path / "m.png").exists()

@@ -46,3 +46,55 @@ def test_dry_whip_figure_draws_the_curve_the_coupled_frequency_and_the_runs(tmp_
     assert list(coupled.get_data()[1]) == [42.5, 42.5]
     np.testing.assert_array_equal(runs.get_data()[0], damping[1:])
     assert save_figure(fig, tmp_path / "w.png").stat().st_size > 0
+
+
+@pytest.fixture(scope="module")
+def rigid():
+    m = Machine(**{**reference_machine().as_dict(), "gravity": 9.81, "polar_inertia": 0.04})
+    return drop(m, 3000 * RPM, 0.0, 0.005)
+
+
+def test_drop_figures_refuse_what_is_not_a_drop(refused, rigid, tmp_path):
+    from rotorcontact.plotting.drop import plot_drop, save_drop_figure
+
+    allowed = r"allowed: the DropResult of rotorcontact\.simulation\.drop_run\.drop$"
+    refused(rf"^result = None is not an? DropResult object; {allowed}", plot_drop, None)
+    refused(rf"^result = 'x' is not an? DropResult object; {allowed}", save_drop_figure, "x", tmp_path / "d.png")
+    refused(rf"^result = None is not an? DropResult object; {allowed}", plot_touchdown_forces, None)
+    refused(r"^result = DropResult\(.* is a drop with contact = None, not the compliant law; allowed: a drop of a "
+            r"machine with contact = 'compliant'$", plot_touchdown_forces, rigid)
+    assert not (tmp_path / "d.png").exists()
+
+
+def test_touchdown_force_counts_are_bounded(refused, rigid):
+    import dataclasses
+
+    compliant = dataclasses.replace(rigid, machine=dataclasses.replace(rigid.machine, contact="compliant",
+                                                                       contact_stiffness=1e10))
+    for bad in (0, 21, 10**12, 2.0, True):
+        refused(rf"^episodes = {bad!r} is invalid; allowed: an integer from 1 to 20$", plot_touchdown_forces,
+                compliant, episodes=bad)
+    for bad in (2, 1001, 10**12, "60"):
+        refused(rf"^samples = {bad!r} is invalid; allowed: an integer from 3 to 1000$", plot_touchdown_forces,
+                compliant, samples=bad)
+
+
+def test_rigid_limit_and_dry_whip_check_their_arrays(refused):
+    k = np.array([1e9, 1e10])
+    diffs = np.array([[1.0], [0.5]])
+    refused(r"^stiffness = 'k' is invalid; allowed: a 1-D array of real numbers, finite and > 0$", plot_rigid_limit,
+            "k", diffs, ["a"])
+    refused(r"^stiffness = \[0, 1\] is invalid", plot_rigid_limit, [0, 1], diffs, ["a"])
+    refused(r"^labels = 'a' is invalid; allowed: a list or tuple of legend texts$", plot_rigid_limit, k, diffs, "a")
+    refused(r"^differences = .* is invalid; allowed: an array of real numbers of shape \(2, 2\)", plot_rigid_limit,
+            k, diffs, ["a", "b"])
+    refused(r"^differences = None is invalid", plot_rigid_limit, k, None, ["a"])
+    refused(r"^exponent = 'n' is invalid; allowed: a finite number > 0$", plot_rigid_limit, k, diffs, ["a"], "n")
+    refused(r"^damping = None is invalid; allowed: a 1-D array of real numbers, finite and > 0$", plot_dry_whip,
+            None, [1.0], 42.0)
+    refused(r"^whirl_hz = \[1\.0\] is invalid; allowed: a 1-D array of 2 real numbers$", plot_dry_whip, k, [1.0],
+            42.0)
+    refused(r"^coupled_hz = 'f' is invalid; allowed: a finite number$", plot_dry_whip, k, [1.0, 2.0], "f")
+    refused(r"^simulated = 3 is invalid; allowed: None or a pair", plot_dry_whip, k, [1.0, 2.0], 4.0, 3)
+    refused(r"^simulated\[1\] = \[1\.0\] is invalid; allowed: a 1-D array of 2 real numbers$", plot_dry_whip, k,
+            [1.0, 2.0], 4.0, (k, [1.0]))

@@ -106,3 +106,29 @@ def test_bad_choices_raise(fold_params, tmp_path):
 def test_save_writes_a_png(fold_params, tmp_path):
     path = save_equilibria_figure(fold_params, tmp_path / "fig3a.png", "gamma", 0.0, 0.2, n=51)
     assert path.is_file() and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_refusals_name_the_argument_before_any_figure_or_computation(fold_params, refused, tmp_path, monkeypatch):
+    import rotorcontact.plotting.equilibria as module
+
+    branches = equilibrium_branches(fold_params, "gamma", 0.0, 0.2, 11)
+    refused(r"^branches = 'x' is not an? EquilibriumBranches object; allowed: the EquilibriumBranches of "
+            r"rotorcontact\.analysis\.equilibria\.equilibrium_branches$", plot_equilibrium_branches, "x")
+    refused(r"^pseudo = 'P3' is invalid; allowed: 'partner', 'both', 'P1', 'P2', 'none'$",
+            plot_equilibrium_branches, branches, pseudo="P3")
+
+    def no_computation(*args, **kwargs):
+        raise AssertionError("computed before the options were checked")
+
+    monkeypatch.setattr(module, "equilibrium_branches", no_computation)
+    for draw, first in ((plot_equilibrium_branches, branches), (plot_equilibria, fold_params)):
+        refused(r"^ax = 'x' is not an? Axes object; allowed: a matplotlib\.axes\.Axes or None$", draw, first, ax="x")
+        refused(r"^ylim = \(1, 1\) is invalid; allowed: \(low, high\), two distinct finite numbers or None$", draw,
+                first, ylim=(1, 1))
+        refused(r"^ylim = 'ab' is invalid", draw, first, ylim="ab")
+        refused(r"^legend = 'no' is invalid; allowed: True or False$", draw, first, legend="no")
+    refused(r"^pseudo = 3 is invalid", plot_equilibria, fold_params, pseudo=3)
+    refused(r"^params = 'p' is not an? Parameters object; allowed: rotorcontact\.Parameters$", save_equilibria_figure,
+            "p", tmp_path / "e.png")
+    refused(r"^path = '.*e\.txt' has an unsupported suffix; allowed: \.png, \.svg, \.pdf$", save_equilibria_figure,
+            fold_params, tmp_path / "e.txt")

@@ -91,3 +91,28 @@ def test_bad_input(rotor):
         plot_local_estimate(rotor, eps_range=(0.01, -0.01))
     with pytest.raises(ParameterError, match="no real gamma"):
         plot_local_estimate(rotor.replace(rho=0.0))
+
+
+def test_refusals_name_the_argument_before_any_figure(rotor, refused):
+    fig, (a, b) = plt.subplots(1, 2)
+    allowed = r"allowed: rotorcontact\.Parameters or a rotorcontact\.analysis\.local\.LinearImpactingSystem$"
+    for draw in (plot_local_estimate, plot_local_figure):
+        refused(rf"^model = None is not an? Parameters or LinearImpactingSystem object; {allowed}", draw, None)
+    refused(r"^ax = 'x' is not an? Axes object; allowed: a matplotlib\.axes\.Axes or None$", plot_local_estimate,
+            rotor, "rdot", "x")
+    refused(r"^quantity = 'theta' is invalid; allowed: 'rdot', 'thetadot'$", plot_local_estimate, rotor, "theta")
+    refused(r"^axes = 'ab' is not a sequence of Axes; allowed: None or a sequence of 2 matplotlib\.axes\.Axes "
+            r"\(rdot, thetadot\)$", plot_local_figure, rotor, "ab")
+    refused(r"^axes = .* holds 1 axes; allowed: None or a sequence of 2", plot_local_figure, rotor, [a])
+    refused(r"^quantity = 'rdot' is not an option of plot_local_figure; allowed: labels, eps_range, n, t_max$",
+            plot_local_figure, rotor, quantity="rdot")
+    for draw in (plot_local_estimate, plot_local_figure):
+        refused(r"^labels = 'B1,a' is invalid; allowed: a list or tuple of orbit labels", draw, rotor,
+                labels="B1,a")
+        refused(r"^eps_range = 0\.1 is invalid; allowed: \(low, high\) or None$", draw, rotor, eps_range=0.1)
+        refused(r"^n = 2 is invalid; allowed: an integer from 3 to 1000$", draw, rotor, n=2)
+        refused(r"^n = 1000000000000 is invalid; allowed: an integer from 3 to 1000$", draw, rotor, n=10**12)
+    # the refusals of the analysis come before the figure too
+    refused(r"^no small orbit 'B1,c'", plot_local_figure, rotor, labels=("B1,c",), n=5)
+    assert not a.lines and not b.lines
+    plt.close(fig)

@@ -301,3 +301,81 @@ def test_velocities_figure_clips_to_rdot_max(branches):
     assert len(axes) == 2 and axes[0].get_ylim()[1] <= 1.5 and axes[1].get_ylim()[0] >= -1.5
     assert "omega=" in axes[0].get_title() and "gamma=" not in axes[0].get_title()
     plt.close(fig)
+
+
+AX = r"^ax = 'x' is not an? Axes object; allowed: a matplotlib\.axes\.Axes or None$"
+NOT_PARAMS = r"^params = None is not an? Parameters object; allowed: rotorcontact\.Parameters$"
+
+
+def test_f1_figures_refuse_bad_input_before_a_figure(refused):
+    p = REF.replace(gamma=0.1)
+    zc = f1_zero_curves(REF, "gamma", 0.0, 0.25, t_max=4.0, n_seeds=4)
+    for draw in (plot_f1, plot_f1_zeros, plot_nsfh_schematic):
+        refused(NOT_PARAMS, draw, None)
+        refused(AX, draw, p, ax="x")
+    refused(r"^n_points = 1000000000000 is invalid; allowed: an integer from 10 to 1000000$", plot_f1, p,
+            n_points=10**12)
+    refused(r"^n_points = 9 is invalid; allowed: an integer from 10 to 1000000$", plot_f1, p, n_points=9)
+    refused(r"^t_range = 30 is invalid; allowed: \(start, stop\), 0 <= start < stop$", plot_f1, p, 30)
+    refused(r"^ylim = None is invalid; allowed: \(low, high\), two distinct finite numbers$", plot_f1, p, ylim=None)
+    refused(r"^mark_zeros = 'no' is invalid; allowed: True or False$", plot_f1, p, mark_zeros="no")
+    for mark in (True, False):
+        refused(r"^t_range\[1\] = 1000000000000\.0 is out of range; allowed: \(0, 6000\] \(F1 is evaluated "
+                r"accurately up to there at these parameters\)$", plot_f1, p, (0.0, 1e12), mark_zeros=mark)
+    refused(r"^curves = 'c' is not an? F1ZeroCurves object; allowed: the F1ZeroCurves of rotorcontact\.continuation\."
+            r"zero_curves\.f1_zero_curves or None$", plot_f1_zeros, REF, curves="c")
+    refused(r"^t_max = -1\.0 is invalid; allowed: a finite number > 0$", plot_f1_zeros, REF, curves=zc, t_max=-1)
+    refused(r"^legend = 'no' is invalid; allowed: True or False$", plot_f1_zeros, REF, curves=zc, legend="no")
+    refused(r"^gamma = 'g' is invalid; allowed: a finite number$", plot_nsfh_schematic, REF, gamma="g")
+    refused(r"^t_max = 0\.0 is invalid; allowed: a finite number > 0$", plot_nsfh_schematic, REF, t_max=0)
+    refused(r"^t_max = 1000000000\.0 is too large", plot_nsfh_schematic, REF, gamma=0.16, t_max=1e9)
+
+
+def test_branch_figures_refuse_bad_input_before_a_figure(branches, refused):
+    allowed = r"allowed: the OrbitBranches of rotorcontact\.continuation\.branches\.orbit_branches"
+    refused(rf"^branches = 'b' is not an? OrbitBranches object; {allowed}$", plot_branch_quantity, "b")
+    refused(rf"^branches = 'b' is not an? OrbitBranches object; {allowed}$", plot_velocities, "b")
+    for draw in (plot_rdot, plot_thetadot, plot_max_multiplier, plot_extrema):
+        refused(NOT_PARAMS, draw, None, branches=branches)
+        refused(rf"^branches = 'b' is not an? OrbitBranches object; {allowed} or None$", draw, REF, branches="b")
+    for draw in (plot_rdot, plot_thetadot, plot_max_multiplier, plot_extrema):
+        refused(AX, draw, REF, branches=branches, ax="x")
+        refused(r"^labels = 'B1,a' is invalid; allowed: a list or tuple of orbit labels", draw, REF,
+                branches=branches, labels="B1,a")
+        refused(r"^xlim = \(0, 'a'\) is invalid; allowed: \(low, high\), two distinct finite numbers or None$", draw,
+                REF, branches=branches, xlim=(0, "a"))
+        refused(r"^ylim = 0\.5 is invalid", draw, REF, branches=branches, ylim=0.5)
+    refused(AX, plot_branch_quantity, branches, ax="x")
+    refused(r"^quantity = 'nonsense' is invalid; allowed: 'rdot', 'thetadot', 'T', 'theta', 'max_multiplier', "
+            r"'r_max_interior'$", plot_branch_quantity, branches, "nonsense")
+    refused(r"^local = 3\.0 is invalid; allowed: a mapping label -> \(x, y\), a callable local\(label, x\) or None$",
+            plot_rdot, REF, branches=branches, local=3.0)
+    refused(r"^events = 'yes' is invalid; allowed: True or False$", plot_branch_quantity, branches, events="yes")
+    refused(r"^log = 'yes' is invalid; allowed: True or False$", plot_max_multiplier, REF, branches=branches,
+            log="yes")
+    refused(r"^regular = 'no' is invalid; allowed: True or False$", plot_extrema, REF, branches=branches,
+            regular="no")
+    refused(r"^legend = 'no' is invalid; allowed: True or False$", plot_extrema, REF, branches=branches, legend="no")
+    refused(r"^rdot_max = -1\.0 is invalid; allowed: a finite number > 0$", plot_velocities, branches, rdot_max=-1)
+    refused(r"^figsize = \(1000000\.0, 4\) is invalid; allowed: \(width, height\) in inches, each > 0 and <= 100$",
+            plot_velocities, branches, figsize=(1e6, 4))
+    refused(r"^labels = 'B1,a' is invalid", plot_velocities, branches, "B1,a")
+
+
+def test_codim2_figure_refuses_bad_input_before_a_figure(refused):
+    diagram = codim2_diagram(REF, ("gamma", "omega"), ((0.0, 0.5), (0.6, 1.25)), folds=())
+    refused(NOT_PARAMS, plot_codim2, None, diagram=diagram)
+    refused(AX, plot_codim2, REF, ax="x")
+    refused(r"^diagram = 'd' is not an? Codim2Diagram object; allowed: the Codim2Diagram of rotorcontact\.continuation"
+            r"\.codim2\.codim2_diagram or None$", plot_codim2, REF, diagram="d")
+    for bad in ("NSFH", [("NSFH", 0.1)], [("NSFH", 0.1, "y")], [(1, 0.1, 0.9)]):
+        refused(r"^labels = .* is invalid; allowed: None or a list of \(text, p1, p2\), p1 and p2 finite numbers$",
+                plot_codim2, REF, diagram=diagram, labels=bad)
+    refused(r"^regions = 'no' is invalid; allowed: True or False$", plot_codim2, REF, diagram=diagram, regions="no")
+    refused(r"^legend = 'no' is invalid; allowed: True or False$", plot_codim2, REF, diagram=diagram, legend="no")
+    refused(r"^shape\[0\] = 1000000 is invalid; allowed: an integer from 2 to 1000$", plot_codim2, REF,
+            diagram=diagram, shape=(10**6, 3))
+    refused(r"^mask = 'abc' is invalid; allowed: a 2-D array of bools$", region_label_cells, "abc")
+    refused(r"^mask = \[1, 2\] is invalid", region_label_cells, [1, 2])
+    refused(r"^min_depth = -1\.0 is invalid; allowed: a finite number >= 0$", region_label_cells,
+            np.ones((3, 3), dtype=bool), -1)

@@ -81,3 +81,76 @@ def test_continued_branches_are_overlaid_with_their_bifurcations(diagram):
     # phi cannot be continued: the fixed points at each value are overlaid instead
     _, kind = overlay_for(REF, "phi", [0.1, 0.2])
     assert kind == "fixed-points"
+
+
+SWEEP = r"rotorcontact\.studies\.sweep\.sweep"
+BASINS = r"rotorcontact\.studies\.basins\.basins"
+
+
+def test_sweep_figures_refuse_another_studys_dataset(refused, basins_dataset, tmp_path):
+    for draw in (plot_sweep, plot_regimes):
+        refused(rf"^ds = None is not an? Dataset object; allowed: a {SWEEP} result or its Dataset$", draw, None)
+        refused(rf"^ds = <xarray\.Dataset> .* is not a result of {SWEEP}; allowed: a {SWEEP} result "
+                r"or its Dataset \(it needs variables 'direction', .* and attributes 'swept_parameter'; this one lacks "
+                r"variable 'direction', attribute 'swept_parameter'\)$", draw, basins_dataset)
+    refused(rf"^ds = <xarray\.Dataset> .* is not a result of {SWEEP}", save_sweep_figure, basins_dataset,
+            tmp_path / "d.png")
+    refused(r"^ds = 3 is not an? Dataset object", save_sweep_figure, 3, tmp_path / "d.png")
+    assert not (tmp_path / "d.png").exists()
+
+
+def test_sweep_figures_check_their_options(refused, diagram, basins_dataset, tmp_path):
+    ds, fixed_points = diagram
+    for draw in (plot_sweep, plot_regimes):
+        refused(r"^ax = 'x' is not an? Axes object; allowed: a matplotlib\.axes\.Axes or None$", draw, ds, ax="x")
+    refused(r"^variable = 'speed' is invalid; allowed: 'theta', 'rdot', 'thetadot'$", plot_sweep, ds, "speed")
+    refused(r"^variable = 'speed' is invalid", save_sweep_figure, ds, tmp_path / "d.png", "speed")
+    refused(r"^markersize = 0\.0 is invalid; allowed: a finite number > 0$", plot_sweep, ds, markersize=0)
+    refused(r"^overlay = 3 is not an? OrbitBranches or MultiImpactBranches or Dataset object; allowed: "
+            r"rotorcontact\.continuation\.branches\.OrbitBranches, ", plot_sweep, ds, overlay=3)
+    refused(r"^overlay\[1\] = <xarray\.Dataset> .* is not a result of rotorcontact\.studies\.sweep\."
+            r"one_impact_overlay; allowed:", plot_sweep, ds, overlay=[fixed_points, basins_dataset])
+    refused(r"^cascades = 3 is invalid; allowed: a list or tuple of rotorcontact\.continuation\.cascade\.Cascade$",
+            plot_sweep, ds, cascades=3)
+    refused(r"^cascades\[0\] = 'PD' is not an? Cascade object; allowed:", save_sweep_figure, ds, tmp_path / "d.png",
+            cascades=["PD"])
+    assert not (tmp_path / "d.png").exists()
+
+
+def test_basins_figure_refuses_another_studys_dataset_and_bad_options(refused, sweep_dataset, basins_dataset,
+                                                                      tmp_path):
+    refused(rf"^ds = None is not an? Dataset object; allowed: a {BASINS} result or its Dataset$", plot_basins, None)
+    refused(rf"^ds = <xarray\.Dataset> .* is not a result of {BASINS}; allowed: a {BASINS} result or its "
+            r"Dataset \(it needs variables 'attractor', 'class_name', 'fraction', 'count' and attributes 'gamma', "
+            r"'omega', 'rho', 'phi'; this one lacks variable 'attractor', variable 'class_name', variable 'fraction', "
+            r"variable 'count', attribute 'gamma'\)$", plot_basins, sweep_dataset)
+    refused(rf"^ds = <xarray\.Dataset> .* is not a result of {BASINS}", save_basins_figure, sweep_dataset,
+            tmp_path / "b.png")
+    assert not (tmp_path / "b.png").exists()
+    refused(r"^ax = 'x' is not an? Axes object; allowed: a matplotlib\.axes\.Axes or None$", plot_basins,
+            basins_dataset, "x")
+    refused(r"^legend = 'no' is invalid; allowed: True or False$", plot_basins, basins_dataset, legend="no")
+    # the saved figure keeps its size
+    path = save_basins_figure(basins_dataset, tmp_path / "b.png")
+    assert path.stat().st_size > 0 and not plt.get_fignums()
+
+
+def test_a_studys_result_draws_as_its_dataset(sweep_result, basins_result):
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from rotorcontact.plotting.basins import plot_basins
+    from rotorcontact.plotting.sweep import plot_regimes, plot_sweep
+
+    for draw, result in ((plot_basins, basins_result), (plot_sweep, sweep_result), (plot_regimes, sweep_result)):
+        fig_a, ax_a = draw(result)
+        fig_b, ax_b = draw(result.dataset)
+        lines_a = [np.asarray(line.get_xydata()) for line in ax_a.get_lines()]
+        lines_b = [np.asarray(line.get_xydata()) for line in ax_b.get_lines()]
+        assert len(lines_a) == len(lines_b) and all(np.array_equal(a, b) for a, b in zip(lines_a, lines_b))
+        images_a = [np.asarray(im.get_array()) for im in ax_a.get_images()]
+        images_b = [np.asarray(im.get_array()) for im in ax_b.get_images()]
+        assert len(images_a) == len(images_b) and all(np.array_equal(a, b) for a, b in zip(images_a, images_b))
+        assert len(ax_a.collections) == len(ax_b.collections)
+        plt.close(fig_a)
+        plt.close(fig_b)

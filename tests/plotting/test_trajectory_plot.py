@@ -146,7 +146,7 @@ def test_plot_trajectory_draws_into_given_axes_and_refuses_a_wrong_number():
     assert [ax.get_title() for ax in grid[1]] == ["inertial frame", "co-rotating frame", "radius"]
     assert all(not ax.lines for ax in grid[0])
     assert fig.get_suptitle() == ""  # the caller's figure keeps its own title
-    with pytest.raises(ParameterError, match="axes holds 2 axes"):
+    with pytest.raises(ParameterError, match=r"^axes = .* holds 2 axes; allowed: None or a sequence of 3 "):
         plot_trajectory(traj, grid[0, :2])
     plt.close(fig)
 
@@ -164,4 +164,58 @@ def test_figures_refuse_a_missing_folder_in_the_python_api(tmp_path):
     with pytest.raises(ParameterError, match="does not exist"):
         write_netcdf(xr.Dataset({"a": ("x", [1.0])}), tmp_path / "missing" / "f.nc")
     assert not (tmp_path / "missing").exists()
+    plt.close(fig)
+
+
+@pytest.fixture(scope="module")
+def quiet():
+    return simulate(REF.replace(gamma=0.1), 0j, 0j, t_end=20.0)
+
+
+def test_trajectory_figures_refuse_what_is_not_a_trajectory(refused, tmp_path):
+    from rotorcontact.plotting.trajectory import plot_corotating, plot_inertial, save_trajectory_figure
+
+    for draw in (plot_inertial, plot_corotating, plot_radius, plot_trajectory):
+        refused(r"^traj = None is not an? Trajectory object; allowed: a rotorcontact\.Trajectory", draw, None)
+    refused(r"^traj = 'x' is not an? Trajectory object; allowed:", save_trajectory_figure, "x", tmp_path / "t.png")
+    assert not (tmp_path / "t.png").exists()
+
+
+def test_trajectory_figures_refuse_an_ax_or_axes_that_is_not_one(refused, quiet):
+    from rotorcontact.plotting.trajectory import plot_corotating, plot_inertial, shade_contact
+
+    fig, grid = plt.subplots(1, 3)
+    for draw in (plot_inertial, plot_corotating, plot_radius):
+        refused(r"^ax = 'x' is not an? Axes object; allowed: a matplotlib\.axes\.Axes or None$", draw, quiet, "x")
+        refused(r"^ax = <Figure .* is not an? Axes object", draw, quiet, fig)
+    refused(r"^ax = None is not an? Axes object; allowed: a matplotlib\.axes\.Axes$", shade_contact, quiet, None)
+    refused(r"^traj = 1 is not an? Trajectory object", shade_contact, 1, grid[0])
+    refused(r"^t_from = 'a' is invalid; allowed: a finite number$", shade_contact, quiet, grid[0], "a")
+    refused(r"^axes = 'xyz' is not a sequence of Axes; allowed: None or a sequence of 3 matplotlib\.axes\.Axes "
+            r"\(inertial, co-rotating, radius\)$", plot_trajectory, quiet, "xyz")
+    refused(r"^axes = .* holds an object that is not an Axes; allowed:", plot_trajectory, quiet,
+            [grid[0], grid[1], "radius"])
+    assert all(not ax.lines for ax in grid)  # nothing drawn before the refusal
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("n", [10**12, 1, 0, 2.5, "100", True])
+def test_the_number_of_plot_times_is_bounded(refused, quiet, n):
+    from rotorcontact.plotting.trajectory import plot_corotating, plot_inertial
+
+    for draw in (plot_inertial, plot_corotating, plot_radius, plot_trajectory):
+        refused(rf"^n = {n!r} is invalid; allowed: an integer from 2 to 1000000$", draw, quiet, n=n)
+
+
+def test_t_from_and_the_flags_are_checked(refused, quiet):
+    from rotorcontact.plotting.trajectory import plot_corotating, plot_inertial
+
+    for bad in ("10", np.nan, [1.0]):
+        for draw in (plot_inertial, plot_corotating, plot_radius, plot_trajectory):
+            refused(r"^t_from = .* is invalid; allowed: a finite number$", draw, quiet, t_from=bad)
+    refused(r"^inset = 'yes' is invalid; allowed: True or False$", plot_corotating, quiet, inset="yes")
+    refused(r"^legend = 'False' is invalid; allowed: True or False$", plot_corotating, quiet, legend="False")
+    # valid values still draw: a negative t_from starts at 0, as before
+    fig, ax = plot_inertial(quiet, t_from=-5.0, n=2)
+    assert ax.get_lines()
     plt.close(fig)

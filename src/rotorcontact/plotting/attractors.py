@@ -7,9 +7,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .style import save_figure
+from .style import check_axes, check_dataset, check_figure_path, save_figure, study_dataset
 
 __all__ = ["plot_attractors", "save_attractors_figure"]
+
+#: What the figure reads of the dataset of `rotorcontact.studies.attractors.attractors`.
+NEEDS = ("value", "attractor", "count", "exponent", "exponent_error")
+NEEDS_ATTRS = ("simulated_per_value", "param")
+MADE_BY = "rotorcontact.studies.attractors.attractors"
 
 #: Colours in order of the attractors (a qualitative palette).
 COLORS = ("#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22",
@@ -26,19 +31,28 @@ def plot_attractors(ds, axes=None):
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        The dataset of `rotorcontact.studies.attractors.AttractorsResult`.
+    ds : AttractorsResult or xarray.Dataset
+        The attractors (`rotorcontact.studies.attractors.attractors`), or their ``dataset``.
     axes : pair of matplotlib Axes, optional
         Where to draw (a new figure otherwise).
 
     Returns
     -------
     fig, (ax_fraction, ax_exponent)
+
+    Raises
+    ------
+    ParameterError
+        If ``ds`` is not an attractors dataset (another study's, or not a Dataset), or ``axes`` is neither
+        None nor two Axes.
     """
+    ds = study_dataset(ds)
     import matplotlib.pyplot as plt
 
     from ..studies.attractors import wilson_interval
 
+    check_dataset(ds, NEEDS, MADE_BY, attrs=NEEDS_ATTRS)
+    axes = check_axes(axes, 2, "basin fractions, exponents")
     if axes is None:
         fig, axes = plt.subplots(2, 1, sharex=True, figsize=(8, 6.5), gridspec_kw={"height_ratios": [2, 1]})
     ax_f, ax_l = axes
@@ -75,7 +89,16 @@ def plot_attractors(ds, axes=None):
 
 
 def save_attractors_figure(ds, path) -> Path:
-    """Write the attractors figure to ``path`` (.png, .svg or .pdf)."""
+    """Write the attractors figure to ``path`` (.png, .svg or .pdf).
+
+    Raises
+    ------
+    ParameterError
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing), and
+        for a ``ds`` that `plot_attractors` refuses.
+    """
+    ds = study_dataset(ds)
+    check_figure_path(path)
     fig, (ax_f, _ax_l) = plot_attractors(ds)
     band = round(100 * float(ds.attrs.get("confidence", 0.95)))
     ax_f.set_title(f"attractors against {ds.attrs['param']} (grey: {band}% confidence bands)", fontsize="medium")

@@ -6,8 +6,9 @@ from typing import Any
 
 import numpy as np
 
+from ..model.validation import check_bool
 from ..simulation.motion import canonical_regime
-from .style import draw_clearance, new_axes, save_figure
+from .style import check_dataset, check_figure_path, draw_clearance, new_axes, save_figure, study_dataset
 
 __all__ = ["plot_basins", "save_basins_figure", "CLASS_COLORS"]
 
@@ -31,6 +32,10 @@ AXIS_LABELS = {
     "amplitude": r"kick amplitude $|U'(0)|$",
     "direction": r"kick direction $\beta$ from the radial (rad)",
 }
+#: What the figure reads of the dataset of `rotorcontact.studies.basins.basins`.
+NEEDS = ("attractor", "class_name", "fraction", "count")
+NEEDS_ATTRS = ("gamma", "omega", "rho", "phi")
+MADE_BY = "rotorcontact.studies.basins.basins"
 
 
 def _colors(names) -> list[str]:
@@ -50,8 +55,8 @@ def plot_basins(ds, ax=None, *, legend: bool = True):
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        Basins (`rotorcontact.studies.basins.basins`).
+    ds : BasinResult or xarray.Dataset
+        Basins (`rotorcontact.studies.basins.basins`), or their ``dataset`` (as read back from a file).
     ax : matplotlib Axes, optional
     legend : bool
         Add a legend with the fraction of each class that occurs.
@@ -59,10 +64,19 @@ def plot_basins(ds, ax=None, *, legend: bool = True):
     Returns
     -------
     fig, ax
+
+    Raises
+    ------
+    ParameterError
+        If ``ds`` is not a basins dataset (another study's, or not a Dataset), ``ax`` is not an Axes or
+        ``legend`` is not True or False.
     """
+    ds = study_dataset(ds)
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
+    check_dataset(ds, NEEDS, MADE_BY, attrs=NEEDS_ATTRS)
+    check_bool("legend", legend)
     fig, ax = new_axes(ax)
     # files written before the regimes were renamed hold "rub" and "rolling"
     names = [canonical_regime(str(n)) for n in ds["class_name"].values]
@@ -102,11 +116,18 @@ def plot_basins(ds, ax=None, *, legend: bool = True):
 
 
 def save_basins_figure(ds, path) -> Any:
-    """Write the basin image to ``path`` (.png, .svg or .pdf)."""
-    import matplotlib.pyplot as plt
+    """Write the basin image to ``path`` (.png, .svg or .pdf).
 
-    fig, ax = plt.subplots(figsize=(7.5, 5.5))
-    plot_basins(ds, ax)
+    Raises
+    ------
+    ParameterError
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing), and
+        for a ``ds`` that `plot_basins` refuses.
+    """
+    ds = study_dataset(ds)
+    check_figure_path(path)
+    fig, ax = plot_basins(ds)
+    fig.set_size_inches(7.5, 5.5)
     a = ds.attrs
     ax.set_title(f"basins at gamma = {a['gamma']:.6g}, omega = {a['omega']:.6g}", fontsize="medium")
     return save_figure(fig, path)

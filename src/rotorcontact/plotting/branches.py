@@ -26,8 +26,10 @@ from ..continuation.branches import BRANCH_PARAMETERS, LabelBranch, OrbitBranche
 from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
 from ..model.params import Parameters
+from ..model.validation import (check_bool, check_choice, check_float, check_params, check_type, is_pair, quoted,
+                                real_array)
 from .equilibria import PARAM_LABELS
-from .style import CLEARANCE_COLOR, new_axes, orbit_tex
+from .style import CLEARANCE_COLOR, MAX_FIGURE_INCHES, check_ax, check_limits, check_names, new_axes, orbit_tex
 
 __all__ = [
     "BRANCH_COLORS",
@@ -113,6 +115,28 @@ def _check_labels(branches: OrbitBranches, labels: Sequence[str]) -> list[str]:
     return out
 
 
+_BRANCHES = "the OrbitBranches of rotorcontact.continuation.branches.orbit_branches"
+
+
+def _check_options(labels, ax, xlim, ylim, local=None, **flags) -> None:
+    """The checks of the drawing options the figures of branches share (made before any computation)."""
+    check_names("labels", labels)
+    check_ax(ax)
+    check_limits("xlim", xlim)
+    check_limits("ylim", ylim)
+    if local is not None and not (isinstance(local, Mapping) or callable(local)):
+        raise ParameterError(f"local = {quoted(local)} is invalid; allowed: a mapping label -> (x, y), a callable "
+                             "local(label, x) or None")
+    for name, value in flags.items():
+        check_bool(name, value)
+
+
+def _check_inputs(params, branches) -> None:
+    """The checks of the model of the figures that compute their branches when none are given."""
+    check_params(params)
+    check_type("branches", branches, OrbitBranches, _BRANCHES, optional=True)
+
+
 def plot_branch_quantity(
     branches: OrbitBranches,
     quantity: str = "rdot",
@@ -151,11 +175,18 @@ def plot_branch_quantity(
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``branches`` is not an OrbitBranches, ``quantity`` is not one of the quantities, ``labels`` is
+        not a list of labels, ``ax`` not an Axes, ``xlim`` or ``ylim`` neither None nor two distinct
+        finite numbers, ``local`` neither None, a mapping nor a callable, or ``events`` or ``legend`` not
+        True or False.
     """
-    if not isinstance(branches, OrbitBranches):
-        raise ParameterError(f"branches = {branches!r} is not an OrbitBranches object")
-    if quantity not in _QUANTITIES:
-        raise ParameterError(f"quantity = {quantity!r} is invalid; allowed: {', '.join(_QUANTITIES)}")
+    check_type("branches", branches, OrbitBranches, _BRANCHES)
+    check_choice("quantity", quantity, tuple(_QUANTITIES))
+    _check_options(labels, ax, xlim, ylim, local, events=events, legend=legend)
     ylabel, getter = _QUANTITIES[quantity]
     fig, ax = new_axes(ax)
     drawn = _check_labels(branches, labels)
@@ -193,14 +224,12 @@ def _draw_local(ax, label: str, b: LabelBranch, local, color: str) -> bool:
         if label not in local:
             return False
         x, y = (np.asarray(v, dtype=float) for v in local[label])
-    elif callable(local):
+    else:
         x = np.sort(b.values[np.isfinite(b.values)])
         y = local(label, x)
         if y is None:
             return False
         y = np.asarray(y, dtype=float)
-    else:
-        raise ParameterError("local must be a mapping label -> (x, y) or a callable local(label, x)")
     ax.plot(x, y, color=color, gid=f"{label}:local", **_LOCAL)
     return True
 
@@ -315,7 +344,16 @@ def plot_rdot(
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``params`` is not a Parameters, ``branches`` neither None nor an OrbitBranches, for the
+        options `plot_branch_quantity` refuses (checked before the computation), and for the range
+        `rotorcontact.continuation.branches.orbit_branches` refuses.
     """
+    _check_inputs(params, branches)
+    _check_options(labels, ax, xlim, ylim, local)
     branches = branches or orbit_branches(params, param, start, stop)
     return plot_branch_quantity(branches, "rdot", labels, ax=ax, xlim=xlim, ylim=ylim, local=local)
 
@@ -333,7 +371,9 @@ def plot_thetadot(
     ylim: tuple[float, float] | None = None,
     local: LocalEstimate | None = None,
 ):
-    """thetadot- of the orbits against the parameter (paper Fig. 5c, 5d). Arguments as `plot_rdot`."""
+    """thetadot- of the orbits against the parameter (paper Fig. 5c, 5d). Arguments and errors as `plot_rdot`."""
+    _check_inputs(params, branches)
+    _check_options(labels, ax, xlim, ylim, local)
     branches = branches or orbit_branches(params, param, start, stop)
     return plot_branch_quantity(branches, "thetadot", labels, ax=ax, xlim=xlim, ylim=ylim, local=local)
 
@@ -380,7 +420,14 @@ def plot_max_multiplier(
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        As `plot_rdot`, and if ``log``, ``events`` or ``legend`` is not True or False.
     """
+    _check_inputs(params, branches)
+    _check_options(labels, ax, xlim, ylim, log=log, events=events, legend=legend)
     branches = branches or orbit_branches(params, param, start, stop)
     fig, ax = plot_branch_quantity(branches, "max_multiplier", labels, ax=ax, xlim=xlim, ylim=None, events=events,
                                    legend=legend)
@@ -437,7 +484,14 @@ def plot_extrema(
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        As `plot_rdot`, and if ``regular`` or ``legend`` is not True or False.
     """
+    _check_inputs(params, branches)
+    _check_options(labels, ax, xlim, ylim, regular=regular, legend=legend)
     branches = branches or orbit_branches(params, param, start, stop)
     fig, ax = new_axes(ax)
     view = xlim or (branches.start, branches.stop)
@@ -525,11 +579,24 @@ def plot_velocities(branches: OrbitBranches, labels: Sequence[str] = B1, *, rdot
     -------
     (fig, axes)
         The figure, titled with the other parameters, and its two axes.
+
+    Raises
+    ------
+    ParameterError
+        If ``branches`` is not an OrbitBranches, ``labels`` not a list of labels, ``rdot_max`` neither None
+        nor a finite number > 0, or ``figsize`` not two finite numbers > 0 and at most
+        `rotorcontact.plotting.style.MAX_FIGURE_INCHES`.
     """
     import matplotlib.pyplot as plt
 
-    if not isinstance(branches, OrbitBranches):
-        raise ParameterError(f"branches = {branches!r} is not an OrbitBranches object")
+    check_type("branches", branches, OrbitBranches, _BRANCHES)
+    check_names("labels", labels)
+    if rdot_max is not None:
+        check_float("rdot_max", rdot_max, 0.0, low_open=True)
+    size = real_array(figsize) if is_pair(figsize) else None
+    if size is None or size.shape != (2,) or not np.all((size > 0.0) & (size <= MAX_FIGURE_INCHES)):
+        raise ParameterError(f"figsize = {quoted(figsize)} is invalid; allowed: (width, height) in inches, each "
+                             f"> 0 and <= {MAX_FIGURE_INCHES:g}")
     fig, axes = plt.subplots(2, 1, figsize=figsize, sharex=True)
     plot_branch_quantity(branches, "rdot", labels, ax=axes[0])
     plot_branch_quantity(branches, "thetadot", labels, ax=axes[1], legend=False)

@@ -21,8 +21,9 @@ from ..continuation.codim2 import REGIONS, Codim2Diagram, classify_plane, codim2
 from ..analysis.equilibria import classify_beb_analytic
 from ..errors import ParameterError
 from ..model.params import Parameters
+from ..model.validation import check_bool, check_float, check_params, check_type, quoted, real_array
 from .equilibria import PARAM_LABELS
-from .style import new_axes
+from .style import check_ax, new_axes
 
 __all__ = ["plot_codim2", "region_label_cells", "REGION_COLORS", "CURVE_STYLES", "OTHER"]
 
@@ -76,10 +77,22 @@ def region_label_cells(mask: np.ndarray, min_depth: float = 1.5) -> list[tuple[i
     -------
     list of (int, int)
         ``(i1, i2)``, the column and row of the cell of each part, largest part first.
+
+    Raises
+    ------
+    ParameterError
+        If ``mask`` is not a 2-D array of bools (or of 0 and 1) or ``min_depth`` is not a finite number >= 0.
     """
     from scipy import ndimage
 
-    mask = np.asarray(mask, dtype=bool)
+    try:
+        array = np.asarray(mask) if isinstance(mask, (np.ndarray, list, tuple)) else None
+    except ValueError:  # a ragged list
+        array = None
+    if array is None or array.ndim != 2 or array.dtype.kind not in "biu" or not np.isin(array, (0, 1)).all():
+        raise ParameterError(f"mask = {quoted(mask)} is invalid; allowed: a 2-D array of bools")
+    min_depth = check_float("min_depth", min_depth, 0.0)
+    mask = array.astype(bool)
     parts, count = ndimage.label(mask)
     depth = ndimage.distance_transform_edt(np.pad(mask, 1))[1:-1, 1:-1]
     out = []
@@ -94,6 +107,22 @@ def region_label_cells(mask: np.ndarray, min_depth: float = 1.5) -> list[tuple[i
         out.append((jj.size, int(ii[m]), int(jj[m])))
     out.sort(key=lambda item: -item[0])
     return [(i, j) for _size, i, j in out]
+
+
+def _check_labels(labels) -> None:
+    """None, or a list or tuple of (text, p1, p2): the labels along the DIB curve."""
+    if labels is None:
+        return
+    ok = isinstance(labels, (list, tuple))
+    for item in labels if ok else ():
+        ok = isinstance(item, (list, tuple)) and len(item) == 3 and isinstance(item[0], str)
+        coords = real_array(item[1:]) if ok else None
+        if coords is None or coords.shape != (2,) or not np.all(np.isfinite(coords)):
+            ok = False
+            break
+    if not ok:
+        raise ParameterError(f"labels = {quoted(labels)} is invalid; allowed: None or a list of (text, p1, p2), "
+                             "p1 and p2 finite numbers")
 
 
 def plot_codim2(
@@ -142,17 +171,34 @@ def plot_codim2(
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``params`` is not a Parameters, ``ax`` not an Axes, ``diagram`` neither None nor a
+        Codim2Diagram, ``labels`` neither None nor a list of (text, p1, p2), or ``regions`` or ``legend``
+        not True or False; and for the plane, ``shape``, ``grazing`` or ``t_max`` that
+        `rotorcontact.continuation.codim2.codim2_diagram` or `rotorcontact.continuation.codim2.classify_plane`
+        refuse (all before drawing).
     """
+    check_params(params)
+    check_ax(ax)
+    check_type("diagram", diagram, Codim2Diagram, "the Codim2Diagram of rotorcontact.continuation.codim2."
+               "codim2_diagram", optional=True)
+    _check_labels(labels)
+    check_bool("regions", regions)
+    check_bool("legend", legend)
     if diagram is None:
-        diagram = codim2_diagram(params, param, ranges, grazing=tuple(grazing), t_max=t_max)
-    elif not isinstance(diagram, Codim2Diagram):
-        raise ParameterError(f"diagram = {diagram!r} is not a Codim2Diagram")
+        diagram = codim2_diagram(params, param, ranges, grazing=grazing, t_max=t_max)
+    if regions:
+        v1, v2, cells = classify_plane(diagram.base, diagram.param, diagram.ranges, shape, t_max)
+    if labels is None:
+        labels = dib_labels(diagram, t_max, classify_beb_analytic)
     fig, ax = new_axes(ax)
     (a1, b1), (a2, b2) = diagram.ranges
     if regions:
         from matplotlib.colors import ListedColormap
 
-        v1, v2, cells = classify_plane(diagram.base, diagram.param, diagram.ranges, shape, t_max)
         names = (*REGIONS, OTHER)
         code = np.zeros(cells.shape)
         for i, name in enumerate(names):
@@ -172,8 +218,6 @@ def plot_codim2(
             ax.plot(xy[:, 0], xy[:, 1], label=label, gid=f"curve:{name}", **style)
     for pt in diagram.points:
         ax.plot([pt.values[0]], [pt.values[1]], "o", color="k", ms=5, zorder=6, gid=f"point:{pt.type}")
-    if labels is None:
-        labels = dib_labels(diagram, t_max, classify_beb_analytic)
     for text, x, y in labels:
         ax.annotate(text, (x, y), textcoords="offset points", xytext=(6, 0), fontsize=9, style="italic",
                     gid=f"dib:{text}")

@@ -10,10 +10,24 @@ from matplotlib.patches import Patch
 from ..studies.design_map import OUTCOMES, DesignMap, rpm_to_rad_s
 from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
-from .style import new_axes, save_figure
+from ..model.validation import check_type, quoted
+from .style import check_figure_path, new_axes, save_figure
 
 REGIME_COLORS = {"safe": "#4daf4a", "bistable": "#ffbf00", "contact-certain": "#e41a1c"}
 _LABELS = {"speed_rpm": "speed (rpm)", "stiffness": "bearing stiffness k (N/m)", "damping": "bearing damping c (N s/m)"}
+_KINDS = {1: "a speed map (speed_map)", 2: "a plane map (plane_map)"}
+
+
+def _check_map(dmap, settings: int | None = None, shock: bool = False) -> DesignMap:
+    """``dmap`` if it is a `DesignMap` over ``settings`` settings (any where None), computed with a shock
+    where ``shock``; a `ParameterError` naming it otherwise."""
+    check_type("dmap", dmap, DesignMap, "a rotorcontact.studies.design_map.DesignMap (speed_map or plane_map)")
+    if (settings is not None and len(dmap.axes) != settings) or (shock and dmap.shock is None):
+        want = _KINDS[settings] if settings is not None else "a design map"
+        want += " computed with a shock" if shock else ""
+        raise ParameterError(f"dmap = {quoted(dmap)} is a map over {', '.join(dmap.axes)} "
+                             f"{'without' if dmap.shock is None else 'with'} a shock; allowed: {want}")
+    return dmap
 
 
 def _legend(ax) -> None:
@@ -25,7 +39,14 @@ def _legend(ax) -> None:
 
 
 def plot_speed_regimes(dmap: DesignMap, ax=None):
-    """Regimes against speed, shaded, with the contact-free whirl amplitude and the clearance (micrometres)."""
+    """Regimes against speed, shaded, with the contact-free whirl amplitude and the clearance (micrometres).
+
+    Raises
+    ------
+    ParameterError
+        If ``dmap`` is not a speed map (`speed_map`) or ``ax`` is not an Axes.
+    """
+    _check_map(dmap, 1)
     fig, ax = new_axes(ax, figsize=(8, 4))
     speeds = dmap.values[0]
     edges = np.concatenate(([speeds[0]], 0.5 * (speeds[1:] + speeds[:-1]), [speeds[-1]]))
@@ -49,7 +70,14 @@ def plot_speed_regimes(dmap: DesignMap, ax=None):
 
 
 def plot_operating_line(dmap: DesignMap, ax=None):
-    """The speed run-up as a curve in the (gamma, omega) plane, over the boundary-equilibrium curve."""
+    """The speed run-up as a curve in the (gamma, omega) plane, over the boundary-equilibrium curve.
+
+    Raises
+    ------
+    ParameterError
+        If ``dmap`` is not a DesignMap or ``ax`` is not an Axes.
+    """
+    _check_map(dmap)
     fig, ax = new_axes(ax, figsize=(5, 4))
     p0 = dmap.machine.parameters()
     omegas = np.linspace(1e-3, 1.5, 600)
@@ -64,7 +92,8 @@ def plot_operating_line(dmap: DesignMap, ax=None):
         if sel.any():
             ax.plot(gam[sel], om[sel], "o", ms=3, color=REGIME_COLORS[regime], label=regime, zorder=2)
     ref = dmap.machine.parameters()
-    ax.plot([ref.gamma], [ref.omega], "k*", ms=10, label=f"operating point ({dmap.machine.speed * 60 / (2 * np.pi):.0f} rpm)")
+    rpm = dmap.machine.speed * 60 / (2 * np.pi)
+    ax.plot([ref.gamma], [ref.omega], "k*", ms=10, label=f"operating point ({rpm:.0f} rpm)")
     ax.set_xlabel("γ = c / (m Ω)")
     ax.set_ylabel("ω = √(k / m) / Ω")
     ax.set_xlim(0, max(0.5, 1.1 * np.nanmax(gam)))
@@ -75,7 +104,14 @@ def plot_operating_line(dmap: DesignMap, ax=None):
 
 
 def plot_plane(dmap: DesignMap, ax=None):
-    """Regimes over a plane of two settings, with the machine's own setting marked."""
+    """Regimes over a plane of two settings, with the machine's own setting marked.
+
+    Raises
+    ------
+    ParameterError
+        If ``dmap`` is not a plane map (`plane_map`) or ``ax`` is not an Axes.
+    """
+    _check_map(dmap, 2)
     fig, ax = new_axes(ax, figsize=(6, 4.5))
     a, b = dmap.values
     codes = dmap.regime_codes().T
@@ -106,9 +142,13 @@ def plot_speed_recovery(dmap: DesignMap, ax=None):
 
     With ``ax`` (for example a twin of the axes of `plot_speed_regimes`) they are drawn there.
     Returns (fig, ax).
+
+    Raises
+    ------
+    ParameterError
+        If ``dmap`` is not a speed map computed with a shock or ``ax`` is not an Axes.
     """
-    if dmap.shock is None or len(dmap.axes) != 1:
-        raise ParameterError("plot_speed_recovery needs a speed map computed with a shock")
+    _check_map(dmap, 1, shock=True)
     fig, ax = new_axes(ax, figsize=(8, 4))
     ax.plot(dmap.values[0], _recovery(dmap), "o", color="#377eb8", ms=4, gid="recovery", label="recovery (%)")
     ax.set_ylim(-5, 105)
@@ -117,9 +157,14 @@ def plot_speed_recovery(dmap: DesignMap, ax=None):
 
 
 def plot_plane_recovery(dmap: DesignMap, ax=None):
-    """Recovery probabilities (%) of the bistable settings of a plane; blank elsewhere. Returns (fig, ax)."""
-    if dmap.shock is None or len(dmap.axes) != 2:
-        raise ParameterError("plot_plane_recovery needs a plane map computed with a shock")
+    """Recovery probabilities (%) of the bistable settings of a plane; blank elsewhere. Returns (fig, ax).
+
+    Raises
+    ------
+    ParameterError
+        If ``dmap`` is not a plane map computed with a shock or ``ax`` is not an Axes.
+    """
+    _check_map(dmap, 2, shock=True)
     fig, ax = new_axes(ax, figsize=(6, 4.5))
     a, b = dmap.values
     mesh = ax.pcolormesh(a, b, _recovery(dmap).T, cmap="viridis", vmin=0.0, vmax=100.0, shading="nearest")
@@ -136,7 +181,13 @@ def plot_design_map(dmap: DesignMap):
 
     With recovery probabilities (``--shock``) they are drawn too: on a second axis against speed,
     or as a second panel beside the plane.
+
+    Raises
+    ------
+    ParameterError
+        If ``dmap`` is not a DesignMap.
     """
+    _check_map(dmap)
     if len(dmap.axes) == 1:
         fig, axes = plt.subplots(1, 2, figsize=(13, 4.5), gridspec_kw={"width_ratios": [1.7, 1]})
         plot_speed_regimes(dmap, axes[0])
@@ -155,6 +206,14 @@ def plot_design_map(dmap: DesignMap):
 
 
 def save_design_map(dmap: DesignMap, path):
-    """Draw `plot_design_map` and save it."""
+    """Draw `plot_design_map` and save it.
+
+    Raises
+    ------
+    ParameterError
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing), and for a
+        ``dmap`` that `plot_design_map` refuses.
+    """
+    check_figure_path(path)
     fig, _ = plot_design_map(dmap)
     return save_figure(fig, path)

@@ -6,17 +6,29 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
-from .style import save_figure
+from .style import check_dataset, check_figure_path, save_figure, study_dataset
 
 __all__ = ["plot_drop_map", "save_drop_map_figure"]
 
 _REGIME_COLORS = ("#9ecae1", "#fdd0a2", "#a1d99b", "#de2d26", "#000000")  # failed: black
+#: What the figure reads of the dataset of `rotorcontact.studies.drop_map.drop_map`.
+NEEDS = ("speed_rpm", "friction", "regime", "backward_whirl_onset_s", "max_normal_impulse_Ns")
+NEEDS_ATTRS = ("regimes", "fail_at_s", "t_end_s")
+MADE_BY = "rotorcontact.studies.drop_map.drop_map"
 
 
 def plot_drop_map(ds):
     """Three panels over (speed, friction): the regime after the drop, the onset of backward whirl (s)
     and the peak normal impulse (N s); over speed alone where the map has one friction coefficient.
-    Returns (fig, axes)."""
+    Returns (fig, axes).
+
+    Raises
+    ------
+    ParameterError
+        If ``ds`` is not a drop map's dataset (another study's, or not a Dataset).
+    """
+    ds = study_dataset(ds)
+    check_dataset(ds, NEEDS, MADE_BY, attrs=NEEDS_ATTRS)
     regimes = ds.attrs["regimes"].split(",")
     speed = ds["speed_rpm"].values
     mu = ds["friction"].values
@@ -52,6 +64,15 @@ def plot_drop_map(ds):
 
 
 def save_drop_map_figure(ds, path):
-    """Draw `plot_drop_map` and save it to ``path``."""
+    """Draw `plot_drop_map` and save it to ``path``.
+
+    Raises
+    ------
+    ParameterError
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing), and
+        for a ``ds`` that `plot_drop_map` refuses.
+    """
+    ds = study_dataset(ds)
+    check_figure_path(path)
     fig, _ = plot_drop_map(ds)
     return save_figure(fig, path)

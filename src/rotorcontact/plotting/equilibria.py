@@ -19,10 +19,11 @@ from typing import Sequence
 
 import numpy as np
 
-from ..analysis.equilibria import PSEUDO_NAMES, EquilibriumBranches, equilibrium_branches, pseudo_equilibria, regular_equilibrium
-from ..errors import ParameterError
+from ..analysis.equilibria import (PSEUDO_NAMES, EquilibriumBranches, equilibrium_branches, pseudo_equilibria,
+                                   regular_equilibrium)
 from ..model.params import Parameters
-from .style import new_axes, save_figure
+from ..model.validation import check_bool, check_choice, check_params, check_type
+from .style import check_ax, check_figure_path, check_limits, new_axes, save_figure
 
 __all__ = ["plot_equilibrium_branches", "plot_equilibria", "save_equilibria_figure", "PARAM_LABELS"]
 
@@ -62,9 +63,16 @@ def _runs(states: Sequence[tuple[bool, bool, bool]]):
             i0 = i
 
 
+def _check_options(ax, pseudo, ylim, legend) -> None:
+    """The checks of the drawing options of `plot_equilibrium_branches` (made by `plot_equilibria` too, before
+    its computation)."""
+    check_ax(ax)
+    check_choice("pseudo", pseudo, _PSEUDO_CHOICES)
+    check_limits("ylim", ylim)
+    check_bool("legend", legend)
+
+
 def _which_pseudo(branches: EquilibriumBranches, pseudo: str) -> tuple[str, ...]:
-    if pseudo not in _PSEUDO_CHOICES:
-        raise ParameterError(f"pseudo = {pseudo!r} is invalid; allowed: {', '.join(_PSEUDO_CHOICES)}")
     if pseudo == "none":
         return ()
     if pseudo == "both":
@@ -104,9 +112,16 @@ def plot_equilibrium_branches(
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``branches`` is not an EquilibriumBranches, ``ax`` not an Axes, ``pseudo`` not one of its
+        choices, ``ylim`` neither None nor two distinct finite numbers, or ``legend`` not True or False.
     """
-    if not isinstance(branches, EquilibriumBranches):
-        raise ParameterError(f"branches = {branches!r} is not an EquilibriumBranches object")
+    check_type("branches", branches, EquilibriumBranches,
+               "the EquilibriumBranches of rotorcontact.analysis.equilibria.equilibrium_branches")
+    _check_options(ax, pseudo, ylim, legend)
     fig, ax = new_axes(ax)
     names = _which_pseudo(branches, pseudo)
     v = branches.values
@@ -191,7 +206,15 @@ def plot_equilibria(
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``params`` is not a Parameters, for the drawing options `plot_equilibrium_branches` refuses
+        (checked before the computation), and for the range `equilibrium_branches` refuses.
     """
+    check_params(params)
+    _check_options(ax, pseudo, ylim, legend)
     branches = equilibrium_branches(params, param, start, stop, n)
     fig, ax = plot_equilibrium_branches(branches, ax, pseudo=pseudo, ylim=ylim, legend=legend)
     p = params
@@ -205,11 +228,14 @@ def plot_equilibria(
 def save_equilibria_figure(
     params: Parameters, path, param: str = "gamma", start: float = 0.0, stop: float = 0.2, **kwargs
 ):
-    """Draw `plot_equilibria` and save it to ``path`` (.png, .svg or .pdf); returns the path."""
-    from pathlib import Path
+    """Draw `plot_equilibria` and save it to ``path`` (.png, .svg or .pdf); returns the path.
 
-    suffix = Path(str(path)).suffix.lower()
-    if suffix not in {".png", ".svg", ".pdf"}:  # check before the work, not after
-        raise ParameterError(f"plot file {str(path)!r} has an unsupported suffix; allowed: .png, .svg, .pdf")
+    Raises
+    ------
+    ParameterError
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before the work), and
+        for the arguments `plot_equilibria` refuses.
+    """
+    check_figure_path(path)
     fig, _ = plot_equilibria(params, param, start, stop, **kwargs)
     return save_figure(fig, path)

@@ -20,12 +20,12 @@ import numpy as np
 from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
 from ..model.flow import free_flight
-from ..maps.impact_map import f1, f1_zeros, one_impact_orbits
+from ..maps.impact_map import f1, f1_zeros, one_impact_orbits, period_limit
 from ..model.params import Parameters, check_range
-from ..model.validation import check_int
+from ..model.validation import check_bool, check_float, check_int, check_params, check_type, is_pair, quoted
 from ..continuation.zero_curves import F1ZeroCurves, f1_zero_curves
 from .equilibria import PARAM_LABELS
-from .style import CLEARANCE_COLOR, new_axes, orbit_tex
+from .style import CLEARANCE_COLOR, MAX_PLOT_POINTS, check_ax, check_limits, new_axes, orbit_tex
 
 __all__ = ["plot_f1", "plot_f1_zeros", "plot_nsfh_schematic", "PAIR_COLORS"]
 
@@ -58,23 +58,39 @@ def plot_f1(
     ylim : (float, float)
         Vertical range.
     n_points : int
-        Samples of F1.
+        Samples of F1, 10 to `rotorcontact.plotting.style.MAX_PLOT_POINTS`.
     mark_zeros : bool
         Mark and label the zeros T0,n,a / T0,n,b (found with a guarantee).
 
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``params`` is not a Parameters, ``t_range`` not a pair 0 <= start < stop (with a stop where
+        F1 is evaluated accurately, `rotorcontact.maps.impact_map.period_limit`), ``ax`` not an Axes,
+        ``ylim`` not two distinct finite numbers, ``n_points`` out of its range or ``mark_zeros`` not True
+        or False.
     """
+    check_params(params)
+    if not is_pair(t_range):
+        raise ParameterError(f"t_range = {quoted(t_range)} is invalid; allowed: (start, stop), 0 <= start < stop")
     lo = check_range("t_range[0]", t_range[0], low=0.0)
-    hi = check_range("t_range[1]", t_range[1], low=lo, low_open=True)
-    n_points = check_int("n_points", n_points, 10)
-    fig, ax = new_axes(ax)
+    hi = check_range("t_range[1]", t_range[1], low=lo, low_open=True, high=period_limit(params),
+                     why="F1 is evaluated accurately up to there at these parameters")
+    check_ax(ax)
+    ylim = check_limits("ylim", ylim, optional=False)
+    n_points = check_int("n_points", n_points, 10, MAX_PLOT_POINTS)
+    check_bool("mark_zeros", mark_zeros)
     t = np.linspace(max(lo, 1e-9 * hi), hi, n_points)
+    zeros = f1_zeros(params, hi) if mark_zeros else []
+    fig, ax = new_axes(ax)
     ax.axhline(0.0, color=CLEARANCE_COLOR, lw=0.8, zorder=0)
     ax.plot(t, f1(params, t), color="k", lw=1.2, gid="F1")
     if mark_zeros:
-        for z in f1_zeros(params, hi):
+        for z in zeros:
             if z.T < lo:
                 continue
             ax.plot([z.T], [0.0], "o", ms=4, color=_pair_color(z.n), gid=f"zero:{z.n}:{z.kind}")
@@ -127,7 +143,20 @@ def plot_f1_zeros(
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``params`` is not a Parameters, ``t_max`` not a finite number > 0, ``ax`` not an Axes,
+        ``curves`` neither None nor an F1ZeroCurves, or ``legend`` not True or False; and for the range
+        `rotorcontact.continuation.zero_curves.f1_zero_curves` refuses.
     """
+    check_params(params)
+    check_float("t_max", t_max, 0.0, low_open=True)
+    check_ax(ax)
+    check_type("curves", curves, F1ZeroCurves, "the F1ZeroCurves of rotorcontact.continuation.zero_curves."
+               "f1_zero_curves", optional=True)
+    check_bool("legend", legend)
     if curves is None:
         curves = f1_zero_curves(params, param, start, stop, t_max=t_max)
     fig, ax = new_axes(ax)
@@ -193,7 +222,19 @@ def plot_nsfh_schematic(params: Parameters, *, gamma: float | None = None, ax=No
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``params`` is not a Parameters (or has no boundary equilibrium), ``gamma`` is neither None nor
+        a finite number, ``ax`` is not an Axes or ``t_max`` is not a finite number > 0 (or too large for
+        the search of orbits).
     """
+    check_params(params)
+    if gamma is not None:
+        check_float("gamma", gamma)
+    check_ax(ax)
+    check_float("t_max", t_max, 0.0, low_open=True)
     gs = boundary_gamma(params)
     if gs is None:
         raise ParameterError("no boundary equilibrium for these parameters (gamma* is not real): no NSFH to draw")
@@ -205,14 +246,14 @@ def plot_nsfh_schematic(params: Parameters, *, gamma: float | None = None, ax=No
     p = params.replace(gamma=gamma)
     pb = params.replace(gamma=gs)
     kb = pb.k
-    fig, ax = new_axes(ax)
-    s = np.linspace(0.0, 2.0 * math.pi, 4000)
-    ax.plot(np.cos(s), np.sin(s), color=CLEARANCE_COLOR, lw=2.0, zorder=0)
     # the path of x_R as gamma goes through gamma*: it crosses the clearance at x_B
     span = 1.5 * (gamma - gs)
     path = np.array([params.replace(gamma=g).k for g in np.linspace(gs - span, gamma + span, 200)])
-    ax.plot(path.real, path.imag, color="k", lw=0.8, ls=":", gid="x_R-path")
     orbits = {o.label: o for o in one_impact_orbits(p, t_max) if o.n == 1}
+    fig, ax = new_axes(ax)
+    s = np.linspace(0.0, 2.0 * math.pi, 4000)
+    ax.plot(np.cos(s), np.sin(s), color=CLEARANCE_COLOR, lw=2.0, zorder=0)
+    ax.plot(path.real, path.imag, color="k", lw=0.8, ls=":", gid="x_R-path")
     styles = {"B1,b": ("C1", 1.2, 2), "B1,a": ("C0", 1.8, 3)}
     pts = [kb, p.k]
     for label, (color, lw, z) in styles.items():

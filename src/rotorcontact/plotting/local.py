@@ -19,9 +19,10 @@ import numpy as np
 
 from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
-from ..analysis.local import LinearImpactingSystem, global_fixed_points, local_analysis
+from ..analysis.local import MAX_EPSILONS, LinearImpactingSystem, global_fixed_points, local_analysis
 from ..model.params import Parameters, check_range
-from .style import new_axes
+from ..model.validation import check_choice, check_int, check_type, is_pair, quoted
+from .style import check_ax, check_axes, check_names, new_axes
 
 __all__ = ["plot_local_estimate", "plot_local_figure"]
 
@@ -29,9 +30,33 @@ QUANTITIES = {"rdot": r"$\dot r^-$", "thetadot": r"$\dot\theta^-$"}
 COLORS = {"a": "C0", "b": "C1", "c": "C2", "d": "C3"}
 
 
+#: The options of `plot_local_estimate` that `plot_local_figure` passes on, and their defaults.
+FIGURE_OPTIONS = ("labels", "eps_range", "n", "t_max")
+SMALL_ORBITS = ("B1,a", "B1,b")
+N_VALUES = 121
+T_MAX = 12.0
+
+
+def _check_local(model, quantity, labels=SMALL_ORBITS, eps_range=None, n=N_VALUES, t_max=T_MAX):
+    """The checks of the arguments of `plot_local_estimate`; returns the labels, the offset and grid of eps,
+    and the small orbits of the local analysis by label."""
+    check_type("model", model, (Parameters, LinearImpactingSystem),
+               "rotorcontact.Parameters or a rotorcontact.analysis.local.LinearImpactingSystem")
+    check_choice("quantity", quantity, tuple(QUANTITIES))
+    labels = check_names("labels", labels)
+    if eps_range is not None and not is_pair(eps_range):
+        raise ParameterError(f"eps_range = {quoted(eps_range)} is invalid; allowed: (low, high) or None")
+    n = check_int("n", n, 3, MAX_EPSILONS)
+    offset, eps = _grid(model, eps_range, n)
+    local = {o.label: o for o in local_analysis(model, t_max).orbits}
+    for lab in labels:
+        if lab not in local:
+            raise ParameterError(f"no small orbit {lab!r} at the boundary equilibrium; allowed: "
+                                 f"{', '.join(local) or 'none'}")
+    return labels, offset, eps, local
+
+
 def _grid(model, eps_range, n):
-    if n < 3:
-        raise ParameterError(f"n = {n!r} is too small; allowed: n >= 3")
     offset = 0.0
     if isinstance(model, Parameters):
         gs = boundary_gamma(model)
@@ -55,10 +80,10 @@ def plot_local_estimate(
     quantity: str = "rdot",
     ax=None,
     *,
-    labels: Sequence[str] = ("B1,a", "B1,b"),
+    labels: Sequence[str] = SMALL_ORBITS,
     eps_range: tuple[float, float] | None = None,
-    n: int = 121,
-    t_max: float = 12.0,
+    n: int = N_VALUES,
+    t_max: float = T_MAX,
 ):
     """Global branches of ``quantity`` with the local first-order estimate overlaid.
 
@@ -78,23 +103,25 @@ def plot_local_estimate(
         Range of eps = parameter - its boundary value; default +-gamma*/2 for the
         rotor, +-0.05 for a general system.
     n : int
-        Number of parameter values for the global branches.
+        Number of parameter values for the global branches, 3 to
+        `rotorcontact.analysis.local.MAX_EPSILONS`.
     t_max : float
         End of the period search.
 
     Returns
     -------
     fig, ax
+
+    Raises
+    ------
+    ParameterError
+        If ``model`` is neither a Parameters nor a LinearImpactingSystem, ``quantity`` is not one of
+        `QUANTITIES`, ``ax`` is not an Axes, ``labels`` is not a list of the small orbits' labels,
+        ``eps_range`` is not an increasing pair of finite numbers, ``n`` is out of its range or ``t_max``
+        is not a finite number > 0; and for a rotor without a real gamma*.
     """
-    if quantity not in QUANTITIES:
-        raise ParameterError(f"quantity = {quantity!r} is invalid; allowed: {', '.join(QUANTITIES)}")
-    offset, eps = _grid(model, eps_range, n)
-    analysis = local_analysis(model, t_max)
-    local = {o.label: o for o in analysis.orbits}
-    for lab in labels:
-        if lab not in local:
-            raise ParameterError(f"no small orbit {lab!r} at the boundary equilibrium; allowed: "
-                                 f"{', '.join(local) or 'none'}")
+    check_ax(ax)
+    labels, offset, eps, local = _check_local(model, quantity, labels, eps_range, n, t_max)
     values = {lab: np.full(eps.shape, np.nan) for lab in labels}
     admissible = {lab: np.zeros(eps.shape, dtype=bool) for lab in labels}
     for i, e in enumerate(eps):
@@ -140,20 +167,30 @@ def plot_local_figure(
     model : Parameters or LinearImpactingSystem
     axes : sequence of two matplotlib.axes.Axes, optional
     **kwargs
-        Passed to `plot_local_estimate`.
+        Passed to `plot_local_estimate`: `FIGURE_OPTIONS`.
 
     Returns
     -------
     fig, axes
+
+    Raises
+    ------
+    ParameterError
+        If ``axes`` is neither None nor two Axes, for an option that is not one of `FIGURE_OPTIONS`, and
+        for the arguments `plot_local_estimate` refuses (all before drawing).
     """
-    if axes is None:
+    flat = check_axes(axes, 2, "rdot, thetadot")
+    for key, value in kwargs.items():
+        if key not in FIGURE_OPTIONS:
+            raise ParameterError(f"{key} = {quoted(value)} is not an option of plot_local_figure; allowed: "
+                                 f"{', '.join(FIGURE_OPTIONS)}")
+    _check_local(model, "rdot", **kwargs)
+    if flat is None:
         fig, axes = new_axes(None, ncols=2, figsize=(10.0, 4.0))
-    else:
-        if len(axes) != 2:
-            raise ParameterError(f"axes has {len(axes)} entries; allowed: 2")
-        fig = axes[0].figure
-    plot_local_estimate(model, "rdot", axes[0], **kwargs)
-    plot_local_estimate(model, "thetadot", axes[1], **kwargs)
-    axes[0].set_title(r"(b) $\dot r^-$ of the small orbits")
-    axes[1].set_title(r"(d) $\dot\theta^-$ of the small orbits")
+        flat = list(axes)
+    fig = flat[0].figure
+    plot_local_estimate(model, "rdot", flat[0], **kwargs)
+    plot_local_estimate(model, "thetadot", flat[1], **kwargs)
+    flat[0].set_title(r"(b) $\dot r^-$ of the small orbits")
+    flat[1].set_title(r"(d) $\dot\theta^-$ of the small orbits")
     return fig, axes

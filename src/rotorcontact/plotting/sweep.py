@@ -18,7 +18,8 @@ import numpy as np
 
 from ..studies.batch import REGIME_NAMES
 from ..errors import ParameterError
-from .style import new_axes, save_figure
+from ..model.validation import check_choice, check_float, check_type, quoted
+from .style import check_dataset, check_figure_path, new_axes, save_figure, study_dataset
 
 __all__ = ["plot_sweep", "plot_regimes", "save_sweep_figure", "SECTION_LABELS", "REGIME_COLORS"]
 
@@ -47,8 +48,65 @@ REGIME_COLORS = {
 }
 
 
-def _param(ds) -> str:
-    return str(ds.attrs["swept_parameter"])
+#: The functions whose datasets the figures draw: the sweep, and the fixed points overlaid on it.
+MADE_BY = "rotorcontact.studies.sweep.sweep"
+OVERLAY_MADE_BY = "rotorcontact.studies.sweep.one_impact_overlay"
+#: What an overlay may be, in words.
+OVERLAY_KINDS = ("rotorcontact.continuation.branches.OrbitBranches, "
+                 "rotorcontact.continuation.multi_impact_families.MultiImpactBranches or the Dataset of "
+                 f"{OVERLAY_MADE_BY}")
+
+
+def _param(ds, *needs: str) -> str:
+    """The swept parameter of the sweep ``ds``, once ``ds`` is checked to be a sweep holding ``needs``."""
+    check_dataset(ds, ("direction", *needs), MADE_BY, attrs=("swept_parameter",))
+    param = str(ds.attrs["swept_parameter"])
+    check_dataset(ds, (param,), MADE_BY)
+    return param
+
+
+def _layers(overlay, param: str, variable: str) -> list:
+    """The layers of ``overlay`` (None, one layer, or a list or tuple of them), each checked to be one of
+    `OVERLAY_KINDS` over the swept parameter ``param``."""
+    if overlay is None:
+        return []
+    import xarray as xr
+
+    from ..continuation.multi_impact_families import MultiImpactBranches
+    from ..continuation.results import OrbitBranches
+
+    many = isinstance(overlay, (list, tuple))
+    layers = list(overlay) if many else [overlay]
+    for i, layer in enumerate(layers):
+        name = f"overlay[{i}]" if many else "overlay"
+        check_type(name, layer, (OrbitBranches, MultiImpactBranches, xr.Dataset), OVERLAY_KINDS)
+        if isinstance(layer, xr.Dataset):
+            check_dataset(layer, (param, "orbit", variable, "admissible", "stable"), OVERLAY_MADE_BY, name=name)
+        elif layer.param != param:
+            raise ParameterError(f"{name} = {quoted(layer)} follows {layer.param!r}; allowed: branches over the "
+                                 f"swept parameter {param!r}")
+    return layers
+
+
+def _check_cascades(cascades) -> None:
+    if not isinstance(cascades, (list, tuple)):
+        raise ParameterError(f"cascades = {quoted(cascades)} is invalid; allowed: a list or tuple of "
+                             "rotorcontact.continuation.cascade.Cascade")
+    if cascades:
+        from ..continuation.cascade import Cascade
+
+        for i, c in enumerate(cascades):
+            check_type(f"cascades[{i}]", c, Cascade, "a rotorcontact.continuation.cascade.Cascade")
+
+
+def _check_sweep(ds, variable, overlay, markersize, cascades) -> tuple[str, list]:
+    """The checks of `plot_sweep`; returns the swept parameter and the overlay's layers."""
+    check_choice("variable", variable, tuple(SECTION_LABELS))
+    param = _param(ds, variable)
+    layers = _layers(overlay, param, variable)
+    check_float("markersize", markersize, 0.0, low_open=True)
+    _check_cascades(cascades)
+    return param, layers
 
 
 def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize: float = 2.0, cascades=()):
@@ -56,8 +114,8 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A sweep (`rotorcontact.studies.sweep.sweep`).
+    ds : SweepResult or xarray.Dataset
+        A sweep (`rotorcontact.studies.sweep.sweep`), or its ``dataset`` (as read back from a file).
     variable : {"theta", "rdot", "thetadot"}
         Section variable.
     ax : matplotlib Axes, optional
@@ -74,11 +132,22 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
     Returns
     -------
     fig, ax
+
+    Raises
+    ------
+    ParameterError
+        If ``ds`` is not a sweep's dataset (another study's, or not a Dataset), ``variable`` is not a
+        section variable, ``ax`` is not an Axes, a layer of ``overlay`` is not one of `OVERLAY_KINDS` over
+        the swept parameter, ``markersize`` is not a number > 0 or ``cascades`` is not a list of Cascade.
     """
-    if variable not in SECTION_LABELS:
-        raise ParameterError(f"variable = {variable!r} is invalid; allowed: {', '.join(SECTION_LABELS)}")
-    param = _param(ds)
+    ds = study_dataset(ds)
+    param, layers = _check_sweep(ds, variable, overlay, markersize, cascades)
     fig, ax = new_axes(ax)
+    _draw_sweep(ax, ds, param, variable, layers, markersize, cascades)
+    return fig, ax
+
+
+def _draw_sweep(ax, ds, param: str, variable: str, layers: list, markersize: float, cascades) -> None:
     values = ds[param].values
     for d in ds.direction.values:
         d = str(d)
@@ -87,8 +156,7 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
         ok = np.isfinite(y)
         ax.plot(x[ok], y[ok], ls="none", marker=".", ms=markersize, color=DIRECTION_COLORS.get(d, "k"),
                 alpha=0.7, label=f"sweep {d}", gid=f"section:{d}", rasterized=True, zorder=3)
-    overlays = [] if overlay is None else (list(overlay) if isinstance(overlay, (list, tuple)) else [overlay])
-    for ov in overlays:
+    for ov in layers:
         if hasattr(ov, "depth"):
             _draw_multi_branches(ax, ov, variable)
         elif hasattr(ov, "branch"):
@@ -103,7 +171,6 @@ def plot_sweep(ds, variable: str = "theta", ax=None, *, overlay=None, markersize
     if handles:
         leg = ax.legend(loc="best", fontsize="small", markerscale=6)
         leg.set_gid("legend")
-    return fig, ax
 
 
 def _draw_overlay(ax, overlay, param: str, variable: str) -> None:
@@ -193,9 +260,21 @@ def _draw_cascades(ax, cascades, variable: str) -> None:
 
 
 def plot_regimes(ds, ax=None):
-    """The regime of each direction at each value, as coloured strips. Returns (fig, ax)."""
-    param = _param(ds)
+    """The regime of each direction at each value, as coloured strips. Returns (fig, ax).
+
+    Raises
+    ------
+    ParameterError
+        If ``ds`` is not a sweep's dataset (another study's, or not a Dataset) or ``ax`` is not an Axes.
+    """
+    ds = study_dataset(ds)
+    param = _param(ds, "regime")
     fig, ax = new_axes(ax)
+    _draw_regimes(ax, ds, param)
+    return fig, ax
+
+
+def _draw_regimes(ax, ds, param: str) -> None:
     values = ds[param].values
     dirs = [str(d) for d in ds.direction.values]
     codes = ds["regime"].values
@@ -216,18 +295,28 @@ def plot_regimes(ds, ax=None):
     ax.legend(handles=[Patch(color=REGIME_COLORS[REGIME_NAMES[c]], label=REGIME_NAMES[c]) for c in present],
               loc="upper center", bbox_to_anchor=(0.5, -0.6), ncol=min(4, len(present)), fontsize="small",
               frameon=False)
-    return fig, ax
 
 
 def save_sweep_figure(ds, path, variable: str = "theta", *, overlay=None, cascades=()) -> Any:
-    """Write the diagram (section and regime strip) to ``path`` (.png, .svg or .pdf)."""
+    """Write the diagram (section and regime strip) to ``path`` (.png, .svg or .pdf).
+
+    Raises
+    ------
+    ParameterError
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses, and for the arguments
+        `plot_sweep` and `plot_regimes` refuse (all before drawing).
+    """
+    ds = study_dataset(ds)
     import matplotlib.pyplot as plt
 
+    check_figure_path(path)
+    param, layers = _check_sweep(ds, variable, overlay, 2.0, cascades)
+    _param(ds, "regime")
     fig, (ax, ax2) = plt.subplots(2, 1, figsize=(7.5, 6.0), sharex=True,
                                   gridspec_kw=dict(height_ratios=(6, 1), hspace=0.08))
-    plot_sweep(ds, variable, ax, overlay=overlay, cascades=cascades)
+    _draw_sweep(ax, ds, param, variable, layers, 2.0, cascades)
     ax.set_xlabel("")
-    plot_regimes(ds, ax2)
+    _draw_regimes(ax2, ds, param)
     p = ds.attrs
     ax.set_title(
         f"brute-force diagram, {p.get('n_transient')} transient + {p.get('n_record')} recorded events per value",

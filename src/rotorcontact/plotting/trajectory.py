@@ -5,12 +5,20 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..errors import ParameterError
+from ..model.validation import check_bool, check_float, check_int, check_type
 from ..simulation.trajectory import Trajectory
-from .style import draw_clearance, new_axes, save_figure
+from .style import MAX_PLOT_POINTS, check_ax, check_axes, check_figure_path, draw_clearance, new_axes, save_figure
 
 
 MAX_CONTACT_SAMPLES = 20000
+
+
+def _check_trajectory(traj, t_from, n) -> None:
+    """The checks every trajectory figure makes of its trajectory, ``t_from`` and ``n``."""
+    check_type("traj", traj, Trajectory, "a rotorcontact.Trajectory (rotorcontact.simulate)")
+    if t_from is not None:
+        check_float("t_from", t_from)
+    check_int("n", n, 2, MAX_PLOT_POINTS)
 
 
 def _times(traj: Trajectory, t_from: float | None, n: int) -> np.ndarray:
@@ -32,7 +40,29 @@ def _times(traj: Trajectory, t_from: float | None, n: int) -> np.ndarray:
 
 
 def plot_inertial(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000):
-    """Rotor centre Z = U e^{it} in the inertial frame, with the clearance circle."""
+    """Rotor centre Z = U e^{it} in the inertial frame, with the clearance circle.
+
+    Parameters
+    ----------
+    traj : Trajectory
+    ax : matplotlib.axes.Axes, optional
+    t_from : float, optional
+        Draw from this time on.
+    n : int
+        Number of uniform plot times, 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS` (impacts and
+        contact phases are added).
+
+    Returns
+    -------
+    (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``traj`` is not a Trajectory, ``ax`` not an Axes, ``t_from`` not a finite number or ``n`` out
+        of its range.
+    """
+    _check_trajectory(traj, t_from, n)
     fig, ax = new_axes(ax)
     t = _times(traj, t_from, n)
     z = traj.Z(t)
@@ -63,7 +93,8 @@ def plot_corotating(traj: Trajectory, ax=None, *, t_from: float | None = None, n
     t_from : float, optional
         Draw from this time on.
     n : int
-        Number of uniform plot times (impacts and contact phases are added).
+        Number of uniform plot times, 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS` (impacts and
+        contact phases are added).
     inset : bool
         Add an inset zoomed on the orbit (for a small orbit near the
         clearance, such as B1,a near the NSFH), its frame marked on the main
@@ -75,7 +106,16 @@ def plot_corotating(traj: Trajectory, ax=None, *, t_from: float | None = None, n
     Returns
     -------
     (fig, ax)
+
+    Raises
+    ------
+    ParameterError
+        If ``traj`` is not a Trajectory, ``ax`` not an Axes, ``t_from`` not a finite number, ``n`` out of
+        its range, or ``inset`` or ``legend`` not True or False.
     """
+    _check_trajectory(traj, t_from, n)
+    check_bool("inset", inset)
+    check_bool("legend", legend)
     fig, ax = new_axes(ax)
     t = _times(traj, t_from, n)
     u = traj.U(t)
@@ -109,7 +149,16 @@ CONTACT_COLORS = {"sliding-forward": "tab:orange", "rolling": "tab:red", "slidin
 
 
 def shade_contact(traj: Trajectory, ax, t_from: float = 0.0) -> None:
-    """Shade the contact phases of ``traj`` on a time axis, one colour per kind."""
+    """Shade the contact phases of ``traj`` on a time axis, one colour per kind.
+
+    Raises
+    ------
+    ParameterError
+        If ``traj`` is not a Trajectory, ``ax`` not an Axes or ``t_from`` not a finite number.
+    """
+    check_type("traj", traj, Trajectory, "a rotorcontact.Trajectory (rotorcontact.simulate)")
+    check_ax(ax, optional=False)
+    t_from = check_float("t_from", t_from)
     seen = set()
     for c in traj.contact_intervals:
         if c.t_end < t_from:
@@ -122,7 +171,11 @@ def shade_contact(traj: Trajectory, ax, t_from: float = 0.0) -> None:
 
 
 def plot_radius(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000):
-    """r(t) = |U(t)|, with the clearance r = 1 and the contact phases shaded."""
+    """r(t) = |U(t)|, with the clearance r = 1 and the contact phases shaded.
+
+    Arguments and errors as `plot_inertial`; returns (fig, ax).
+    """
+    _check_trajectory(traj, t_from, n)
     fig, ax = new_axes(ax)
     t = _times(traj, t_from, n)
     ax.plot(t, traj.r(t), lw=0.8)
@@ -146,19 +199,25 @@ def plot_trajectory(traj: Trajectory, axes=None, *, t_from: float | None = None,
     t_from : float, optional
         Draw from this time on.
     n : int
-        Number of uniform plot times (impacts and contact phases are added).
+        Number of uniform plot times, 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS` (impacts and
+        contact phases are added).
 
     Returns
     -------
     (fig, axes)
+
+    Raises
+    ------
+    ParameterError
+        If ``traj`` is not a Trajectory, ``axes`` neither None nor three Axes, ``t_from`` not a finite
+        number or ``n`` out of its range.
     """
+    _check_trajectory(traj, t_from, n)
+    axes = check_axes(axes, 3, "inertial, co-rotating, radius")
     own = axes is None
     if own:
         fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), gridspec_kw={"width_ratios": [1, 1, 1.6]})
     else:
-        axes = list(np.ravel(np.asarray(axes, dtype=object)))
-        if len(axes) != 3:
-            raise ParameterError(f"axes holds {len(axes)} axes; allowed: three (inertial, co-rotating, radius)")
         fig = axes[0].figure
     plot_inertial(traj, axes[0], t_from=t_from, n=n)
     plot_corotating(traj, axes[1], t_from=t_from, n=n)
@@ -175,6 +234,14 @@ def plot_trajectory(traj: Trajectory, axes=None, *, t_from: float | None = None,
 
 
 def save_trajectory_figure(traj: Trajectory, path, **kwargs):
-    """Draw `plot_trajectory` and save it to ``path``."""
+    """Draw `plot_trajectory` and save it to ``path``.
+
+    Raises
+    ------
+    ParameterError
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing), and
+        for the arguments `plot_trajectory` refuses.
+    """
+    check_figure_path(path)
     fig, _ = plot_trajectory(traj, **kwargs)
     return save_figure(fig, path)
