@@ -54,3 +54,22 @@ def refused():
     """``refused(pattern, draw, *args, **kwargs)``: ``draw(*args, **kwargs)`` raises a `ParameterError` whose
     message matches ``pattern`` (from its start with ``^``) and leaves no new figure open."""
     return _refused
+
+
+def _same_drawing(ax_a, ax_b) -> bool:
+    import numpy as np
+
+    def drawn(ax):
+        return ([np.asarray(line.get_xydata()) for line in ax.get_lines()],
+                [np.asarray(im.get_array()) for im in ax.get_images()], len(ax.collections))
+
+    (lines_a, images_a, n_a), (lines_b, images_b, n_b) = drawn(ax_a), drawn(ax_b)
+    return (len(lines_a) == len(lines_b) and all(np.array_equal(a, b) for a, b in zip(lines_a, lines_b))
+            and len(images_a) == len(images_b) and all(np.array_equal(a, b) for a, b in zip(images_a, images_b))
+            and n_a == n_b)
+
+
+@pytest.fixture
+def same_drawing():
+    """``same_drawing(ax_a, ax_b)``: the two axes hold the same lines, images and number of collections."""
+    return _same_drawing

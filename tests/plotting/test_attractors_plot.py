@@ -72,18 +72,13 @@ def test_refuses_axes_that_are_not_two(refused, small):
     plt.close(fig)
 
 
-def test_the_result_draws_as_its_dataset(small_result):
+def test_the_result_draws_as_its_dataset(small_result, same_drawing):
     import matplotlib.pyplot as plt
-    import numpy as np
 
     from rotorcontact.plotting.attractors import plot_attractors
 
     fig_a, axes_a = plot_attractors(small_result)
     fig_b, axes_b = plot_attractors(small_result.dataset)
-    for ax_a, ax_b in zip(axes_a, axes_b):
-        lines_a = [np.asarray(line.get_xydata()) for line in ax_a.get_lines()]
-        lines_b = [np.asarray(line.get_xydata()) for line in ax_b.get_lines()]
-        assert len(lines_a) == len(lines_b) and all(np.array_equal(a, b) for a, b in zip(lines_a, lines_b))
-        assert len(ax_a.collections) == len(ax_b.collections)
+    assert all(same_drawing(ax_a, ax_b) for ax_a, ax_b in zip(axes_a, axes_b))
     plt.close(fig_a)
     plt.close(fig_b)

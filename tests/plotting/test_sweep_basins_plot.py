@@ -135,9 +135,8 @@ def test_basins_figure_refuses_another_studys_dataset_and_bad_options(refused, s
     assert path.stat().st_size > 0 and not plt.get_fignums()
 
 
-def test_a_studys_result_draws_as_its_dataset(sweep_result, basins_result):
+def test_a_studys_result_draws_as_its_dataset(sweep_result, basins_result, same_drawing):
     import matplotlib.pyplot as plt
-    import numpy as np
 
     from rotorcontact.plotting.basins import plot_basins
     from rotorcontact.plotting.sweep import plot_regimes, plot_sweep
@@ -145,12 +144,6 @@ def test_a_studys_result_draws_as_its_dataset(sweep_result, basins_result):
     for draw, result in ((plot_basins, basins_result), (plot_sweep, sweep_result), (plot_regimes, sweep_result)):
         fig_a, ax_a = draw(result)
         fig_b, ax_b = draw(result.dataset)
-        lines_a = [np.asarray(line.get_xydata()) for line in ax_a.get_lines()]
-        lines_b = [np.asarray(line.get_xydata()) for line in ax_b.get_lines()]
-        assert len(lines_a) == len(lines_b) and all(np.array_equal(a, b) for a, b in zip(lines_a, lines_b))
-        images_a = [np.asarray(im.get_array()) for im in ax_a.get_images()]
-        images_b = [np.asarray(im.get_array()) for im in ax_b.get_images()]
-        assert len(images_a) == len(images_b) and all(np.array_equal(a, b) for a, b in zip(images_a, images_b))
-        assert len(ax_a.collections) == len(ax_b.collections)
+        assert same_drawing(ax_a, ax_b)
         plt.close(fig_a)
         plt.close(fig_b)
