@@ -702,3 +702,18 @@ def test_stable_quadratic_roots_against_the_formula_and_bad_coefficients():
                        ("a", (1j, 0.0, 1.0))):
         with pytest.raises(ParameterError, match=rf"^{name} = "):
             im.stable_quadratic_roots(*args)
+
+
+def test_stable_quadratic_roots_of_huge_and_tiny_coefficients_are_those_of_the_scaled_equation():
+    # the same equation times 1e300 or 1e-300 has the same roots; b^2 - a c overflows or underflows unscaled
+    base = im.stable_quadratic_roots(1.0, -2.0, 3.0)[1]
+    for scale in (1e300, 1e-300):
+        disc, roots = im.stable_quadratic_roots(scale, -2.0 * scale, 3.0 * scale)
+        assert roots == pytest.approx(base, rel=1e-14) and not math.isnan(disc) and disc >= 0.0
+    disc, roots = im.stable_quadratic_roots(1e300, 1e300, 1e300)  # x^2 + 2x + 1: the double root -1
+    assert disc == 0.0 and roots == (-1.0, -1.0)
+    assert im.stable_quadratic_roots(1e300, 0.0, 1e300) == (-math.inf, ())
+    # tiny: x^2 + 1 has no real root, and its discriminant keeps its sign where it underflows
+    disc, roots = im.stable_quadratic_roots(1e-300, 0.0, 1e-300)
+    assert disc < 0.0 and roots == ()
+    assert im.stable_quadratic_roots(0.0, 0.0, 0.0) == (0.0, ())

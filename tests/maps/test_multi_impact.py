@@ -215,6 +215,7 @@ def test_orbits_of_more_impacts_than_the_bound_are_refused_before_any_allocation
 
 
 @pytest.mark.parametrize("kwargs, match", [(dict(lo="0"), r"^lo = '0' is text"), (dict(hi=None), r"^hi = None"),
+                                           (dict(tol=-1.0), r"^tol = -1.0 is invalid; allowed: a finite number > 0$"),
                                            (dict(n_scan=10**9), r"^n_scan = 1000000000 is invalid; allowed: an integer "
                                                                 r"from 1 to 10000$")])
 def test_find_period_doubling_refuses_bad_intervals_and_scans(kwargs, match):
@@ -237,3 +238,26 @@ def test_the_impact_bound_holds_for_the_doubled_orbits_too():
         multi_impact_branches(p, 16, doublings=9)
     with pytest.raises(ParameterError, match=r"^impacts = 2048 doubled doublings = 2 times makes orbits of 8192"):
         multi_impact_branches(p, 2048, doublings=2)
+
+
+def test_impact_states_are_checked_by_every_function_that_takes_them():
+    from rotorcontact.maps.multi_impact import MAX_ORBIT_IMPACTS, multipliers_at
+
+    p = REF.replace(gamma=0.1)
+    b = _b1d(p)
+    z = multipliers_at(p, np.array([b.state]))
+    assert np.allclose(np.sort_complex(z), np.sort_complex(np.asarray(b.multipliers)), atol=1e-9)
+    for call, name in ((lambda s: multipliers_at(p, s), "states"), (lambda s: periodic_residual(p, s), "states"),
+                       (lambda s: solve_multi_impact(p, s), "guess")):
+        for bad in ([], "x", [[0.0, 0.5, True]], [[0.0, 0.5]], [[0.0, 0.5, 0.1], [0.0, 0.5]], None):
+            with pytest.raises(ParameterError, match=rf"^{name} "):
+                call(bad)
+        # more rows than an orbit may have: refused before the (3p, 3p) Jacobian is allocated
+        with pytest.raises(ParameterError, match=rf"^{name} has shape \({MAX_ORBIT_IMPACTS + 1}, 3\); allowed: "):
+            call(np.tile(b.state, (MAX_ORBIT_IMPACTS + 1, 1)))
+    # a state that is not an impact, or has no next impact, is named by its row
+    with pytest.raises(ParameterError, match=r"^states\[1\] = .* has rdot = -0.5 <= 0, not an impact; allowed: "):
+        multipliers_at(p, [b.state, [0.0, -0.5, 0.0]])
+    with pytest.raises(ParameterError, match=r"^params = "):
+        multipliers_at(None, [b.state])
+

@@ -68,3 +68,29 @@ def test_closed_form_is_finite_or_refused():
                        ("gamma", (1.0, math.inf, 0.5)), ("omega", (1.0, 0.1, "x"))):
         with pytest.raises(ParameterError, match=rf"^{name} = "):
             closed_form(*args)
+
+
+def test_an_orbit_needs_a_period_a_velocity_and_a_label_that_exist():
+    from rotorcontact import reference_machine
+    from rotorcontact.maps.impact_map import one_impact_orbits
+    from rotorcontact.maps.orbit_system import orbit_at
+
+    o = next(o for o in one_impact_orbits(REF, 20.0) if o.admissible)
+    again = orbit_at(REF, np.float64(o.T), np.array(o.rdot), n=np.int64(o.n), branch=o.branch)
+    assert (again.theta, again.thetadot, again.label) == (o.theta, o.thetadot, o.label)
+    for kw, name in ((dict(params=reference_machine()), "params"), (dict(T=-1.0), "T"), (dict(T="1"), "T"),
+                     (dict(rdot=1e300), "rdot"), (dict(rdot=True), "rdot"), (dict(n=-1), "n"), (dict(n=1.5), "n"),
+                     (dict(n=True), "n"), (dict(branch="e"), "branch"), (dict(branch=1), "branch")):
+        args = dict(params=REF, T=o.T, rdot=o.rdot, n=o.n, branch=o.branch)
+        args.update(kw)
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            orbit_at(args.pop("params"), args.pop("T"), args.pop("rdot"), **args)
+
+
+def test_root_branches_of_a_zero_kind():
+    from rotorcontact.maps.impact_map import root_branches
+
+    assert root_branches("a") == ("a", "c") and root_branches("b") == ("b", "d")
+    for bad in ("c", None, 1):
+        with pytest.raises(ParameterError, match=r"^kind = .* is invalid; allowed: 'a', 'b'$"):
+            root_branches(bad)

@@ -397,3 +397,16 @@ def test_a_complex_number_is_refused_not_cut_to_its_real_part(value):
         Parameters(gamma=value, omega=0.76, rho=0.4, mu=0.1, d=0.9)
     with pytest.raises(ParameterError, match=r"^mass = .* is complex"):
         check_finite("mass", value)
+
+
+def test_a_velocity_is_a_number():
+    import numpy as np
+
+    from rotorcontact.model.params import MAX_VELOCITY, check_velocity
+
+    assert check_velocity("du0", np.complex64(1 + 2j)) == 1 + 2j and check_velocity("du0", 3) == 3 + 0j
+    for bad in (True, None, "1", [1.0, 2.0]):
+        with pytest.raises(ParameterError, match=r"^du0 = .* (is not a number|is a bool|is text)"):
+            check_velocity("du0", bad)
+    with pytest.raises(ParameterError, match=r"^du0 = .* is too fast"):
+        check_velocity("du0", 2 * MAX_VELOCITY)

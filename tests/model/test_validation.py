@@ -102,3 +102,17 @@ def test_check_fields_takes_an_object_with_every_field():
     assert check_fields("v", ok, ("a", "b"), "an object with a and b") is ok
     with pytest.raises(ParameterError, match=r"^v = namespace\(a=1\) is invalid; allowed: an object with a and b$"):
         check_fields("v", SimpleNamespace(a=1), ("a", "b"), "an object with a and b")
+
+
+def test_0d_arrays_are_their_value():
+    from rotorcontact.model.validation import check_bool, check_float, check_int
+
+    assert check_float("x", np.array(0.5)) == 0.5 and type(check_float("x", np.array(0.5))) is float
+    assert check_int("n", np.array(5), 1) == 5 and type(check_int("n", np.array(5), 1)) is int
+    assert check_bool("f", np.array(True)) is True
+    with pytest.raises(ParameterError, match=r"^n = 0 is invalid; allowed: an integer >= 1$"):
+        check_int("n", np.array(0), 1)
+    with pytest.raises(ParameterError, match=r"^x = .* is invalid; allowed: a finite number$"):
+        check_float("x", np.array([0.5]))
+    with pytest.raises(ParameterError, match=r"^f = .* is invalid; allowed: True or False$"):
+        check_bool("f", np.array("True"))

@@ -244,3 +244,21 @@ def test_a_study_whose_sections_exceed_the_machines_memory_is_refused_before_it_
     monkeypatch.setattr(batch, "physical_memory", lambda: 2 * inside * batch.SECTION_BYTES - 1)
     with pytest.raises(ParameterError, match=rf"n_keep = 1: {2 * inside} simulations keeping 1 impacts each"):
         attractors(REF, "gamma", [0.1, 0.2], "plane:3", progress=False)
+
+
+def test_params_that_are_not_the_machines_are_refused_by_every_parameter_path():
+    from rotorcontact import reference_machine
+    from rotorcontact.studies.grids import MAX_GRID_POINTS
+    from rotorcontact.studies.parameter_path import path_values
+
+    m = reference_machine()
+    p = m.parameters()
+    # a model parameter may differ (it is the one varied), a machine quantity leaves none free
+    assert parameter_path(p.replace(gamma=0.3), "gamma", [0.1], m)[0] == p.replace(gamma=0.1)
+    with pytest.raises(ParameterError, match=r"^params are not the machine's \(rho = "):
+        parameter_path(p.replace(rho=0.3), "gamma", [0.1], m)
+    with pytest.raises(ParameterError, match=r"^params are not the machine's \(gamma = "):
+        attractors(p.replace(gamma=0.3), "speed", [m.speed], "plane:3", machine=m, progress=False)
+    with pytest.raises(ParameterError, match=rf"^values of 'gamma' = .* allowed: at most {MAX_GRID_POINTS}$"):
+        path_values("gamma", range(MAX_GRID_POINTS + 1))
+

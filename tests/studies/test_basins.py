@@ -203,3 +203,11 @@ def test_a_malformed_or_huge_axis_is_refused_before_it_is_built(x, match):
 def test_grid_axes_hold_finite_real_values(axis):
     with pytest.raises(ParameterError, match=r"^grid axis0 = .* allowed: finite real values$"):
         BasinGrid("displacement", axis, [0.0])
+
+
+def test_a_machine_whose_parameters_are_not_params_is_refused():
+    from rotorcontact import reference_machine
+
+    m = reference_machine()
+    with pytest.raises(ParameterError, match=r"^params are not the machine's \(gamma = .*; allowed: machine"):
+        basins(m.parameters().replace(gamma=0.1), "plane:3", machine=m, progress=False)

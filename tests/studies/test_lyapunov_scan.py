@@ -53,3 +53,11 @@ def test_a_start_state_that_simulate_refuses_is_refused_before_any_run(start, ma
     with pytest.raises(ParameterError, match=match):
         lyapunov_scan(REF, "gamma", [0.1], t_end=30.0, progress=False, out=tmp_path / "l.nc", **start)
     assert not (tmp_path / "l.nc").exists() and not chunk_folder(tmp_path / "l.nc").exists()
+
+
+def test_params_that_are_not_the_machines_are_refused():
+    from rotorcontact import reference_machine
+
+    m = reference_machine()
+    with pytest.raises(ParameterError, match=r"^params are not the machine's \(omega = "):
+        lyapunov_scan(m.parameters().replace(omega=0.5), "gamma", [0.1], machine=m, progress=False)

@@ -345,3 +345,20 @@ def test_a_value_beyond_the_simulators_accurate_range_is_refused(param, value):
 def test_sweep_values_refuses_what_it_cannot_build(args, match):
     with pytest.raises(ParameterError, match=match):
         sweep_values(*args)
+
+
+def test_a_machine_whose_parameters_are_not_params_is_refused_and_so_are_too_many_values():
+    from rotorcontact import reference_machine
+    from rotorcontact.studies.grids import MAX_GRID_POINTS
+
+    m = reference_machine()
+    other = m.with_speed(0.5 * m.speed)  # the same machine at half speed: other omega, gamma, ...
+    with pytest.raises(ParameterError, match=r"^params are not the machine's \(omega = .*; allowed: machine"):
+        sweep(m.parameters(), "gamma", [0.1], machine=other, progress=False)
+    # the swept parameter itself may differ from the machine's
+    res = sweep(m.parameters().replace(gamma=0.3), "gamma", [0.2], machine=m, n_transient=10, n_record=5,
+                progress=False)
+    assert res.dataset.attrs["swept_parameter"] == "gamma"
+    with pytest.raises(ParameterError, match=rf"^values of 'gamma' = range\(0, 1000000000000\) are 1000000000000 "
+                                             rf"values; allowed: at most {MAX_GRID_POINTS}$"):
+        sweep(REF, "gamma", range(10**12), progress=False)

@@ -127,7 +127,7 @@ from ..model.flow import (
     scaled_cs,
 )
 from ..model.params import Parameters, check_finite, check_range
-from ..model.validation import check_bool, check_params, real_array
+from ..model.validation import check_bool, check_choice, check_params, real_array
 from ..model.impact_law import (
     apply_reset,
     ideal_reset,
@@ -159,10 +159,10 @@ __all__ = [
     "stable_quadratic_roots",
     "label_f1_zeros",
     "root_branches",
+    "BRANCH_LETTERS",
     "fixed_point_residual",
     "flight_extrema",
     "flight_growth",
-    "growth_rate",
     "period_limit",
     "check_growth",
     "one_impact_orbits",
@@ -1054,11 +1054,16 @@ def label_f1_zeros(directions: Sequence[int], starts_positive: bool) -> list[tup
     return labels
 
 
+#: The branch letters of one-impact orbits (MODEL.md §5): a, b at the smaller root rdot, c, d at the larger.
+BRANCH_LETTERS = ("a", "b", "c", "d")
+
+
 def root_branches(kind: str) -> tuple[str, str]:
     """Branch letters of the smaller and the larger root rdot at a zero of ``kind`` (MODEL.md §5).
 
     ``"a"`` gives (a, c), ``"b"`` gives (b, d).
     """
+    check_choice("kind", kind, ("a", "b"))
     return (kind, "c" if kind == "a" else "d")
 
 
@@ -1082,10 +1087,21 @@ def stable_quadratic_roots(a: float, b: float, c: float) -> tuple[float, tuple[f
         Unless a, b and c are finite real numbers.
     """
     a, b, c = (check_finite(name, value) for name, value in (("a", a), ("b", b), ("c", c)))
-    disc = b * b - a * c
-    if disc < 0.0 or a == 0.0:
+    # The equation divided by s has the same roots. Far from 1, s is the power of two nearest the largest
+    # coefficient, so that b^2 - a c cannot overflow or underflow; a power of two scales exactly, so the
+    # roots are those the unscaled formula gives wherever it does not overflow.
+    largest = max(abs(a), abs(b), abs(c))
+    if largest == 0.0:
+        return 0.0, ()
+    s = 1.0 if 2.0**-500 < largest < 2.0**500 else math.ldexp(1.0, math.frexp(largest)[1])
+    a, b, c = a / s, b / s, c / s
+    scaled = b * b - a * c
+    disc = scaled * s * s  # may overflow to +-inf for huge coefficients, with the right sign
+    if disc == 0.0 and scaled != 0.0:
+        disc = math.copysign(math.ulp(0.0), scaled)  # underflowed: the smallest float of its sign
+    if scaled < 0.0 or a == 0.0:
         return float(disc), ()
-    sq = math.sqrt(disc)
+    sq = math.sqrt(scaled)
     qq = -(b + math.copysign(sq, b))
     roots = sorted([qq / a, c / qq if qq != 0.0 else qq / a])
     return float(disc), (float(roots[0]), float(roots[1]))

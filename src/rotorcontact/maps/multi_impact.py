@@ -79,7 +79,7 @@ from .impact_map import (
 )
 from ..simulation.motion import detect_period
 from ..model.params import BRANCH_PARAMETERS, Parameters, check_finite, check_range
-from ..model.validation import check_choice, check_int, check_params
+from ..model.validation import check_choice, check_float, check_int, check_params, quoted, real_array
 from ..simulation.simulator import simulate
 
 __all__ = [
@@ -120,8 +120,9 @@ class NewtonFailure(RuntimeError):
     """Newton's method did not converge to an orbit with the requested number of impacts."""
 
 
-class _MapFailure(ValueError):
-    """The impact map has no impact from a state (no crossing, stuck on the stator, or failure)."""
+class _MapFailure(ParameterError):
+    """The impact map has no impact from a state (no crossing, stuck on the stator, or failure): for states
+    given by a user, a bad input naming them."""
 
 
 # ---------------------------------------------------------------------------
@@ -139,10 +140,12 @@ def _chain(params: Parameters, states: np.ndarray, law: str = SLIP_BOUNDED):
     for i in range(p):
         x = states[i]
         if not x[1] > 0.0:
-            raise _MapFailure(f"impact {i} has rdot = {x[1]!r} <= 0 (not an impact)")
+            raise _MapFailure(f"states[{i}] = {tuple(map(float, x))} has rdot = {float(x[1])!r} <= 0, not an impact; "
+                              "allowed: impact states, rdot > 0")
         res = impact_map(params, x, horizon=HORIZON, law=law, jacobian=True)
         if res.status != "impact":
-            raise _MapFailure(f"no impact after impact {i}: {res.status}")
+            raise _MapFailure(f"states[{i}] = {tuple(map(float, x))} has no next impact ({res.status}); allowed: "
+                              "the impact states of an impacting motion")
         images[i] = res.state
         times[i] = res.time
         jacs[i] = res.jacobian
@@ -163,10 +166,12 @@ def multipliers_at(params: Parameters, states) -> np.ndarray:
 
     Raises
     ------
-    ValueError
-        When the impact map has no next impact from one of the states.
+    ParameterError
+        For ``states`` that are not a (p, 3) array of impact states, or when the impact map has no next
+        impact from one of them.
     """
-    return np.linalg.eigvals(cycle_jacobian(_chain(params, np.asarray(states, dtype=float))[2]))
+    check_params(params)
+    return np.linalg.eigvals(cycle_jacobian(_chain(params, impact_states(states, "states"))[2]))
 
 
 def periodic_residual(params: Parameters, states, *, law: str = SLIP_BOUNDED) -> tuple[np.ndarray, np.ndarray]:
@@ -190,12 +195,11 @@ def periodic_residual(params: Parameters, states, *, law: str = SLIP_BOUNDED) ->
 
     Raises
     ------
-    ValueError
-        When the impact map has no next impact from one of the states.
+    ParameterError
+        For ``states`` that are not a (p, 3) array of impact states, or when the impact map has no next
+        impact from one of them.
     """
-    x = np.asarray(states, dtype=float)
-    if x.ndim != 2 or x.shape[1] != 3 or x.shape[0] < 1:
-        raise ParameterError(f"states has shape {x.shape}; allowed: (p, 3) with p >= 1")
+    x = impact_states(states, "states")
     p = x.shape[0]
     images, _times, jacs, _st = _chain(params, x, law)
     res = np.empty(3 * p)
@@ -366,16 +370,17 @@ def _build_orbit(params: Parameters, states: np.ndarray, label: str) -> MultiImp
     )
 
 
-def _check_guess(guess) -> np.ndarray:
-    try:
-        x = np.array(guess, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"guess = {guess!r} is not a (p, 3) array of (theta, rdot, thetadot)") from None
-    if x.ndim != 2 or x.shape[1] != 3 or x.shape[0] < 1:
-        raise ParameterError(f"guess has shape {x.shape}; allowed: (p, 3) with p >= 1")
+def impact_states(states, name: str = "guess") -> np.ndarray:
+    """``states`` as a (p, 3) array of finite (theta, rdot-, thetadot-) rows, 1 <= p <= `MAX_ORBIT_IMPACTS`;
+    a `ParameterError` naming ``name`` otherwise (text, bools, ragged lists, other shapes)."""
+    x = real_array(states)
+    if x is None:
+        raise ParameterError(f"{name} = {quoted(states)} is not a (p, 3) array of (theta, rdot, thetadot)")
+    if x.ndim != 2 or x.shape[1] != 3 or not 1 <= x.shape[0] <= MAX_ORBIT_IMPACTS:
+        raise ParameterError(f"{name} has shape {x.shape}; allowed: (p, 3) with 1 <= p <= {MAX_ORBIT_IMPACTS}")
     if not np.all(np.isfinite(x)):
-        raise ParameterError("guess is not finite; allowed: finite (theta, rdot, thetadot) rows")
-    return x
+        raise ParameterError(f"{name} is not finite; allowed: finite (theta, rdot, thetadot) rows")
+    return np.array(x, dtype=float)
 
 
 def _newton(params: Parameters, x: np.ndarray, tol: float, max_iter: int) -> np.ndarray:
@@ -449,7 +454,7 @@ def solve_multi_impact(
         period has fewer impacts than the guess.
     """
     check_params(params)
-    x = _check_guess(guess)
+    x = impact_states(guess)
     tol = check_range("tol", tol, low=0.0, low_open=True)
     x = _newton(params, x, tol, check_int("max_iter", max_iter, 1))
     p = x.shape[0]
@@ -757,6 +762,7 @@ def find_period_doubling(
     if not lo < hi:
         raise ParameterError(f"lo = {lo!r}, hi = {hi!r} is not an interval; allowed: finite lo < hi")
     n_scan = check_int("n_scan", n_scan, 1, MAX_SCAN)
+    tol = check_float("tol", tol, 0.0, low_open=True)
 
     def measure(v: float) -> float | None:
         try:

@@ -54,9 +54,10 @@ import numpy as np
 from ..model.angles import wrap_angle
 from ..model.flow import half_discriminant, period_closed_form
 from ..model.impact_law import impact_q, slides_forward
-from ..model.validation import check_float, check_params, quoted
+from ..model.validation import check_choice, check_float, check_int, check_params, quoted
 from ..errors import ParameterError
 from .impact_map import (
+    BRANCH_LETTERS,
     IDEAL,
     FlightExtrema,
     ImpactOrbit,
@@ -67,7 +68,7 @@ from .impact_map import (
     impact_map_jacobian,
     orbit_stability,
 )
-from ..model.params import BRANCH_PARAMETERS, Parameters
+from ..model.params import BRANCH_PARAMETERS, MAX_VELOCITY, Parameters
 
 __all__ = [
     "BRANCH_PARAMETERS",
@@ -268,7 +269,20 @@ def orbit_with_extrema(params: Parameters, T: float, rdot: float, *, n: int | No
     orbit : ImpactOrbit
     extrema : FlightExtrema
         The interior extrema of r along the flight.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``params`` are `Parameters`, T > 0, |rdot| <= `rotorcontact.model.params.MAX_VELOCITY`, ``n``
+        a whole number >= 0 (0 where no zero of F1 is found below T) and ``branch`` one of a, b, c, d.
     """
+    check_params(params)
+    T = check_float("T", T, 0.0, low_open=True)
+    rdot = check_float("rdot", rdot, -MAX_VELOCITY, MAX_VELOCITY)
+    if n is not None:
+        n = check_int("n", n, 0)
+    if branch is not None:
+        branch = check_choice("branch", branch, BRANCH_LETTERS)
     if n is None or branch is None:
         n0, b0 = label_of(params, T, rdot)
         n = n0 if n is None else n

@@ -160,9 +160,15 @@ def check_velocity(name: str, value: complex) -> complex:
     Raises
     ------
     ParameterError
-        If ``|value| > MAX_VELOCITY`` (or it is not finite).
+        If ``|value| > MAX_VELOCITY`` (or it is not finite), or ``value`` is not a number (a bool and text
+        are refused).
     """
-    speed = abs(complex(value))
+    refuse_bool_or_text(name, value, "a (complex) number is required")
+    try:
+        value = complex(value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} = {value!r} is not a number; a (complex) number is required") from None
+    speed = abs(value)
     if not speed <= MAX_VELOCITY:
         raise ParameterError(
             f"{name} = {value.real!r},{value.imag!r} is too fast (|{name}| = {speed:.3g}); allowed: "

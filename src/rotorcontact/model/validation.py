@@ -17,9 +17,9 @@ import numpy as np
 from ..errors import ParameterError
 from .params import Parameters, check_finite, refuse_bool_or_text
 
-__all__ = ["MAX_COUNT", "check_params", "check_machine", "check_type", "check_fields", "check_broadcast", "quoted",
-           "check_int", "check_float", "check_choice", "real_array", "complex_array", "check_bool", "check_path",
-           "is_pair", "settings_or_default"]
+__all__ = ["MAX_COUNT", "check_params", "check_machine", "check_machine_params", "check_type", "check_fields",
+           "check_broadcast", "quoted", "check_int", "check_float", "check_choice", "real_array", "complex_array",
+           "check_bool", "check_path", "is_pair", "settings_or_default"]
 
 
 #: Longest repr of a value quoted in a message; longer ones (a dataset, a long list) are cut.
@@ -75,6 +75,22 @@ def check_machine(machine: Any, name: str = "machine", optional: bool = True):
     return check_type(name, machine, Machine, "rotorcontact.Machine", optional=optional)
 
 
+def check_machine_params(params: Parameters, machine: Any, skip: str | None = None) -> None:
+    """Refuse ``params`` that are not ``machine.parameters()`` (to 1e-12; the parameter ``skip``, which a
+    study varies, excepted) with a `ParameterError`: SI results would describe another machine. Nothing is
+    checked without a machine."""
+    if machine is None:
+        return
+    own = machine.parameters()
+    other = [f"{name} = {value!r}" for name, value in params.as_dict().items()
+             if name != skip and not math.isclose(value, getattr(own, name), rel_tol=1e-12, abs_tol=1e-300)]
+    if other:
+        raise ParameterError(
+            f"params are not the machine's ({', '.join(other)} against {own}): its SI results would describe "
+            "another machine; allowed: machine.parameters(), or no machine"
+        )
+
+
 #: The largest count a kernel takes (numba's int64).
 MAX_COUNT = 2**63 - 1
 #: Most grid points of an equilibrium branch scan: about a millisecond each, so 10000 take seconds.
@@ -118,6 +134,11 @@ def is_pair(value: Any) -> bool:
     return isinstance(value, Sequence) and not isinstance(value, (str, bytes)) and len(value) == 2
 
 
+def _scalar(value: Any) -> Any:
+    """The value of a 0-d array (as numpy and xarray give for one number); anything else unchanged."""
+    return value[()] if isinstance(value, np.ndarray) and value.ndim == 0 else value
+
+
 def check_int(name: str, value: Any, low: int | None = None, high: int | None = None) -> int:
     """Return ``value`` as an int if it is an integer (not a bool) within [low, high].
 
@@ -126,6 +147,7 @@ def check_int(name: str, value: Any, low: int | None = None, high: int | None = 
     ParameterError
         Naming ``name``, the value and the allowed range.
     """
+    value = _scalar(value)
     ok = not isinstance(value, bool) and isinstance(value, (int, np.integer))
     if ok:
         value = int(value)
@@ -141,6 +163,7 @@ def check_float(name: str, value: Any, low: float | None = None, high: float | N
 
     ``low_open`` and ``high_open`` exclude the bounds themselves.
     """
+    value = _scalar(value)
     ok = not isinstance(value, bool) and isinstance(value, (int, float, np.integer, np.floating))
     if ok:
         value = float(value)
@@ -169,6 +192,7 @@ def check_path(name: str, value: Any) -> Path:
 def check_bool(name: str, value: Any) -> bool:
     """Return ``value`` if it is True or False (numpy's too), else raise `ParameterError`: a yes/no flag
     given as text such as ``"False"`` would otherwise read as true."""
+    value = _scalar(value)
     if not isinstance(value, (bool, np.bool_)):
         raise ParameterError(f"{name} = {value!r} is invalid; allowed: True or False")
     return bool(value)

@@ -16,7 +16,7 @@ from numba import njit
 from ..errors import ParameterError
 from ..interpreted import call_kernel, complex_quotient
 from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
-from ..model.validation import MAX_COUNT, check_int, check_machine, check_params, complex_value
+from ..model.validation import MAX_COUNT, check_int, check_machine, check_machine_params, check_params, complex_value
 from ..model.params import MAX_T_END, Machine, Parameters, check_range, check_velocity
 from ..model.impact_law import apply_reset, polar_velocity, relative_velocity
 from ..model.angles import wrap_angle
@@ -533,15 +533,7 @@ def simulate(
     """
     check_params(params)
     check_machine(machine)
-    if machine is not None:
-        own = machine.parameters()
-        other = [f"{name} = {value!r}" for name, value in params.as_dict().items()
-                 if not math.isclose(value, getattr(own, name), rel_tol=1e-12, abs_tol=1e-300)]
-        if other:
-            raise ParameterError(
-                f"params are not the machine's ({', '.join(other)} against {own}): its SI results would describe "
-                "another machine; allowed: machine.parameters(), or no machine"
-            )
+    check_machine_params(params, machine)
     u0, du0 = check_start(u0, du0)
     t_end = check_range("t_end", t_end, low=0.0, high=MAX_T_END, low_open=True,
                         why="beyond it double precision cannot resolve the impact times")

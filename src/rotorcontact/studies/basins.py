@@ -45,7 +45,7 @@ from .batch import NSUM, BatchResult, BatchSettings, check_batch_settings, param
 from ..errors import ParameterError
 from ..model.angles import angle_difference
 from ..model.params import Machine, Parameters, check_finite
-from ..model.validation import check_machine, check_params
+from ..model.validation import check_machine, check_machine_params, check_params
 from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 from .driver import run_study
 from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
@@ -263,6 +263,7 @@ def basins(
     """
     check_machine(machine)
     check_params(params)
+    check_machine_params(params, machine)
     if isinstance(grid, str):
         grid = parse_grid(grid)
     if not isinstance(grid, BasinGrid):
