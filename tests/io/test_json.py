@@ -26,3 +26,15 @@ def test_dump_json_writes_indented_json_and_a_newline():
     assert text.endswith("}\n")
     assert json.loads(text) == {"x": None, "y": [1, 2]}
     assert text == json.dumps({"x": None, "y": [1, 2]}, indent=2) + "\n"
+
+
+def test_an_object_json_cannot_hold_is_refused_by_its_type():
+    import pytest
+
+    from rotorcontact import ParameterError
+    from reference_parameters import REF
+
+    for bad, kind in (({1, 2}, "set"), (REF, "Parameters"), (b"x", "bytes"), ([object()], "object")):
+        with pytest.raises(ParameterError, match=rf"^data holds a {kind} \(.*\), which JSON cannot hold; allowed: "):
+            dump_json({"a": bad}, io.StringIO())
+    assert jsonable({"a": None, "b": "text", "c": np.str_("s")}) == {"a": None, "b": "text", "c": "s"}

@@ -717,3 +717,13 @@ def test_stable_quadratic_roots_of_huge_and_tiny_coefficients_are_those_of_the_s
     disc, roots = im.stable_quadratic_roots(1e-300, 0.0, 1e-300)
     assert disc < 0.0 and roots == ()
     assert im.stable_quadratic_roots(0.0, 0.0, 0.0) == (0.0, ())
+
+
+def test_a_search_longer_than_the_bound_is_refused_before_it_runs():
+    # near the undamped resonance the period limit is far away, and the orbits up to t_max grow like t_max^2
+    p = REF.replace(gamma=1e-6)
+    assert im.period_limit(p) > 1e6
+    for call in (im.f1_zeros, im.one_impact_orbits):
+        with pytest.raises(ParameterError, match=rf"^t_max = 20000.0 is too large; allowed: t_max <= "
+                                                 rf"{im.MAX_T_MAX:g} "):
+            call(p, 2e4)

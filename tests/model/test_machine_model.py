@@ -201,3 +201,30 @@ def test_impact_dissipation_is_the_loss_of_kinetic_energy(polar, v_rel):
         expected = float(before - after)
     assert lost >= 0.0
     assert lost == pytest.approx(expected, rel=1e-12, abs=1e-15 * mass * v_n ** 2)
+
+
+def test_the_compliant_laws_functions_refuse_what_has_no_impact():
+    import dataclasses
+    import math
+
+    from rotorcontact import ParameterError, reference_machine
+    from rotorcontact.model.machine_model import (MAX_CHI, MIN_COMPLIANT_RESTITUTION, elastic_impact_duration,
+                                                  hertz_rebound, impact_duration_factor, restitution_damping)
+
+    # chi = 0 is elastic: the rebound is the impact speed, to the integration's tolerance
+    assert hertz_rebound(0.0, 1.5) == pytest.approx(1.0, abs=1e-9)
+    for args, name in (((math.nan, 1.5), "chi"), ((-1.0, 1.5), "chi"), ((2 * MAX_CHI, 1.5), "chi"),
+                       ((0.5, 0.0), "exponent"), ((0.5, 11.0), "exponent"), ((0.5, "1.5"), "exponent"),
+                       ((0.5, 1.5, 0.0), "rtol")):
+        with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: a finite number"):
+            hertz_rebound(*args)
+    for args, name in (((0.0, 1.5), "restitution"), ((MIN_COMPLIANT_RESTITUTION / 2, 1.5), "restitution"),
+                       ((1.5, 1.5), "restitution"), ((0.5, -1.0), "exponent")):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            restitution_damping(*args)
+    with pytest.raises(ParameterError, match=r"^exponent = -1.0 is invalid"):
+        impact_duration_factor(-1.0)
+    with pytest.raises(ParameterError, match=r"^stiffness = 0.0 is invalid"):
+        elastic_impact_duration(1.0, 1.0, 0.0, 1.5)
+    with pytest.raises(ParameterError, match=r"^restitution = 0.001 with contact = 'compliant'; allowed: \[0.002"):
+        dataclasses.replace(reference_machine(), contact="compliant", contact_stiffness=1e9, restitution=0.001)

@@ -42,6 +42,9 @@ def test_conversions_match_hand_computation(text, unit, expected):
         ("m", "m", "has no number"),
         ("1 rpm rpm +", "rad/s", "not a quantity"),
         ("inf m", "m", "not finite"),
+        ("1 rpm**1000", "rad/s", "not finite"),  # the conversion factor overflows
+        (None, "m", "is not text"),
+        (0.7, "m", "is not text"),
     ],
 )
 def test_bad_quantities_are_rejected_clearly(text, unit, fragment):
@@ -144,3 +147,20 @@ def test_a_machine_values_range_error_shows_the_text_given_and_its_si_value():
         check_machine_value("speed", "-12000rpm", label="--speed")
     assert str(err.value) == "--speed = '-12000rpm' (-1256.64 rad/s) is out of range; allowed: (0, 1e+06] rad/s"
     assert check_machine_value("speed", "12000 rpm") == quantity_in("speed", "12000 rpm", "rad/s")
+
+
+def test_a_machine_takes_numpy_numbers_as_python_numbers():
+    import numpy as np
+
+    from rotorcontact import Machine, reference_machine
+
+    data = reference_machine().as_dict()
+    plain = Machine.from_mapping(data)
+    data.update(mass=np.int64(round(data["mass"])), speed=np.array(data["speed"]), clearance=np.float32(0.5e-3))
+    numpy = Machine.from_mapping(data)
+    assert numpy.mass == round(plain.mass) and numpy.speed == plain.speed
+    assert numpy.clearance == float(np.float32(0.5e-3))
+    data.update(speed=np.bool_(True))
+    with pytest.raises(ParameterError, match=r"speed = .* is not a number"):
+        Machine.from_mapping(data)
+

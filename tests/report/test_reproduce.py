@@ -336,3 +336,15 @@ def test_reproduce_finishes_where_some_panels_do_not_exist(tmp_path):
         out = tmp_path / "_".join(f"{k}{v}" for k, v in change.items())
         rep = reproduce(out, paper_parameters().replace(**change), progress=False)
         assert len(rep.figures) == 6 and (out / "report.json").is_file() and (out / "report.html").is_file()
+
+
+def test_reproduce_refuses_what_are_not_parameters_before_it_makes_the_folder(tmp_path):
+    from rotorcontact import ParameterError, reference_machine
+    from rotorcontact.report.reproduce import reproduce
+
+    out = tmp_path / "new"
+    for kw, name in ((dict(params=reference_machine()), "params"), (dict(params="gamma=0.1"), "params"),
+                     (dict(progress="no"), "progress")):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            reproduce(out, **kw)
+        assert not out.exists()

@@ -526,6 +526,8 @@ def test_the_drop_functions_refuse_what_is_not_a_machine(machine):
     (lambda m: run_general(m, 0j, 0j, 0.0, 0.0, 1e300), r"^t_end = 1e\+300 is out of range; allowed: \(0, 10000\] s"),
     (lambda m: run_general(m, 0j, 0j, 100.0, 0.0, 0.05, stator_start=0j), r"^stator_start = "),
     (lambda m: drop(m, None, 0.0, 1e300), r"^t_end = 1e\+300 is out of range; allowed: \(0, 10000\]"),
+    (lambda m: run_general(m, 0j, 1e30, 100.0, 0.0, 0.01), r"^v0 = \(1e\+30\+0j\) m/s is too fast .* allowed: \|v0\| "
+                                                          r"<= 1000 m/s$"),
 ])
 def test_the_drop_functions_refuse_bad_speeds_states_and_times_by_name(call, match):
     with pytest.raises(ParameterError, match=match):
@@ -544,3 +546,20 @@ def test_the_velocity_scale_of_a_backward_spin_is_positive():
     weightless = Machine(**{**m.as_dict(), "gravity": 0.0}) if m.g > 0.0 else m
     assert weightless.g == 0.0
     assert _velocity_scale(weightless, -100.0) == _velocity_scale(weightless, 100.0) == weightless.clearance * 100.0
+
+
+def test_a_compliant_start_deeper_than_a_clearance_and_bad_force_times_are_refused():
+    from rotorcontact.simulation.drop_run import contact_force_history
+
+    m = Machine(**{**reference_machine().as_dict(), "contact": "compliant", "contact_stiffness": 1e9})
+    with pytest.raises(ParameterError, match=r"^z0 = \(1\+0j\) m lies .* m inside the stator; allowed: "
+                                             r"\|z0 - z_s\| <= 2 c_r"):
+        run_general(m, 1.0, 0j, 100.0, 0.0, 0.001)
+    # a start just inside the stator is an episode at once, as documented
+    assert run_general(m, 1.001 * m.clearance, 0j, 100.0, 0.0, 1e-4).status != "failed"
+    for times in ([], [0.0], [math.nan], ["0.01"], np.full(1001, 0.01), [[0.01, 0.02]]):
+        with pytest.raises(ParameterError, match=r"^times = .* is invalid; allowed: 1 to 1000 finite times > 0"):
+            contact_force_history(m, 100.0, 0.0, times)
+    with pytest.raises(ParameterError, match=r"^start = .* is invalid; allowed: \(z0, v0\)"):
+        contact_force_history(m, 100.0, 0.0, [0.01], start=0j)
+

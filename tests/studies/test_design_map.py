@@ -269,3 +269,12 @@ def test_every_design_function_refuses_what_is_not_a_machine(machine):
         with pytest.raises(ParameterError,
                            match=r"^machine = .* is not a Machine object; allowed: rotorcontact.Machine$"):
             call()
+
+
+def test_lists_of_speeds_beyond_the_bound_are_refused_before_numpy_reads_them():
+    from rotorcontact import ParameterError, reference_machine
+    from rotorcontact.studies.design_map import MAX_POINTS, speed_map
+
+    with pytest.raises(ParameterError, match=rf"^speeds_rpm = range\(1, 1000000000001\) holds 1000000000000 values; "
+                                             rf"allowed: at most {MAX_POINTS}$"):
+        speed_map(reference_machine(), range(1, 10**12 + 1))

@@ -78,3 +78,14 @@ def test_bad_arguments_are_refused_before_any_drop(kwargs, match):
 def test_what_is_not_a_machine_is_refused(machine):
     with pytest.raises(ParameterError, match=r"^machine = .* is not a Machine object"):
         drop_map(machine, [3000.0 * RPM])
+
+
+def test_lists_of_speeds_or_frictions_beyond_the_bound_are_refused_before_numpy_reads_them():
+    from rotorcontact import ParameterError, reference_machine
+    from rotorcontact.studies.drop_map import MAX_DROP_POINTS, drop_map
+
+    for kw, name in ((dict(speeds=range(10**12)), "speeds"), (dict(speeds=[100.0], frictions=range(10**12)),
+                                                              "frictions")):
+        with pytest.raises(ParameterError, match=rf"^{name} = range\(0, 1000000000000\) holds 1000000000000 values; "
+                                                 rf"allowed: at most {MAX_DROP_POINTS}$"):
+            drop_map(reference_machine(), **kw)

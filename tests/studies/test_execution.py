@@ -416,3 +416,41 @@ def test_the_yes_no_flags_of_a_study_are_bools(flag, tmp_path):
     with pytest.raises(ParameterError, match=rf"^{flag} = 'no' is invalid; allowed: True or False$"):
         sweep(REF, "gamma", [0.1, 0.2], out=tmp_path / "s.nc", **{flag: "no"})
     assert not any(tmp_path.iterdir())
+
+
+def test_a_store_never_deletes_or_writes_into_a_folder_of_other_files(tmp_path):
+    from rotorcontact.studies.execution import ChunkStore
+
+    folder = tmp_path / "results"
+    folder.mkdir()
+    (folder / "thesis.tex").write_text("precious")
+    (folder / "data.npz").write_bytes(b"not a chunk")
+    for resume in (False, True):
+        with pytest.raises(ParameterError, match=r"^folder = .* holds files that are not chunks of a study "
+                                                 r"\(thesis\.tex\); allowed: a chunk folder"):
+            ChunkStore(folder, {"study": "a"}, resume=resume)
+    (folder / "thesis.tex").unlink()
+    # .npz files without a store's manifest are not chunks either
+    with pytest.raises(ParameterError, match=r"^folder = .* \(no manifest\.json\)"):
+        ChunkStore(folder, {"study": "a"}, resume=False)
+    assert (folder / "data.npz").read_bytes() == b"not a chunk" and not (folder / "manifest.json").exists()
+    file = tmp_path / "file"
+    file.write_text("x")
+    with pytest.raises(ParameterError, match=r"^folder = .* is a file, not a folder of chunks"):
+        ChunkStore(file, {"study": "a"})
+    for bad in ("", None):
+        with pytest.raises(ParameterError, match=r"^folder = "):
+            ChunkStore(bad, {"study": "a"})
+
+
+def test_a_store_starting_afresh_or_removed_deletes_only_its_own_files(tmp_path):
+    from rotorcontact.studies.execution import ChunkStore
+
+    folder = tmp_path / "s.nc.chunks"
+    store = ChunkStore(folder, {"study": "a"})
+    store.save("c0", {"x": np.arange(3.0)})
+    again = ChunkStore(folder, {"study": "a"}, resume=False)
+    assert again.count() == 0 and (folder / "manifest.json").exists()
+    again.save("c1", {"x": np.arange(2.0)})
+    again.remove()
+    assert not folder.exists()

@@ -359,6 +359,6 @@ def test_a_machine_whose_parameters_are_not_params_is_refused_and_so_are_too_man
     res = sweep(m.parameters().replace(gamma=0.3), "gamma", [0.2], machine=m, n_transient=10, n_record=5,
                 progress=False)
     assert res.dataset.attrs["swept_parameter"] == "gamma"
-    with pytest.raises(ParameterError, match=rf"^values of 'gamma' = range\(0, 1000000000000\) are 1000000000000 "
+    with pytest.raises(ParameterError, match=rf"^values of 'gamma' = range\(0, 1000000000000\) holds 1000000000000 "
                                              rf"values; allowed: at most {MAX_GRID_POINTS}$"):
         sweep(REF, "gamma", range(10**12), progress=False)

@@ -8,6 +8,9 @@ from typing import IO, Any
 
 import numpy as np
 
+from ..errors import ParameterError
+from ..model.validation import quoted
+
 __all__ = ["jsonable", "dump_json"]
 
 
@@ -23,6 +26,11 @@ def jsonable(obj: Any) -> Any:
     -------
     Any
         The same data made of dicts, lists, str, int, float, bool and None.
+
+    Raises
+    ------
+    ParameterError
+        For an object JSON cannot hold (a set, a `Parameters`, bytes ...), naming its type.
     """
     if isinstance(obj, dict):
         return {str(k): jsonable(v) for k, v in obj.items()}
@@ -39,7 +47,10 @@ def jsonable(obj: Any) -> Any:
     if isinstance(obj, (float, np.floating)):
         value = float(obj)
         return value if math.isfinite(value) else None
-    return obj
+    if obj is None or isinstance(obj, str):
+        return obj
+    raise ParameterError(f"data holds a {type(obj).__name__} ({quoted(obj)}), which JSON cannot hold; allowed: "
+                         "dicts, lists, tuples, numpy arrays, numbers, text and None")
 
 
 def dump_json(data: Any, stream: IO[str]) -> None:

@@ -968,8 +968,18 @@ def _check_period(params: Parameters, name: str, value) -> float:
     return _check_period_limit(params, name, check_range(name, value, low=0.0, low_open=True))
 
 
+#: Longest search for zeros of F1 and one-impact orbits: the orbits up to t_max grow like t_max^2 near the
+#: undamped resonance (about 10^4 of them in minutes at 1e4), and the impact model's periods are of order 10.
+MAX_T_MAX = 1e4
+
+
 def _check_t_max(params: Parameters, t_max) -> float:
-    return _check_period(params, "t_max", t_max)
+    """``t_max`` in (0, min(`MAX_T_MAX`, `period_limit`)]."""
+    t_max = _check_period(params, "t_max", t_max)
+    if t_max > MAX_T_MAX:
+        raise ParameterError(f"t_max = {t_max!r} is too large; allowed: t_max <= {MAX_T_MAX:g} (the orbits up to "
+                             "t_max grow like t_max^2)")
+    return t_max
 
 
 def f1_zeros(params: Parameters, t_max: float = 12.0) -> tuple[F1Zero, ...]:

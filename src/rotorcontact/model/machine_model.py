@@ -14,6 +14,11 @@ At |z| = c_r the impact law (`impact_with_spin`) applies Newton restitution to t
 Coulomb impulse against the relative surface velocity v_rel = v_t + R Omega - R_b Omega_b, bounded so that
 v_rel never reverses, with the effective inverse mass 1/m + R^2/I_p + R_b^2/I_b (`effective_mass_factor`).
 With 1/I_p = 1/I_b = 0 it is `rotorcontact.model.impact_law.apply_reset` in SI.
+
+The compiled functions are kernels for the simulator's loops and take their arguments unchecked (NaN
+gives NaN; text is a numba typing error); `rotorcontact.Machine` checks a machine's values. The Python
+functions of the compliant law (`impact_duration_factor`, `elastic_impact_duration`, `hertz_rebound`,
+`restitution_damping`) check theirs.
 """
 
 from __future__ import annotations
@@ -22,10 +27,12 @@ import cmath
 import math
 
 from functools import lru_cache
+from typing import Any
 
 from numba import njit
 
 from ..interpreted import complex_quotient
+from .validation import check_float
 from .impact_law import slip_bound, sticks
 
 __all__ = [
@@ -284,11 +291,25 @@ def compliant_normal_force(delta: float, delta_dot: float, stiffness: float, exp
     return max(0.0, f_el * (1.0 + damping * delta_dot)), f_el
 
 
+#: Largest Hunt-Crossley damping chi of `hertz_rebound`: the rebound is about 1/chi for large chi, so this
+#: covers restitution down to `MIN_COMPLIANT_RESTITUTION`; the overdamped creep takes tau ~ 100 chi^2.
+MAX_CHI = 1e3
+#: Smallest restitution of a compliant contact: chi in [0, 2/d + 2] stays within `MAX_CHI`.
+MIN_COMPLIANT_RESTITUTION = 2.0 / (MAX_CHI - 2.0)
+#: Largest exponent of the compliant law, as `rotorcontact.Machine` allows.
+MAX_EXPONENT = 10.0
+
+
+def _exponent(exponent: Any) -> float:
+    return check_float("exponent", exponent, 0.0, MAX_EXPONENT, low_open=True)
+
+
 def impact_duration_factor(exponent: float) -> float:
     """2 B(1/(n+1), 1/2)/(n+1), the factor of `impact_duration` (MODEL.md §8).
 
     Plain Python, passed to the kernels: numba's math.gamma (C's tgamma) and Python's differ in the last bits.
     """
+    exponent = _exponent(exponent)
     a = 1.0 / (exponent + 1.0)
     return 2.0 * a * math.gamma(a) * math.sqrt(math.pi) / math.gamma(a + 0.5)
 
@@ -303,7 +324,15 @@ def impact_duration(mass: float, v0: float, stiffness: float, exponent: float, f
 
 def elastic_impact_duration(mass: float, v0: float, stiffness: float, exponent: float) -> float:
     """Duration of an isolated elastic impact (d = 1) at normal velocity v0 under F_n = K_c delta^n, s:
-    T_c = 2 (delta_max/v0) B(1/(n+1), 1/2)/(n+1), delta_max = ((n+1) m v0^2/(2 K_c))^(1/(n+1)) (MODEL.md §8)."""
+    T_c = 2 (delta_max/v0) B(1/(n+1), 1/2)/(n+1), delta_max = ((n+1) m v0^2/(2 K_c))^(1/(n+1)) (MODEL.md §8).
+
+    Raises
+    ------
+    ParameterError
+        Unless the mass, v0 and the stiffness are finite numbers > 0 and the exponent in (0, 10].
+    """
+    for name, value in (("mass", mass), ("v0", v0), ("stiffness", stiffness)):
+        check_float(name, value, 0.0, low_open=True)
     return float(impact_duration(mass, v0, stiffness, exponent, impact_duration_factor(exponent)))
 
 
@@ -313,8 +342,17 @@ def hertz_rebound(chi: float, exponent: float, rtol: float = 1e-12) -> float:
     In the units delta = L u, t = (L/v_0) tau with L = (m v_0^2/K_c)^(1/(n+1)) the impact obeys
     u'' = -u^n max(0, 1 + chi u'), u(0) = 0, u'(0) = 1, with no other parameter: the rebound -u' at the
     return to u = 0 depends on chi and n only (not on m, K_c or v_0). Integrated by scipy's DOP853.
+
+    Raises
+    ------
+    ParameterError
+        Unless chi is in [0, `MAX_CHI`], the exponent in (0, 10] and rtol in [1e-14, 1e-3].
     """
     from scipy.integrate import solve_ivp
+
+    chi = check_float("chi", chi, 0.0, MAX_CHI)
+    exponent = _exponent(exponent)
+    rtol = check_float("rtol", rtol, 1e-14, 1e-3)
 
     def rates(_t, y):
         u = max(y[0], 0.0)
@@ -344,13 +382,14 @@ def restitution_damping(restitution: float, exponent: float) -> float:
 
     Raises
     ------
-    ValueError
-        For d outside (0, 1] (d = 0 needs infinite damping).
+    ParameterError
+        For d outside [`MIN_COMPLIANT_RESTITUTION`, 1] (d = 0 needs infinite damping), or an exponent outside
+        (0, 10].
     """
     from scipy.optimize import brentq
 
-    if not 0.0 < restitution <= 1.0:
-        raise ValueError(f"restitution = {restitution!r}; allowed: (0, 1] for a compliant contact")
+    restitution = check_float("restitution", restitution, MIN_COMPLIANT_RESTITUTION, 1.0)
+    exponent = _exponent(exponent)
     if restitution == 1.0:
         return 0.0
     return float(brentq(lambda chi: hertz_rebound(chi, exponent) - restitution, 0.0, 2.0 / restitution + 2.0,

@@ -390,7 +390,9 @@ def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
     """
     if name == "contact":
         return raw  # a word, checked by `Machine`
-    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+    if isinstance(raw, np.ndarray) and raw.ndim == 0:
+        raw = raw[()]
+    if isinstance(raw, (bool, np.bool_)) or not isinstance(raw, (int, float, np.integer, np.floating, str)):
         raise ParameterError(
             f"{source}: {name} = {raw!r} is not a number; a finite real number in {unit}, "
             f"or a string with units such as '1.5 {unit}', is required"
@@ -554,10 +556,13 @@ class Machine:
                     "contacts penetrate less than the rounding of the position resolves; contact = 'rigid' is "
                     "their limit)"
                 )
-            if self.restitution == 0.0:
+            from .machine_model import MIN_COMPLIANT_RESTITUTION
+
+            if self.restitution < MIN_COMPLIANT_RESTITUTION:
                 raise ParameterError(
-                    "restitution = 0.0 with contact = 'compliant'; allowed: (0, 1] (a compliant contact that "
-                    "keeps no rebound needs infinite damping)"
+                    f"restitution = {self.restitution!r} with contact = 'compliant'; allowed: "
+                    f"[{MIN_COMPLIANT_RESTITUTION:.4g}, 1] (a compliant contact that keeps no rebound needs "
+                    "infinite damping, and one that keeps almost none creeps for ever)"
                 )
         elif self.contact_stiffness is not None or self.contact_exponent is not None:
             given = "contact_stiffness" if self.contact_stiffness is not None else "contact_exponent"

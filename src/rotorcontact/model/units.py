@@ -62,6 +62,9 @@ def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False)
     """
     import pint
 
+    if not isinstance(text, str):
+        raise ParameterError(f"{name} = {text!r} is not text; expected a number with units of {unit}, such as "
+                             f"'1.5 {unit}'")
     if not _MAGNITUDE.match(text):
         raise ParameterError(f"{name} = {text!r} has no number; expected a number with units of {unit}")
     if unit_required:
@@ -80,11 +83,11 @@ def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False)
         raise ParameterError(f"{name} = {text!r}: unknown unit {', '.join(map(str, exc.unit_names))!r}; expected a quantity in {unit}") from None
     except Exception:  # pint raises several parser errors for malformed text
         raise ParameterError(f"{name} = {text!r} is not a quantity; expected a number with units of {unit}") from None
-    if not isinstance(q, pint.Quantity):
-        q = ureg.Quantity(q, target)
-    elif q.dimensionless and q.units == ureg.dimensionless and target != "dimensionless":
-        q = ureg.Quantity(q.magnitude, target)
     try:
+        if not isinstance(q, pint.Quantity):
+            q = ureg.Quantity(q, target)
+        elif q.dimensionless and q.units == ureg.dimensionless and target != "dimensionless":
+            q = ureg.Quantity(q.magnitude, target)
         if target in _ANGULAR_SPEEDS and q.check("1/[time]") and not _has_angle(q):
             # a frequency such as "50 Hz" or "3000 / minute" counts revolutions
             q = q * ureg.revolution
@@ -93,6 +96,8 @@ def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False)
         raise ParameterError(
             f"{name} = {text!r} has units of {q.dimensionality}; expected units convertible to {unit}"
         ) from None
+    except (OverflowError, ZeroDivisionError):
+        value = math.inf
     if not math.isfinite(value):
         raise ParameterError(f"{name} = {text!r} is not finite; a finite quantity in {unit} is required")
     return value

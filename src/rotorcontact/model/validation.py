@@ -19,7 +19,7 @@ from .params import Parameters, check_finite, refuse_bool_or_text
 
 __all__ = ["MAX_COUNT", "check_params", "check_machine", "check_machine_params", "check_type", "check_fields",
            "check_broadcast", "quoted", "check_int", "check_float", "check_choice", "real_array", "complex_array",
-           "check_bool", "check_path", "is_pair", "settings_or_default"]
+           "check_bool", "check_path", "check_length", "is_pair", "settings_or_default"]
 
 
 #: Longest repr of a value quoted in a message; longer ones (a dataset, a long list) are cut.
@@ -125,6 +125,17 @@ def complex_array(value: Any) -> np.ndarray | None:
     """``value`` as an array of complex numbers if it holds integers, reals or complex numbers only; None
     for text, bools, ragged lists or other objects (`real_array`'s rule, complex numbers allowed)."""
     return _numbers(value, "iufc", complex)
+
+
+def check_length(name: str, values: Any, most: int) -> None:
+    """Refuse a sized ``values`` (list, range, array ...) of more than ``most`` items before numpy reads it
+    (``range(10**12)`` would fill the memory first), naming ``name``; anything without a length passes."""
+    try:
+        count = len(values)
+    except TypeError:
+        return
+    if count > most:
+        raise ParameterError(f"{name} = {quoted(values)} holds {count} values; allowed: at most {most}")
 
 
 def is_pair(value: Any) -> bool:

@@ -30,7 +30,7 @@ from ..errors import ParameterError
 from ..maps.impact_map import one_impact_orbits
 from ..analysis.local import local_analysis
 from ..model.params import Parameters, reference_machine
-from ..model.validation import check_path
+from ..model.validation import check_bool, check_params, check_path
 from ..plotting.branches import plot_extrema, plot_max_multiplier, plot_rdot, plot_thetadot
 from ..plotting.codim2 import plot_codim2
 from ..plotting.equilibria import plot_equilibria
@@ -420,8 +420,9 @@ def reproduce(out: str | Path, params: Parameters | None = None, *, progress: bo
     Reproduction
     """
     paper = paper_parameters()
-    p = paper if params is None else params
+    p = paper if params is None else check_params(params)
     is_paper = p == paper
+    progress = check_bool("progress", progress)
     out = check_path("out", out)
     if out.exists() and not out.is_dir():
         raise ParameterError(f"out = {str(out)!r} is a file; allowed: a folder, new or existing")

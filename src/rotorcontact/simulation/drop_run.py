@@ -21,7 +21,7 @@ from ..model.machine_model import (
 )
 from ..model.params import MAX_SPEED, MAX_T_END as MAX_RUN_TIME, Machine, check_machine_value, check_range
 from ..model.units import RPM
-from ..model.validation import MAX_COUNT, check_int, check_machine, complex_value
+from ..model.validation import MAX_COUNT, check_int, check_machine, complex_value, is_pair, quoted, real_array
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
 __all__ = ["DropResult", "drop", "run_general", "levitated_state", "check_drop_speed", "contact_force_history", "RPM",
@@ -46,6 +46,14 @@ REST_FRACTION = 1e-8
 DAMPING_VELOCITY_FRACTION = 1e-3
 #: Relative tolerance of the compliant contact episodes (MODEL.md §8).
 EPISODE_TOL = 1e-10
+#: Fastest initial rotor velocity of a run, m/s: a kilometre a second is beyond any rotor in its bearing (the
+#: fastest touchdown shocks are metres a second), and the event search's steps shrink like 1/|v|.
+MAX_START_VELOCITY = 1e3
+#: Deepest start inside the stator of the compliant law, in clearances beyond the clearance: its
+#: penetrations are micrometres, a clearance deep is already far beyond any contact force it models.
+MAX_START_DEPTH = 1.0
+#: Most times of a force history: each reruns the drop up to it.
+MAX_FORCE_TIMES = 1000
 _COL = {name: i for i, name in enumerate(IMPACT_FIELDS)}
 
 
@@ -359,6 +367,9 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     t_end = check_range("t_end", t_end, low=0.0, high=longest, low_open=True, unit="s",
                         why=f"{MAX_T_END:g} s, or {MAX_RUN_TIME:g} radians of spin where that is longer")
     z0, v0 = complex_value("z0", z0), complex_value("v0", v0)
+    if not abs(v0) <= MAX_START_VELOCITY:
+        raise ParameterError(f"v0 = {v0!r} m/s is too fast (|v0| = {abs(v0):.3g} m/s); allowed: |v0| <= "
+                             f"{MAX_START_VELOCITY:g} m/s")
     if not (isinstance(stator_start, (tuple, list, np.ndarray)) and np.shape(stator_start) == (2,)):
         raise ParameterError(f"stator_start = {stator_start!r} is invalid; allowed: (z_s, v_s), two complex numbers")
     m = machine
@@ -368,6 +379,10 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     if not abs(z0 - zb0) <= m.clearance * (1.0 + 1e-12) and not m.compliant:
         raise ParameterError(f"z0 = {z0!r} m lies outside the clearance {m.clearance:g} m round the stator's centre "
                              f"{zb0!r} m; allowed: |z0 - z_s| <= c_r (beyond it: in contact, compliant law only)")
+    if not abs(z0 - zb0) <= m.clearance * (1.0 + MAX_START_DEPTH):
+        deepest = m.clearance * (1.0 + MAX_START_DEPTH)
+        raise ParameterError(f"z0 = {z0!r} m lies {abs(z0 - zb0) - m.clearance:.3g} m inside the stator; allowed: "
+                             f"|z0 - z_s| <= {1.0 + MAX_START_DEPTH:g} c_r = {deepest:g} m")
     v_scale = _velocity_scale(m, speed)
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
     polar = m.polar_inertia or 0.0
@@ -407,15 +422,22 @@ def contact_force_history(machine: Machine, speed: float, fail_at: float, times,
     Raises
     ------
     ParameterError
-        For a machine without the compliant law.
+        For a machine without the compliant law, ``times`` that are not 1 to `MAX_FORCE_TIMES` finite times
+        > 0, or a ``start`` that is not a pair (z0, v0).
     """
     check_machine(machine, optional=False)
     if not machine.compliant:
         raise ParameterError(f"contact = {machine.contact!r}; a force history needs contact = 'compliant'")
+    at = real_array(times)
+    if (at is None or at.ndim > 1 or not 1 <= at.size <= MAX_FORCE_TIMES
+            or not np.all(np.isfinite(at) & (at > 0.0))):
+        raise ParameterError(f"times = {quoted(times)} is invalid; allowed: 1 to {MAX_FORCE_TIMES} finite times > 0, s")
+    if start is not None and not is_pair(start):
+        raise ParameterError(f"start = {quoted(start)} is invalid; allowed: (z0, v0) in m and m/s, or None")
     chi = restitution_damping(machine.restitution, machine.exponent)
     floor = DAMPING_VELOCITY_FRACTION * _velocity_scale(machine, speed)
     out = []
-    for t in np.asarray(times, dtype=float):
+    for t in at.reshape(-1):
         if start is None:
             r = drop(machine, speed, fail_at, float(t))
         else:

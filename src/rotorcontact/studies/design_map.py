@@ -35,7 +35,7 @@ from ..analysis.equilibria import equilibria
 from ..errors import ParameterError
 from ..maps.impact_map import one_impact_orbits, period_limit
 from ..model.params import MAX_SPEED, MAX_VELOCITY, Machine, check_finite, check_range
-from ..model.validation import check_int, check_machine, is_pair, real_array
+from ..model.validation import check_int, check_length, check_machine, is_pair, real_array
 from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
 from ..model.units import RPM
 from .driver import run_study
@@ -460,6 +460,7 @@ class DesignMap:
 
 
 def _check_grid(name: str, values: Sequence[float], positive: bool = True) -> np.ndarray:
+    check_length(name, values, MAX_POINTS)
     arr = real_array(values)
     if arr is None or arr.size < 1 or not np.all(np.isfinite(arr)) or (positive and np.any(arr <= 0.0)):
         raise ParameterError(f"{name} = {values!r} is invalid; allowed: finite values{' > 0' if positive else ''}")

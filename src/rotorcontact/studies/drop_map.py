@@ -19,13 +19,16 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine, check_range
 from ..model.units import RPM
-from ..model.validation import check_machine
+from ..model.validation import check_length, check_machine
 from ..simulation.drop_run import MAX_T_END, check_drop_speed, check_failure_before_end, drop
 from .driver import StudyRun, run_study
 from .execution import check_chunk_size, study_digest
 
 __all__ = ["REGIMES", "FAILED", "DropTask", "drop_map", "failed_points"]
 
+#: Most speeds, and most friction coefficients, of a drop map (as ``rotorcontact drop-map --n``): each
+#: point is a whole drop.
+MAX_DROP_POINTS = 10_000
 #: Regime codes of the map, in the order of their codes 0, 1, 2, ... (`DropResult.regime`).
 REGIMES = ("levitated", "bouncing", "contact", "backward-whirl", "failed")
 #: Code of the drops that failed.
@@ -103,6 +106,8 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
         coefficient must be >= 0 (``frictions[i]``).
     """
     check_machine(machine, optional=False)
+    check_length("speeds", speeds, MAX_DROP_POINTS)
+    check_length("frictions", frictions, MAX_DROP_POINTS)
     speeds = np.atleast_1d(np.asarray(speeds, dtype=object))
     frictions = np.atleast_1d(np.asarray([machine.friction] if frictions is None else frictions, dtype=object))
     if speeds.ndim != 1 or speeds.size == 0 or frictions.ndim != 1 or frictions.size == 0:

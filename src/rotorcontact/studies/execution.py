@@ -45,7 +45,6 @@ import json
 import logging
 import os
 import queue
-import shutil
 import signal
 import sys
 import tempfile
@@ -63,6 +62,7 @@ import numpy as np
 from .batch import NSUM, BatchSettings, run_lanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
+from ..model.validation import check_bool, check_path
 
 __all__ = ["BACKENDS", "ChunkTask", "ChunkStore", "CudaExecutor", "StoredChunks", "available_cores",
            "backend_manifest", "check_backend", "check_workers", "fitted_chunk_size", "local_workers", "make_executor",
@@ -871,19 +871,22 @@ class ChunkStore:
     Raises
     ------
     ParameterError
-        If the folder holds chunks of a different study.
+        If the folder holds chunks of a different study, or anything but a chunk store's files: a store
+        deletes only its own files, never a folder of other files that happens to have its name.
     """
 
     def __init__(self, folder: str | Path, manifest: dict[str, Any], resume: bool = True,
                  layout: dict[str, int] | None = None) -> None:
-        self.folder = Path(folder)
+        self.folder = check_path("folder", folder)
+        resume = check_bool("resume", resume)
         self.layout = dict(layout or {})
         self.layout_changed = False
         study = {"format": STORE_FORMAT, "study": _canonical(manifest)}
         self.digest = study_digest(manifest)
         path = self.folder / "manifest.json"
+        self._check_folder()
         if self.folder.exists() and not resume:
-            shutil.rmtree(self.folder)
+            self._clear()
         if path.exists():
             try:
                 old = json.loads(path.read_text(encoding="utf-8"))
@@ -908,6 +911,29 @@ class ChunkStore:
         else:
             self.folder.mkdir(parents=True, exist_ok=True)
             self._write_manifest(path, study)
+
+    def _own_files(self) -> list[Path]:
+        return [e for e in self.folder.iterdir() if e.is_file() and _store_file(e.name)]
+
+    def _check_folder(self) -> None:
+        """Refuse a path that is not a folder, and a folder holding anything a store does not write, or
+        store files without a manifest."""
+        if not self.folder.exists():
+            return
+        if not self.folder.is_dir():
+            raise ParameterError(f"folder = {str(self.folder)!r} is a file, not a folder of chunks; allowed: a chunk "
+                                 "folder, or a path that does not exist yet")
+        entries = list(self.folder.iterdir())
+        others = [e.name for e in entries if not (e.is_file() and _store_file(e.name))]
+        if others or (entries and not (self.folder / "manifest.json").is_file()):
+            shown = ", ".join(sorted(others)[:5]) or "no manifest.json"
+            raise ParameterError(f"folder = {str(self.folder)!r} holds files that are not chunks of a study ({shown}); "
+                                 "allowed: a chunk folder (manifest.json and .npz chunks), or a path that does not "
+                                 "exist yet; write to another file")
+
+    def _clear(self) -> None:
+        for e in self._own_files():
+            e.unlink(missing_ok=True)
 
     def _write_manifest(self, path: Path, study: dict[str, Any]) -> None:
         _atomic_write_text(path, json.dumps({**study, "layout": self.layout}, sort_keys=True, indent=1))
@@ -944,8 +970,19 @@ class ChunkStore:
         return sum(1 for _ in self.folder.glob("*.npz"))
 
     def remove(self) -> None:
-        """Delete the folder."""
-        shutil.rmtree(self.folder, ignore_errors=True)
+        """Delete the store: its files, then the folder once empty (a file put there meanwhile is kept)."""
+        if not self.folder.is_dir():
+            return
+        self._clear()
+        try:
+            self.folder.rmdir()
+        except OSError:
+            pass
+
+
+def _store_file(name: str) -> bool:
+    """A file a `ChunkStore` writes: its manifest, a chunk, or one being written (a ``.part``)."""
+    return name == "manifest.json" or name.endswith(".npz") or (name.startswith(".") and name.endswith(".part"))
 
 
 def _atomic_write_text(path: Path, text: str) -> None:

@@ -10,28 +10,16 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters
 from .batch import PARAMETER_ORDER
-from ..model.validation import check_machine, check_machine_params, quoted, real_array
+from ..model.validation import check_length, check_machine, check_machine_params, real_array
 from .grids import MAX_GRID_POINTS
 
 __all__ = ["parameter_path", "path_values"]
 
 
-def check_value_count(param: Any, values: Any) -> None:
-    """Refuse more values than `MAX_GRID_POINTS` before numpy reads them (a ``range(10**12)`` would fill the
-    memory first), naming ``param``."""
-    try:
-        count = len(values)
-    except TypeError:
-        return
-    if count > MAX_GRID_POINTS:
-        raise ParameterError(f"values of {param!r} = {quoted(values)} are {count} values; allowed: at most "
-                             f"{MAX_GRID_POINTS}")
-
-
 def path_values(param: Any, values: Any) -> np.ndarray:
     """``values`` of ``param`` as a flat array of finite reals, at least one and at most `MAX_GRID_POINTS`;
     text, bools and complex numbers are refused (`rotorcontact.model.validation.real_array`)."""
-    check_value_count(param, values)
+    check_length(f"values of {param!r}", values, MAX_GRID_POINTS)
     vals = real_array(values)
     if vals is None:
         raise ParameterError(f"values of {param!r} = {values!r} are not real numbers; allowed: a list or array of "

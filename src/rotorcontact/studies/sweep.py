@@ -35,7 +35,7 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import BRANCH_PARAMETERS, Machine, Parameters, check_finite
-from ..model.validation import check_int, check_machine, check_machine_params, check_params, real_array
+from ..model.validation import check_int, check_length, check_machine, check_machine_params, check_params, real_array
 from .attributes import (
     PARAMETER_LONG_NAMES,
     PARAMETER_UNITS,
@@ -60,7 +60,6 @@ from .batch import (
 from .driver import run_study
 from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
 from .grids import MAX_GRID_POINTS
-from .parameter_path import check_value_count
 
 __all__ = [
     "SWEEP_PARAMETERS",
@@ -108,7 +107,7 @@ def sweep_values(start: float, stop: float, n: int) -> np.ndarray:
 
 
 def _check_values(param: str, values: Any) -> np.ndarray:
-    check_value_count(param, values)
+    check_length(f"values of {param!r}", values, MAX_GRID_POINTS)
     vals = real_array(values)
     if vals is None or vals.ndim > 1:
         raise ParameterError(f"values = {values!r} are not a list of real numbers; allowed: a 1-D list or array of "
