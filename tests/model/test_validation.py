@@ -42,9 +42,10 @@ def test_check_bool_takes_true_and_false_only():
             check_bool("flag", bad)
 
 
-@pytest.mark.parametrize("bad", [None, 1, "", "   ", b"x.nc", ["a.nc"]])
+@pytest.mark.parametrize("bad", [None, 1, "", "   ", b"x.nc", ["a.nc"], "a\0b.nc"])
 def test_a_path_is_a_non_empty_name(bad, tmp_path):
     import matplotlib.pyplot as plt
+    import xarray as xr
 
     from rotorcontact.io.netcdf import write_netcdf
     from rotorcontact.model.params import load_machine
@@ -53,10 +54,11 @@ def test_a_path_is_a_non_empty_name(bad, tmp_path):
     from rotorcontact.report.reproduce import reproduce
 
     assert check_path("out", tmp_path / "a.nc") == tmp_path / "a.nc"
-    with pytest.raises(ParameterError, match=r"^out = .* is not a path; allowed: a non-empty file or folder name$"):
+    with pytest.raises(ParameterError, match=r"^out = .* is not a path; allowed: a non-empty file or folder name "
+                                             r"\(without NUL characters\)$"):
         check_path("out", bad)
     with pytest.raises(ParameterError, match="^out = "):
-        write_netcdf(None, bad)
+        write_netcdf(xr.Dataset(), bad)
     with pytest.raises(ParameterError, match="^out = "):
         reproduce(bad, progress=False)
     with pytest.raises(ParameterError, match="^machine = "):

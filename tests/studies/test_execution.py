@@ -454,3 +454,23 @@ def test_a_store_starting_afresh_or_removed_deletes_only_its_own_files(tmp_path)
     again.save("c1", {"x": np.arange(2.0)})
     again.remove()
     assert not folder.exists()
+
+
+def test_worker_counts_and_chunk_keys_are_checked(tmp_path):
+    from rotorcontact.studies.execution import ChunkStore, fitted_chunk_size, local_workers, make_executor
+
+    for bad in (0, -2, 1.5, True, "2", None):
+        with pytest.raises(ParameterError, match=r"^n_jobs = .* is invalid; allowed: an integer >= 1, or -1"):
+            local_workers(bad)
+    assert local_workers(np.int64(1)) == (1, False)
+    with pytest.raises(ParameterError, match=r"^processes = 'x' is invalid; allowed: True or False$"):
+        make_executor(None, processes="x")
+    with pytest.raises(ParameterError, match=r"^workers = 0 is invalid"):
+        fitted_chunk_size(10, 4, 0)
+    with pytest.raises(ParameterError, match=r"^default = 0 is invalid"):
+        fitted_chunk_size(10, 0, 2)
+    store = ChunkStore(tmp_path / "s.chunks", {"study": "k"})
+    for key in ("../x", "/abs", "a/b", ".hidden", "", None, 5):
+        with pytest.raises(ParameterError, match=r"^key = .* is invalid; allowed: a chunk name"):
+            store.save(key, {"x": np.zeros(1)})
+    store.remove()

@@ -39,16 +39,26 @@ def test_an_unreadable_file_is_not_a_finished_study(tmp_path):
 
 
 def test_output_paths_are_checked(tmp_path):
-    with pytest.raises(ParameterError, match="must end in .nc"):
+    with pytest.raises(ParameterError, match=r"^out = .* must end in .nc"):
         check_output_path(tmp_path / "f.txt")
     (tmp_path / "d.nc").mkdir()
-    with pytest.raises(ParameterError, match="is a folder"):
+    with pytest.raises(ParameterError, match=r"^out = .* is a folder"):
         check_output_path(tmp_path / "d.nc")
-    with pytest.raises(ParameterError, match="does not exist"):
+    with pytest.raises(ParameterError, match=r"^path = .* does not exist"):
         check_output_folder(tmp_path / "missing" / "f.nc")
     (tmp_path / "file").write_text("")
-    with pytest.raises(ParameterError, match="is not a folder"):
+    with pytest.raises(ParameterError, match=r"^path = .* is not a folder"):
         check_output_folder(tmp_path / "file" / "f.nc")
+    for bad in (None, 5, "", "a\0b.nc"):
+        with pytest.raises(ParameterError, match=r"^path = .* is not a path"):
+            check_output_folder(bad)
+        with pytest.raises(ParameterError, match=r"^out = .* is not a path"):
+            write_netcdf(xr.Dataset(), bad)
+    for bad in (None, {"a": 1}):
+        with pytest.raises(ParameterError, match=r"^ds = .* is not a Dataset object"):
+            write_netcdf(bad, tmp_path / "f.nc")
+    with pytest.raises(ParameterError, match=r"^digest = None is invalid"):
+        read_finished(tmp_path / "f.nc", None)
 
 
 def test_a_folder_gets_the_permissions_of_an_ordinary_new_folder(tmp_path):

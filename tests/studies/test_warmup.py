@@ -21,6 +21,15 @@ def test_warm_up_compiles_the_groups_kernels():
 def test_an_unknown_group_is_refused_by_name():
     with pytest.raises(ParameterError, match=r"group = 'fast'.*allowed: " + ", ".join(WARMUP_GROUPS)):
         warm_up(["simulate", "fast"])
+    for bad in (5, {"simulate": 1}.items()):
+        with pytest.raises(ParameterError, match=r"^groups = .* is invalid; allowed: a group name, a list"):
+            warm_up(bad)
+    with pytest.raises(ParameterError, match=r"^group = 1 is not a kernel group"):
+        warm_up([1])
+
+
+def test_one_group_may_be_given_by_its_name():
+    assert list(warm_up("simulate")) == ["simulate"]
 
 
 def test_warm_up_of_the_studies_compiles_the_kernels_of_threads_and_of_worker_processes():

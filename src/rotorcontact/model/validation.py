@@ -195,8 +195,9 @@ def check_path(name: str, value: Any) -> Path:
     """``value`` as a `pathlib.Path` if it is a non-empty path (text or os.PathLike), else a `ParameterError`:
     an empty name would mean the current folder. ``Path("")`` is ``Path(".")`` itself, the current folder
     named explicitly, and is taken as such."""
-    if not isinstance(value, (str, os.PathLike)) or not str(value).strip():
-        raise ParameterError(f"{name} = {value!r} is not a path; allowed: a non-empty file or folder name")
+    if not isinstance(value, (str, os.PathLike)) or not str(value).strip() or "\0" in str(value):
+        raise ParameterError(f"{name} = {value!r} is not a path; allowed: a non-empty file or folder name (without "
+                             "NUL characters)")
     return Path(value)
 
 

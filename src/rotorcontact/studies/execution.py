@@ -45,6 +45,7 @@ import json
 import logging
 import os
 import queue
+import re
 import signal
 import sys
 import tempfile
@@ -62,7 +63,7 @@ import numpy as np
 from .batch import NSUM, BatchSettings, run_lanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
-from ..model.validation import check_bool, check_path
+from ..model.validation import check_bool, check_int, check_path
 
 __all__ = ["BACKENDS", "ChunkTask", "ChunkStore", "CudaExecutor", "StoredChunks", "available_cores",
            "backend_manifest", "check_backend", "check_workers", "fitted_chunk_size", "local_workers", "make_executor",
@@ -706,6 +707,13 @@ def check_workers(client: Any, where: str) -> None:
         )
 
 
+def _check_n_jobs(n_jobs: Any) -> int:
+    whole = not isinstance(n_jobs, (bool, np.bool_)) and isinstance(n_jobs, (int, np.integer))
+    if not (whole and (n_jobs >= 1 or n_jobs == -1)):
+        raise ParameterError(f"n_jobs = {n_jobs!r} is invalid; allowed: an integer >= 1, or -1 for all cores")
+    return int(n_jobs)
+
+
 def local_workers(n_jobs: int) -> tuple[int, bool]:
     """The number of local worker processes for ``n_jobs``: at most `available_cores`.
 
@@ -720,7 +728,13 @@ def local_workers(n_jobs: int) -> tuple[int, bool]:
         Workers to start.
     capped : bool
         True when ``n_jobs`` asked for more workers than there are cores.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``n_jobs`` is an integer >= 1 or -1.
     """
+    n_jobs = _check_n_jobs(n_jobs)
     cores = available_cores()
     if n_jobs == -1:
         return cores, False
@@ -745,7 +759,16 @@ def fitted_chunk_size(n_items: int, default: int, workers: int | None) -> int:
     -------
     int
         At most ``default``, and at least ``min(default, MIN_FITTED_CHUNK)``.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``n_items`` is an integer >= 0, ``default`` >= 1 and ``workers`` None or >= 1.
     """
+    n_items = check_int("n_items", n_items, 0)
+    default = check_int("default", default, 1)
+    if workers is not None:
+        workers = check_int("workers", workers, 1)
     if workers is None or workers < 2:
         return default
     return min(default, max(MIN_FITTED_CHUNK, n_items // (CHUNKS_PER_WORKER * workers)))
@@ -767,6 +790,7 @@ def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes
         be used.
     """
     check_backend(backend)
+    processes = check_bool("processes", processes)
     if backend == "cuda":
         if n_jobs is not None or scheduler is not None:
             raise ParameterError(
@@ -775,8 +799,7 @@ def make_executor(n_jobs: int | None = None, scheduler: Any = None, *, processes
             )
         return CudaExecutor()
     if n_jobs is not None:
-        if isinstance(n_jobs, bool) or not isinstance(n_jobs, (int, np.integer)) or n_jobs == 0 or n_jobs < -1:
-            raise ParameterError(f"n_jobs = {n_jobs!r} is invalid; allowed: an integer >= 1, or -1 for all cores")
+        n_jobs = _check_n_jobs(n_jobs)
         local = scheduler is None or (isinstance(scheduler, str) and scheduler == "local")
         if local:
             n, capped = local_workers(int(n_jobs))
@@ -839,6 +862,10 @@ def study_digest(manifest: dict[str, Any]) -> str:
     """A fingerprint of everything that defines a study (its ``manifest``), exact in every float."""
     text = json.dumps({"format": STORE_FORMAT, "study": _canonical(manifest)}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()
+
+
+#: The names of chunks (`ChunkStore` keys): one file name each, inside the store's folder.
+CHUNK_KEY = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_-]{0,127}")
 
 
 class ChunkStore:
@@ -939,6 +966,9 @@ class ChunkStore:
         _atomic_write_text(path, json.dumps({**study, "layout": self.layout}, sort_keys=True, indent=1))
 
     def _file(self, key: str) -> Path:
+        """The chunk file of ``key``: a name of letters, digits, ``-`` and ``_`` (no folder, no leading dot)."""
+        if not (isinstance(key, str) and CHUNK_KEY.fullmatch(key)):
+            raise ParameterError(f"key = {key!r} is invalid; allowed: a chunk name of letters, digits, '-' and '_'")
         return self.folder / f"{key}.npz"
 
     def done(self, key: str) -> bool:
@@ -947,6 +977,7 @@ class ChunkStore:
 
     def save(self, key: str, arrays: dict[str, np.ndarray]) -> None:
         """Write a finished chunk (atomically)."""
+        target = self._file(key)
         fd, tmp = tempfile.mkstemp(prefix=f".{key}.", suffix=".npz.part", dir=self.folder)
         try:
             with os.fdopen(fd, "wb") as fh:
@@ -954,7 +985,7 @@ class ChunkStore:
                 fh.flush()
                 os.fsync(fh.fileno())
             umask_permissions(tmp)
-            os.replace(tmp, self._file(key))
+            os.replace(tmp, target)
         except BaseException:
             if os.path.exists(tmp):
                 os.unlink(tmp)

@@ -45,7 +45,17 @@ def write_netcdf(ds, out: str | Path) -> Path:
     -------
     pathlib.Path
         The file written.
+
+    Raises
+    ------
+    ParameterError
+        For ``ds`` that is not an xarray Dataset, or an ``out`` that `check_output_path` refuses.
     """
+    import xarray as xr
+
+    from ..model.validation import check_type
+
+    check_type("ds", ds, xr.Dataset, "an xarray.Dataset")
     out = check_output_path(out)
     fd, tmp = tempfile.mkstemp(prefix=f".{out.name}.", suffix=".part", dir=out.parent)
     os.close(fd)
@@ -78,8 +88,17 @@ def read_finished(out: str | Path, digest: str):
     -------
     xarray.Dataset or None
         None when the file is missing, unreadable or of another study.
+
+    Raises
+    ------
+    ParameterError
+        For an ``out`` that is not a path, or a ``digest`` that is not text.
     """
-    out = Path(out)
+    from ..model.validation import check_path
+
+    out = check_path("out", out)
+    if not isinstance(digest, str) or not digest:
+        raise ParameterError(f"digest = {digest!r} is invalid; allowed: a study's digest (text, study_digest)")
     if not out.is_file():
         return None
     import xarray as xr
@@ -104,18 +123,22 @@ def check_output_path(out: str | Path) -> Path:
 
     out = check_path("out", out)
     if out.suffix.lower() != ".nc":
-        raise ParameterError(f"output file {str(out)!r} must end in .nc (NetCDF)")
+        raise ParameterError(f"out = {str(out)!r} is invalid: the output file must end in .nc; allowed: a NetCDF "
+                             "file name, such as 'result.nc'")
     if out.exists() and out.is_dir():
-        raise ParameterError(f"output file {str(out)!r} is a folder")
-    check_output_folder(out)
+        raise ParameterError(f"out = {str(out)!r} is a folder; allowed: a file in an existing folder")
+    check_output_folder(out, "out")
     return out
 
 
-def check_output_folder(path: str | Path) -> None:
-    """Check that the folder of the output file ``path`` exists (`ParameterError` otherwise)."""
-    parent = Path(path).parent
+def check_output_folder(path: str | Path, name: str = "path") -> None:
+    """Check that the folder of the output file ``path`` exists (`ParameterError` naming ``name`` otherwise)."""
+    from ..model.validation import check_path  # here: the command line's --help does not import numpy
+
+    parent = check_path(name, path).parent
     if not parent.exists():
-        raise ParameterError(f"the folder {str(parent)!r} of the output file {str(path)!r} does not exist; "
-                             "create it first")
+        raise ParameterError(f"{name} = {str(path)!r} is invalid: its folder {str(parent)!r} does not exist; "
+                             "allowed: a file in an existing folder (create it first)")
     if not parent.is_dir():
-        raise ParameterError(f"output folder {str(parent)!r} is not a folder")
+        raise ParameterError(f"{name} = {str(path)!r} is invalid: {str(parent)!r} is not a folder; allowed: a file "
+                             "in an existing folder")

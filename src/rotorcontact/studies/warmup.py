@@ -72,7 +72,8 @@ WARMUP_GROUPS: dict[str, tuple[str, Callable[[], None]]] = {
 
 
 def warm_up(groups: Iterable[str] | None = None) -> dict[str, float]:
-    """Compile (or load from the cache) the kernels of ``groups`` (default: all of `WARMUP_GROUPS`).
+    """Compile (or load from the cache) the kernels of ``groups`` (default: all of `WARMUP_GROUPS`); one group
+    may be given by its name alone.
 
     Returns
     -------
@@ -82,11 +83,16 @@ def warm_up(groups: Iterable[str] | None = None) -> dict[str, float]:
     Raises
     ------
     ParameterError
-        For a group not in `WARMUP_GROUPS`.
+        For a group not in `WARMUP_GROUPS`, or ``groups`` that is neither a name nor a list of names.
     """
+    if isinstance(groups, str):
+        groups = [groups]
+    if groups is not None and not isinstance(groups, (list, tuple, set, frozenset)):
+        raise ParameterError(f"groups = {groups!r} is invalid; allowed: a group name, a list of them, or None (all: "
+                             f"{', '.join(WARMUP_GROUPS)})")
     names = list(WARMUP_GROUPS) if groups is None else list(groups)
     for name in names:
-        if name not in WARMUP_GROUPS:
+        if not isinstance(name, str) or name not in WARMUP_GROUPS:
             raise ParameterError(f"group = {name!r} is not a kernel group; allowed: {', '.join(WARMUP_GROUPS)}")
     from ..interpreted import compiled_only
 
