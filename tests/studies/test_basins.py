@@ -211,3 +211,22 @@ def test_a_machine_whose_parameters_are_not_params_is_refused():
     m = reference_machine()
     with pytest.raises(ParameterError, match=r"^params are not the machine's \(gamma = .*; allowed: machine"):
         basins(m.parameters().replace(gamma=0.1), "plane:3", machine=m, progress=False)
+
+
+def test_result_lookups_and_class_names_refuse_what_is_not_in_them():
+    from rotorcontact.studies.basins import class_names, displacement_grid
+
+    res = basins(REF.replace(gamma=0.1), displacement_grid(np.array([-0.5, 0.5, 3]), (-0.5, 0.5, 2)), progress=False)
+    assert res.image.shape == (2, 3)
+    assert res.class_of(np.int64(1), 2) == res.classes[int(res.image[1, 2])]
+    for i, j, name in ((2, 0, "i"), (-1, 0, "i"), (0, 3, "j"), (0.5, 0, "i"), (None, 0, "i"), (True, 0, "i")):
+        with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: an integer from 0 to"):
+            res.class_of(i, j)
+    with pytest.raises(ParameterError, match=r"^name = 'nothing' is not a class of these basins"):
+        res.fraction("nothing")
+    from rotorcontact.studies.basins import CLASSES_AFTER, CLASSES_BEFORE
+
+    assert class_names(["B1,d", "B1,a"]) == CLASSES_BEFORE + ("B1,d", "B1,a") + CLASSES_AFTER
+    for bad in ("B1,d", None, [1], [""]):
+        with pytest.raises(ParameterError, match=r"^orbit_labels = .* is invalid; allowed: a list or tuple"):
+            class_names(bad)

@@ -445,3 +445,10 @@ def test_settings_bound_the_events_and_the_times_of_a_simulation():
     assert BatchSettings(n_transient=10**7).transient_time == MAX_T_END
     assert BatchSettings(n_record=2 * 10**6 + 1).record_time == MAX_T_END
     assert BatchSettings(n_transient=10**7, t_transient=1e6).transient_time == 1e6
+
+
+def test_the_count_of_simulations_is_a_whole_number():
+    for bad in (0, -1, "x", 1.5, None):
+        with pytest.raises(ParameterError, match=r"^simulations = .* is invalid; allowed: an integer >= 1$"):
+            check_batch_settings(BatchSettings(), bad)
+

@@ -278,3 +278,23 @@ def test_lists_of_speeds_beyond_the_bound_are_refused_before_numpy_reads_them():
     with pytest.raises(ParameterError, match=rf"^speeds_rpm = range\(1, 1000000000001\) holds 1000000000000 values; "
                                              rf"allowed: at most {MAX_POINTS}$"):
         speed_map(reference_machine(), range(1, 10**12 + 1))
+
+
+def test_speed_conversions_and_recovery_inputs_are_checked():
+    import math
+
+    import numpy as np
+
+    from rotorcontact import ParameterError, reference_machine
+    from rotorcontact.studies.design_map import rad_s_to_rpm, recovery_probabilities, rpm_to_rad_s
+
+    assert rpm_to_rad_s(60.0) == 2.0 * math.pi and np.allclose(rad_s_to_rpm(np.array([2.0 * math.pi])), [60.0])
+    assert rad_s_to_rpm(rpm_to_rad_s(np.float32(3000.0))) == pytest.approx(3000.0, rel=1e-15)
+    for bad in (None, "1000 rpm", math.nan, [1.0, math.inf], True):
+        with pytest.raises(ParameterError, match=r"^rpm = .* is invalid; allowed: finite real numbers$"):
+            rpm_to_rad_s(bad)
+        with pytest.raises(ParameterError, match=r"^rad_s = .* is invalid; allowed: finite real numbers$"):
+            rad_s_to_rpm(bad)
+    for bad in (None, reference_machine(), []):
+        with pytest.raises(ParameterError, match=r"^machines = .* is invalid; allowed: a non-empty list of Machine$"):
+            recovery_probabilities(bad, 0.1)

@@ -89,3 +89,14 @@ def test_lists_of_speeds_or_frictions_beyond_the_bound_are_refused_before_numpy_
         with pytest.raises(ParameterError, match=rf"^{name} = range\(0, 1000000000000\) holds 1000000000000 values; "
                                                  rf"allowed: at most {MAX_DROP_POINTS}$"):
             drop_map(reference_machine(), **kw)
+
+
+def test_failed_points_need_a_drop_maps_dataset():
+    import xarray as xr
+
+    from rotorcontact import ParameterError
+    from rotorcontact.studies.drop_map import failed_points
+
+    for bad in (None, xr.Dataset(), "x"):
+        with pytest.raises(ParameterError, match=r"^ds = .* is invalid; allowed: the Dataset of a drop map"):
+            failed_points(bad)

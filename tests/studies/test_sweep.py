@@ -362,3 +362,20 @@ def test_a_machine_whose_parameters_are_not_params_is_refused_and_so_are_too_man
     with pytest.raises(ParameterError, match=rf"^values of 'gamma' = range\(0, 1000000000000\) holds 1000000000000 "
                                              rf"values; allowed: at most {MAX_GRID_POINTS}$"):
         sweep(REF, "gamma", range(10**12), progress=False)
+
+
+def test_the_regimes_of_a_direction_the_sweep_does_not_have_are_refused():
+    res = sweep(REF, "gamma", [0.1], mode="up", n_transient=10, n_record=5, progress=False)
+    assert len(res.regimes("up")) == 1
+    for bad in ("down", "UP", None):
+        with pytest.raises(ParameterError, match=r"^direction = .* is invalid; allowed: 'up'$"):
+            res.regimes(bad)
+
+
+def test_the_overlay_checks_its_parameters_and_count():
+    for kw, name in ((dict(max_values=0), "max_values"), (dict(max_values=None), "max_values"),
+                     (dict(max_values=1.5), "max_values")):
+        with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid"):
+            one_impact_overlay(REF, "gamma", [0.1, 0.2], **kw)
+    with pytest.raises(ParameterError, match=r"^params = None is not a Parameters object"):
+        one_impact_overlay(None, "gamma", [0.1])

@@ -45,7 +45,7 @@ from .batch import NSUM, BatchResult, BatchSettings, check_batch_settings, param
 from ..errors import ParameterError
 from ..model.angles import angle_difference
 from ..model.params import Machine, Parameters, check_finite
-from ..model.validation import check_machine, check_machine_params, check_params
+from ..model.validation import check_int, check_machine, check_machine_params, check_params
 from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_attrs, summary_variables
 from .driver import run_study
 from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
@@ -82,7 +82,16 @@ DEFAULT_CHUNK = 2048
 
 
 def class_names(orbit_labels: tuple[str, ...] | list[str]) -> tuple[str, ...]:
-    """All class names, in code order, for the given orbit labels."""
+    """All class names, in code order, for the given orbit labels.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``orbit_labels`` is a list or tuple of labels (text alone would be read letter by letter).
+    """
+    if not isinstance(orbit_labels, (list, tuple)) or not all(isinstance(v, str) and v for v in orbit_labels):
+        raise ParameterError(f"orbit_labels = {orbit_labels!r} is invalid; allowed: a list or tuple of orbit labels "
+                             "such as ['B1,d']")
     return CLASSES_BEFORE + tuple(orbit_labels) + CLASSES_AFTER
 
 
@@ -133,7 +142,16 @@ class BasinResult:
         return self.dataset["attractor"].values
 
     def class_of(self, i: int, j: int) -> str:
-        """Class name at row ``i``, column ``j``."""
+        """Class name at row ``i``, column ``j``.
+
+        Raises
+        ------
+        ParameterError
+            Unless ``i`` and ``j`` are whole numbers within the grid's rows and columns (from 0).
+        """
+        rows, cols = self.image.shape
+        i = check_int("i", i, 0, rows - 1)
+        j = check_int("j", j, 0, cols - 1)
         return self.classes[int(self.image[i, j])]
 
     def fraction(self, name: str) -> float:
@@ -151,7 +169,7 @@ class BasinResult:
         key = canonical_regime(name) if isinstance(name, str) else name
         if key not in self.classes or key == "outside":
             allowed = ", ".join(c for c in self.classes if c != "outside")
-            raise ParameterError(f"class = {name!r} is not a class of these basins; allowed: {allowed}")
+            raise ParameterError(f"name = {name!r} is not a class of these basins; allowed: {allowed}")
         return self.fractions.get(key, 0.0)
 
 

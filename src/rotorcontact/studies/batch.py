@@ -463,6 +463,7 @@ def check_batch_settings(settings: Any, simulations: int, default: Any = BatchSe
         For settings that are not `BatchSettings`, or sections beyond the machine's memory.
     """
     settings = settings_or_default(settings, BatchSettings, default)
+    simulations = check_int("simulations", simulations, 1)
     need = simulations * settings.keep * SECTION_BYTES
     have = physical_memory()
     if have is not None and need > have:

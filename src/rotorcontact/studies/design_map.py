@@ -35,7 +35,7 @@ from ..analysis.equilibria import equilibria
 from ..errors import ParameterError
 from ..maps.impact_map import one_impact_orbits, period_limit
 from ..model.params import MAX_SPEED, MAX_VELOCITY, Machine, check_finite, check_range
-from ..model.validation import check_int, check_length, check_machine, is_pair, real_array
+from ..model.validation import check_int, check_length, check_machine, is_pair, quoted, real_array
 from ..model.si import MICROMETRE, orbit_si, pseudo_si, regular_si
 from ..model.units import RPM
 from .driver import run_study
@@ -71,14 +71,25 @@ MAP_AXES = {
 MAX_PLANE_SIDE = 60
 
 
+def _speeds(name: str, value: Any) -> np.ndarray:
+    arr = real_array(value)
+    if arr is None or not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: finite real numbers")
+    return arr
+
+
 def rpm_to_rad_s(rpm):
-    """Revolutions per minute to rad/s."""
-    return np.asarray(rpm, dtype=float) * RPM if np.ndim(rpm) else float(rpm) * RPM
+    """Revolutions per minute to rad/s (a float for a number, else an array); a `ParameterError` for what
+    is not finite real numbers."""
+    arr = _speeds("rpm", rpm)
+    return arr * RPM if np.ndim(rpm) else float(arr) * RPM
 
 
 def rad_s_to_rpm(rad_s):
-    """rad/s to revolutions per minute."""
-    return np.asarray(rad_s, dtype=float) / RPM if np.ndim(rad_s) else float(rad_s) / RPM
+    """rad/s to revolutions per minute (a float for a number, else an array); a `ParameterError` for what
+    is not finite real numbers."""
+    arr = _speeds("rad_s", rad_s)
+    return arr / RPM if np.ndim(rad_s) else float(arr) / RPM
 
 
 @dataclass(frozen=True)
@@ -249,6 +260,9 @@ def _check_shock(machines: Sequence[Machine], shock: Any) -> float:
     """``shock`` (m/s) checked for every machine: the kick shock / (c Omega) it gives is a dimensionless
     velocity, within the simulator's bound `MAX_VELOCITY`."""
     shock = check_range("shock", shock, low=0.0)
+    if not isinstance(machines, (list, tuple)) or not machines:
+        raise ParameterError(f"machines = {quoted(machines)} is invalid; allowed: a non-empty list of Machine")
+    check_length("machines", machines, MAX_POINTS)
     for machine in machines:
         check_machine(machine, optional=False)
         kick = shock / (machine.clearance * machine.speed)

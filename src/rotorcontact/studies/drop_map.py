@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine, check_range
 from ..model.units import RPM
-from ..model.validation import check_length, check_machine
+from ..model.validation import check_length, check_machine, quoted
 from ..simulation.drop_run import MAX_T_END, check_drop_speed, check_failure_before_end, drop
 from .driver import StudyRun, run_study
 from .execution import check_chunk_size, study_digest
@@ -152,6 +152,18 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
 
 
 def failed_points(ds) -> list[tuple[float, float]]:
-    """The (speed in rpm, friction) of each drop of a drop map's dataset that failed, in grid order."""
+    """The (speed in rpm, friction) of each drop of a drop map's dataset that failed, in grid order.
+
+    Raises
+    ------
+    ParameterError
+        For ``ds`` that is not a drop map's Dataset (or the `drop_map` result holding it).
+    """
+    import xarray as xr
+
+    ds = getattr(ds, "dataset", ds)
+    if not (isinstance(ds, xr.Dataset) and all(v in ds.variables for v in ("regime", "speed_rpm", "friction"))):
+        raise ParameterError(f"ds = {quoted(ds)} is invalid; allowed: the Dataset of a drop map (drop_map), with "
+                             "regime, speed_rpm and friction")
     rows, cols = np.nonzero(ds["regime"].values.astype(int) == FAILED)
     return [(float(ds["speed_rpm"].values[j]), float(ds["friction"].values[i])) for i, j in zip(rows, cols)]

@@ -128,14 +128,17 @@ class BasinGrid:
 
 
 def _axis(name: str, spec: Any) -> np.ndarray:
-    if not isinstance(spec, (tuple, list)) or len(spec) != 3:
+    if not (isinstance(spec, (tuple, list)) or (isinstance(spec, np.ndarray) and spec.ndim == 1)) or len(spec) != 3:
         raise ParameterError(f"{name} = {spec!r} is invalid; allowed: (start, stop, count)")
-    lo, hi, n = spec
+    lo, hi, n = spec.tolist() if isinstance(spec, np.ndarray) else spec
+    if isinstance(spec, np.ndarray) and isinstance(n, float) and n.is_integer():
+        n = int(n)  # a numpy triple holds its count as a float
     lo = check_finite(f"{name} start", lo)
     hi = check_finite(f"{name} stop", hi)
     n = check_int(f"{name} count", n, 1, MAX_GRID_POINTS)
     if n > 1 and not lo < hi:
-        raise ParameterError(f"{name}: start {lo!r} must be smaller than stop {hi!r}")
+        raise ParameterError(f"{name} = {spec!r} is invalid: start {lo!r} must be smaller than stop {hi!r}; allowed: "
+                             "(start, stop, count) with start < stop, or count 1")
     return np.linspace(lo, hi, int(n))
 
 

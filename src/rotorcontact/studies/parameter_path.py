@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters
 from .batch import PARAMETER_ORDER
-from ..model.validation import check_length, check_machine, check_machine_params, real_array
+from ..model.validation import check_length, check_machine, check_machine_params, check_params, real_array
 from .grids import MAX_GRID_POINTS
 
 __all__ = ["parameter_path", "path_values"]
@@ -39,6 +39,7 @@ def parameter_path(params: Parameters, param: str, values: Any, machine: Machine
         For an unknown parameter, a value that gives invalid parameters, a machine quantity without a
         machine, or ``params`` that are not the machine's (``param`` excepted when it is a model parameter).
     """
+    check_params(params)
     check_machine(machine)
     machine_fields = tuple(f.name for f in fields(Machine))
     vals = path_values(param, values)

@@ -35,7 +35,8 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import BRANCH_PARAMETERS, Machine, Parameters, check_finite
-from ..model.validation import check_int, check_length, check_machine, check_machine_params, check_params, real_array
+from ..model.validation import (check_choice, check_int, check_length, check_machine, check_machine_params,
+                                check_params, real_array)
 from .attributes import (
     PARAMETER_LONG_NAMES,
     PARAMETER_UNITS,
@@ -199,7 +200,14 @@ class SweepResult:
     handed_to_cpu: int = 0
 
     def regimes(self, direction: str) -> list[str]:
-        """The regime at each value for one direction, as strings."""
+        """The regime at each value for one direction, as strings.
+
+        Raises
+        ------
+        ParameterError
+            If ``direction`` is not one of the sweep's directions.
+        """
+        check_choice("direction", direction, tuple(str(d) for d in self.dataset.direction.values))
         codes = self.dataset["regime"].sel(direction=direction).values
         return [REGIME_NAMES[int(c)] for c in codes]
 
@@ -504,9 +512,11 @@ def one_impact_overlay(params: Parameters, param: str, values: Any, *, max_value
 
     from ..maps.impact_map import one_impact_orbits
 
+    check_params(params)
     if param not in SWEEP_PARAMETERS:
         raise ParameterError(f"param = {param!r} is invalid; allowed: {', '.join(SWEEP_PARAMETERS)}")
     vals = _check_values(param, values)
+    max_values = check_int("max_values", max_values, 1, MAX_GRID_POINTS)
     if vals.size > max_values:
         vals = vals[np.unique(np.linspace(0, vals.size - 1, max_values).round().astype(int))]
     found: dict[str, dict[int, Any]] = {}
