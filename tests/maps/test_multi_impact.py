@@ -261,3 +261,35 @@ def test_impact_states_are_checked_by_every_function_that_takes_them():
     with pytest.raises(ParameterError, match=r"^params = "):
         multipliers_at(None, [b.state])
 
+
+
+def test_searches_and_doublings_check_their_options(pd, orbit):
+    from rotorcontact.maps.multi_impact import doubled_orbit_at_amplitude, orbits_from_grid
+
+    p = REF.replace(gamma=0.1)
+    for kw, name in ((dict(shape=(1.5, 1, 1)), r"shape\[0\]"), (dict(shape=(True, 1, 1)), r"shape\[0\]"),
+                     (dict(shape="abc"), "shape"), (dict(rdot_range=None), "rdot_range"),
+                     (dict(rdot_range=(0.1,)), "rdot_range"), (dict(rdot_range=(0.1, 1e300)), "rdot_range"),
+                     (dict(thetadot_range=("a", 1.0)), r"thetadot_range\[0\]"), (dict(max_iter=10**9), "max_iter")):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            orbits_from_grid(p, 2, **kw)
+    for starts, name in (("x", "starts"), ([1], r"starts\[0\]"), ([(0.1,)], r"starts\[0\]"),
+                         ([(0.1, "x")], r"starts\[0\]\[1\]"), ([], "starts")):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            orbits_from_simulation(p, 2, starts=starts)
+    assert orbit.initial_condition(np.int64(1)) == orbit.initial_condition(1)
+    for bad in (2, -1, None, True, 0.5):
+        with pytest.raises(ParameterError, match=r"^index = .* is invalid; allowed: an integer from 0 to 1$"):
+            orbit.initial_condition(bad)
+    for call, name in ((lambda: doubled_orbit_at_amplitude(None, 1e-3), "pd"),
+                       (lambda: doubled_orbit_at_amplitude(pd, 1e300), "amplitude"),
+                       (lambda: doubled_orbit_at_amplitude(pd, 1e-3, tol=0.0), "tol"),
+                       (lambda: doubled_orbit_at_amplitude(pd, 1e-3, max_iter=1.5), "max_iter"),
+                       (lambda: period_doubled_orbit(orbit, 0.01), "pd"),
+                       (lambda: period_doubled_orbit(pd, 0.01, amplitudes=0.001), "amplitudes"),
+                       (lambda: period_doubled_orbit(pd, 0.01, amplitudes=[]), "amplitudes"),
+                       (lambda: period_doubled_orbit(pd, 0.01, amplitudes=["x"]), r"amplitudes\[0\]"),
+                       (lambda: solve_multi_impact(p, orbit.states, label=1), "label"),
+                       (lambda: solve_multi_impact(p, orbit.states, canonical="x"), "canonical")):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            call()

@@ -94,3 +94,30 @@ def test_root_branches_of_a_zero_kind():
     for bad in ("c", None, 1):
         with pytest.raises(ParameterError, match=r"^kind = .* is invalid; allowed: 'a', 'b'$"):
             root_branches(bad)
+
+
+def test_the_branch_system_checks_its_options_and_points():
+    from rotorcontact import reference_machine
+    from rotorcontact.maps.orbit_system import OneImpactSystem, orbit_angles, regularised_residual
+
+    system = OneImpactSystem(REF, "gamma")
+    y = np.array([2.5, 0.3, REF.gamma])
+    assert np.array_equal(system.residual(y), regularised_residual(REF, 2.5, 0.3)[0])
+    assert np.array_equal(system.residual(list(y)), system.residual(y))
+    for bad in ("x", [1.0, 2.0], [[1.0, 2.0, 3.0]], None):
+        with pytest.raises(ParameterError, match=r"^y = .* is invalid; allowed: \(T, rdot, lambda\)"):
+            system.residual(bad)
+    with pytest.raises(ParameterError, match=r"^rdot = nan is invalid"):
+        system.jacobian([2.5, math.nan, REF.gamma])
+    with pytest.raises(ParameterError, match=r"^value = '0.1' is invalid"):
+        system.params_at("0.1")
+    for kw, name in ((dict(fd_step=0.0), "fd_step"), (dict(fd_step="x"), "fd_step"), (dict(extend="no"), "extend")):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            OneImpactSystem(REF, "gamma", **kw)
+    for call in (lambda: regularised_residual(reference_machine(), 2.5, 0.3),
+                 lambda: orbit_angles(reference_machine(), 2.5, 0.3)):
+        with pytest.raises(ParameterError, match=r"^params = .* is not a Parameters object"):
+            call()
+    for call in (lambda: regularised_residual(REF, 2.5, None), lambda: orbit_angles(REF, 2.5, math.nan)):
+        with pytest.raises(ParameterError, match=r"^rdot = .* is invalid; allowed: a finite number$"):
+            call()

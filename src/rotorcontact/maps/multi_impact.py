@@ -78,8 +78,9 @@ from .impact_map import (
     post_impact_state,
 )
 from ..simulation.motion import detect_period
-from ..model.params import BRANCH_PARAMETERS, Parameters, check_finite, check_range
-from ..model.validation import check_choice, check_float, check_int, check_params, quoted, real_array
+from ..model.params import BRANCH_PARAMETERS, MAX_VELOCITY, Parameters, check_finite, check_range
+from ..model.validation import (check_bool, check_choice, check_float, check_int, check_length, check_params,
+                                check_type, complex_value, is_pair, quoted, real_array)
 from ..simulation.simulator import simulate
 
 __all__ = [
@@ -106,6 +107,11 @@ CONTINUATION_PARAMETERS = BRANCH_PARAMETERS
 #: Most impacts per period of an orbit: its Newton system has 3 unknowns per impact, and a dense
 #: Jacobian of (3 x 4096)^2 doubles is 1.2 GB; 4096 still holds 16 impacts doubled 8 times.
 MAX_ORBIT_IMPACTS = 4096
+#: Largest amplitude of a period-doubled orbit's entry: the branch is entered near its parent, where the
+#: amplitude of the flip is small against the clearance.
+MAX_AMPLITUDE = 1.0
+#: Most Newton iterations (or first amplitudes) a caller may ask for.
+MAX_NEWTON_ITERATIONS = 10_000
 #: Most intervals of `find_period_doubling`'s scan: each point finds the orbits of one parameter set.
 MAX_SCAN = 10_000
 NEWTON_TOL = 1e-12
@@ -299,7 +305,8 @@ class MultiImpactOrbit:
         return np.array([q.dt for q in self.points])
 
     def initial_condition(self, index: int = 0) -> tuple[complex, complex]:
-        """(U, U') just after impact ``index``: starts `simulate` on the orbit."""
+        """(U, U') just after impact ``index`` (0 to impacts - 1): starts `simulate` on the orbit."""
+        index = check_int("index", index, 0, self.impacts - 1)
         return post_impact_state(self.params, self.states[index], law=SLIP_BOUNDED)
 
     def jacobian(self) -> np.ndarray:
@@ -456,7 +463,10 @@ def solve_multi_impact(
     check_params(params)
     x = impact_states(guess)
     tol = check_range("tol", tol, low=0.0, low_open=True)
-    x = _newton(params, x, tol, check_int("max_iter", max_iter, 1))
+    if label is not None and not (isinstance(label, str) and label):
+        raise ParameterError(f"label = {label!r} is invalid; allowed: a non-empty name, or None for M<p>")
+    canonical = check_bool("canonical", canonical)
+    x = _newton(params, x, tol, check_int("max_iter", max_iter, 1, MAX_NEWTON_ITERATIONS))
     p = x.shape[0]
     q = _least_period(x)
     if q < p:
@@ -535,7 +545,7 @@ def orbits_from_simulation(
     t_transient = check_range("t_transient", t_transient, low=0.0)
     t_record = check_range("t_record", t_record, low=0.0, low_open=True)
     found: list[MultiImpactOrbit] = []
-    for u0, du0 in starts if starts is not None else _default_starts():
+    for u0, du0 in _default_starts() if starts is None else _check_starts(starts):
         traj = simulate(params, u0, du0, t_transient + t_record)
         imp = traj.impacts
         if len(imp) == 0:
@@ -569,6 +579,29 @@ GRID_THETADOT = (-3.0, 1.0)
 MAX_GRID_POINTS = 20000
 #: Shortest flight between two impacts of an orbit found from the grid.
 MIN_FLIGHT = 1e-3
+
+
+#: Most starts of `orbits_from_simulation`: each is a whole simulation.
+MAX_STARTS = 1000
+
+
+def _check_starts(starts) -> list[tuple[complex, complex]]:
+    """``starts`` as a list of (u0, du0) pairs of complex numbers, at most `MAX_STARTS`."""
+    if not isinstance(starts, (list, tuple)) or not starts:
+        raise ParameterError(f"starts = {quoted(starts)} is invalid; allowed: a non-empty list of (u0, du0) pairs")
+    check_length("starts", starts, MAX_STARTS)
+    out = []
+    for i, start in enumerate(starts):
+        if not is_pair(start):
+            raise ParameterError(f"starts[{i}] = {start!r} is invalid; allowed: (u0, du0), two complex numbers")
+        out.append((complex_value(f"starts[{i}][0]", start[0]), complex_value(f"starts[{i}][1]", start[1])))
+    return out
+
+
+def _check_range_pair(name: str, value) -> tuple[float, float]:
+    if not is_pair(value):
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: (low, high), two numbers")
+    return check_float(f"{name}[0]", value[0]), check_float(f"{name}[1]", value[1])
 
 
 def orbits_from_grid(
@@ -609,20 +642,21 @@ def orbits_from_grid(
     """
     check_params(params)
     p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
-    try:
-        n_th, n_r, n_td = (int(n) for n in shape)
-    except (TypeError, ValueError):
-        raise ParameterError(f"shape = {shape!r} is invalid; allowed: three integers >= 1") from None
-    if min(n_th, n_r, n_td) < 1 or n_th * n_r * n_td > MAX_GRID_POINTS:
+    if not (isinstance(shape, (list, tuple, np.ndarray)) and len(shape) == 3):
+        raise ParameterError(f"shape = {shape!r} is invalid; allowed: three integers >= 1")
+    n_th, n_r, n_td = (check_int(f"shape[{i}]", n, 1, MAX_GRID_POINTS) for i, n in enumerate(shape))
+    if n_th * n_r * n_td > MAX_GRID_POINTS:
         raise ParameterError(f"shape = {tuple(shape)!r} is invalid; allowed: three integers >= 1 with a product "
                              f"of at most {MAX_GRID_POINTS}")
-    r_lo, r_hi = (float(v) for v in rdot_range)
-    if not (math.isfinite(r_lo) and math.isfinite(r_hi) and 0.0 < r_lo <= r_hi):
-        raise ParameterError(f"rdot_range = {tuple(rdot_range)!r} is invalid; allowed: 0 < low <= high")
-    td_lo, td_hi = (float(v) for v in thetadot_range)
-    if not (math.isfinite(td_lo) and math.isfinite(td_hi) and td_lo <= td_hi):
-        raise ParameterError(f"thetadot_range = {tuple(thetadot_range)!r} is invalid; allowed: finite low <= high")
-    max_iter = check_int("max_iter", max_iter, 1)
+    r_lo, r_hi = _check_range_pair("rdot_range", rdot_range)
+    if not 0.0 < r_lo <= r_hi <= MAX_VELOCITY:
+        raise ParameterError(f"rdot_range = {tuple(rdot_range)!r} is invalid; allowed: 0 < low <= high <= "
+                             f"{MAX_VELOCITY:g}")
+    td_lo, td_hi = _check_range_pair("thetadot_range", thetadot_range)
+    if not (td_lo <= td_hi and max(abs(td_lo), abs(td_hi)) <= MAX_VELOCITY):
+        raise ParameterError(f"thetadot_range = {tuple(thetadot_range)!r} is invalid; allowed: low <= high, both "
+                             f"within +-{MAX_VELOCITY:g}")
+    max_iter = check_int("max_iter", max_iter, 1, MAX_NEWTON_ITERATIONS)
     found: list[MultiImpactOrbit] = []
     thetas = -math.pi + TWO_PI * (np.arange(n_th) + 0.5) / n_th
     for th in thetas:
@@ -912,7 +946,10 @@ def doubled_orbit_at_amplitude(pd: PeriodDoubling, amplitude: float, *, tol: flo
     NewtonFailure
         When Newton's method does not converge.
     """
-    a = check_range("amplitude", amplitude, low=0.0, low_open=True)
+    check_type("pd", pd, PeriodDoubling, "a PeriodDoubling (find_period_doubling, period_doubling_at)")
+    a = check_float("amplitude", amplitude, 0.0, MAX_AMPLITUDE, low_open=True)
+    tol = check_float("tol", tol, 0.0, low_open=True)
+    max_iter = check_int("max_iter", max_iter, 1, MAX_NEWTON_ITERATIONS)
     guess = _doubled_guess(pd, a)
     y = np.append(guess.ravel(), pd.value)
     try:
@@ -993,7 +1030,13 @@ def period_doubled_orbit(
         When the branch is born on the other side of the doubling, or when no
         amplitude converges.
     """
+    check_type("pd", pd, PeriodDoubling, "a PeriodDoubling (find_period_doubling, period_doubling_at)")
     offset = check_range("offset", offset)
+    if not isinstance(amplitudes, (list, tuple, np.ndarray)) or not len(amplitudes):
+        raise ParameterError(f"amplitudes = {quoted(amplitudes)} is invalid; allowed: a non-empty list of amplitudes")
+    check_length("amplitudes", amplitudes, MAX_NEWTON_ITERATIONS)
+    amplitudes = [check_float(f"amplitudes[{i}]", a, 0.0, MAX_AMPLITUDE, low_open=True)
+                  for i, a in enumerate(amplitudes)]
     if offset == 0.0:
         raise ParameterError("offset = 0.0 is invalid; allowed: a nonzero offset from the bifurcation")
     target = pd.value + offset

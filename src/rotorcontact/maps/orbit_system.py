@@ -54,7 +54,7 @@ import numpy as np
 from ..model.angles import wrap_angle
 from ..model.flow import half_discriminant, period_closed_form
 from ..model.impact_law import impact_q, slides_forward
-from ..model.validation import check_choice, check_float, check_int, check_params, quoted
+from ..model.validation import check_bool, check_choice, check_float, check_int, check_params, quoted
 from ..errors import ParameterError
 from .impact_map import (
     BRANCH_LETTERS,
@@ -178,10 +178,9 @@ def regularised_residual(params: Parameters, T: float, rdot: float) -> tuple[np.
     residual : numpy.ndarray, shape (2,)
     jacobian : numpy.ndarray, shape (2, 2)
     """
-    if not (math.isfinite(T) and T > 0.0):
-        raise ParameterError(f"T = {T!r} is invalid; allowed: a finite number > 0")
-    if not math.isfinite(rdot):
-        raise ParameterError(f"rdot = {rdot!r} is not finite")
+    check_params(params)
+    T = check_float("T", T, 0.0, low_open=True)
+    rdot = check_float("rdot", rdot)
     cf = closed_form(T, params.gamma, params.omega)
     q = _q(params)
     k2 = abs(params.k) ** 2
@@ -205,7 +204,15 @@ def regularised_residual(params: Parameters, T: float, rdot: float) -> tuple[np.
 
 
 def orbit_angles(params: Parameters, T: float, rdot: float) -> tuple[float, float]:
-    """(theta, thetadot) of the orbit with period T and impact velocity rdot (MODEL.md §5)."""
+    """(theta, thetadot) of the orbit with period T and impact velocity rdot (MODEL.md §5).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``params`` are `Parameters`, T > 0 and rdot finite.
+    """
+    check_params(params)
+    rdot = check_float("rdot", rdot)
     cf = closed_form(T, params.gamma, params.omega)
     q = _q(params)
     Z = cf.D + q * cf.S * rdot
@@ -354,15 +361,15 @@ class OneImpactSystem:
             )
         self.base = base
         self.param = param
-        self.fd_step = fd_step
-        self.extend = extend
+        self.fd_step = check_float("fd_step", fd_step, 0.0, 1e-2, low_open=True)
+        self.extend = check_bool("extend", extend)
         #: The range of ``param`` in which results are reported (set by the caller).
         self.bounds: tuple[float, float] = (-math.inf, math.inf)
         self._cache: dict[float, Parameters] = {}
 
     def params_at(self, value: float) -> Parameters:
         """The parameters with ``param`` = value (validated; cached)."""
-        value = float(value)
+        value = check_float("value", value)
         p = self._cache.get(value)
         if p is None:
             p = with_parameters(self.base, {self.param: value}, extend=self.extend)
@@ -373,20 +380,21 @@ class OneImpactSystem:
 
     def residual(self, y: np.ndarray) -> np.ndarray:
         """R at y = (T, rdot, lambda)."""
-        return regularised_residual(self.params_at(y[2]), float(y[0]), float(y[1]))[0]
+        T, rdot, lam = _point(y)
+        return regularised_residual(self.params_at(lam), T, rdot)[0]
 
     def jacobian(self, y: np.ndarray) -> np.ndarray:
         """dR/d(T, rdot, lambda): analytic in T and rdot, a central difference in lambda."""
-        lam = float(y[2])
-        res, jac = regularised_residual(self.params_at(lam), float(y[0]), float(y[1]))
+        T, rdot, lam = _point(y)
+        res, jac = regularised_residual(self.params_at(lam), T, rdot)
         h = self.fd_step * max(1.0, abs(lam))
         lo, hi = lam - h, lam + h
         try:
-            rp = regularised_residual(self.params_at(hi), float(y[0]), float(y[1]))[0]
+            rp = regularised_residual(self.params_at(hi), T, rdot)[0]
         except ParameterError:
             rp, hi = res, lam
         try:
-            rm = regularised_residual(self.params_at(lo), float(y[0]), float(y[1]))[0]
+            rm = regularised_residual(self.params_at(lo), T, rdot)[0]
         except ParameterError:
             rm, lo = res, lam
         out = np.empty((2, 3))
@@ -396,4 +404,14 @@ class OneImpactSystem:
 
     def orbit(self, y: np.ndarray, **label) -> ImpactOrbit:
         """The orbit at a solution y (see `orbit_at`)."""
-        return orbit_at(self.params_at(y[2]), float(y[0]), float(y[1]), **label)
+        T, rdot, lam = _point(y)
+        return orbit_at(self.params_at(lam), T, rdot, **label)
+
+
+def _point(y) -> tuple[float, float, float]:
+    """A point y = (T, rdot, lambda) of a branch as three floats; a `ParameterError` naming ``y`` otherwise."""
+    try:
+        T, rdot, lam = y
+    except (TypeError, ValueError):
+        raise ParameterError(f"y = {quoted(y)} is invalid; allowed: (T, rdot, lambda), three numbers") from None
+    return check_float("T", T), check_float("rdot", rdot), check_float("lambda", lam)
