@@ -26,6 +26,9 @@ vectorise a loop of sines.
 Overflow and underflow pass silently in both tiers. A division by zero or an invalid operation on numpy
 scalars, which compiled code would raise or turn into nan, abandons the interpreted run for the compiled one.
 A kernel run through `call_kernel` must not modify its arguments (an abandoned run would leave them changed).
+
+`int_power` and `complex_quotient` are compiled helpers of the kernels and take their arguments
+unchecked, as the kernels do.
 """
 
 from __future__ import annotations

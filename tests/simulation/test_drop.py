@@ -563,3 +563,13 @@ def test_a_compliant_start_deeper_than_a_clearance_and_bad_force_times_are_refus
     with pytest.raises(ParameterError, match=r"^start = .* is invalid; allowed: \(z0, v0\)"):
         contact_force_history(m, 100.0, 0.0, [0.01], start=0j)
 
+
+
+def test_a_drop_results_column_is_one_of_its_fields():
+    from rotorcontact.simulation.drop import IMPACT_FIELDS
+
+    r = run_general(reference_machine(), 0j, 0j, 100.0, 0.0, 0.01)
+    assert r.column(IMPACT_FIELDS[0]).shape == (len(r.impacts),)
+    for bad in ("x", None, 0):
+        with pytest.raises(ParameterError, match=r"^name = .* is invalid; allowed: 't_s', "):
+            r.column(bad)

@@ -147,3 +147,28 @@ def test_regime_codes_name_the_regimes_then_undetermined_and_failed():
         assert REGIME_NAMES[regime_code(MotionSummary("contact", name, 0))] == name
     assert REGIME_NAMES[regime_code(MotionSummary("undetermined", "irregular-impacting", 3))] == "undetermined"
     assert REGIME_NAMES[regime_code(MotionSummary("failed", None, 3, contact_fraction=None))] == "failed"
+
+
+def test_the_motion_helpers_refuse_what_they_cannot_read():
+    from rotorcontact import ParameterError
+    from rotorcontact.simulation.motion import canonical_regime, classify, detect_period, regime_code
+
+    t = np.arange(20.0)
+    ones = np.ones(20)
+    assert detect_period(ones, ones, ones, t) == (1, 1.0)
+    for args in ((ones, ones, ones, t[:5]), (None, ones, ones, t), (ones.reshape(4, 5), ones, ones, t),
+                 (["a"] * 20, ones, ones, t)):
+        with pytest.raises(ParameterError, match=r"^theta, rdot, thetadot, t = .* are invalid; allowed: four 1-D"):
+            detect_period(*args)
+    with pytest.raises(ParameterError, match=r"^max_p = 0 is invalid"):
+        detect_period(ones, ones, ones, t, max_p=0)
+    with pytest.raises(ParameterError, match=r"^tol = -1.0 is invalid"):
+        detect_period(ones, ones, ones, t, tol=-1.0)
+    assert canonical_regime("rub") == "forward-rub" and canonical_regime("B1,d") == "B1,d"
+    for bad in (None, 1):
+        with pytest.raises(ParameterError, match=r"^name = .* is invalid; allowed: a regime or class name"):
+            canonical_regime(bad)
+    with pytest.raises(ParameterError, match=r"^summary = None is not a MotionSummary object"):
+        regime_code(None)
+    with pytest.raises(ParameterError, match=r"^traj = None is not a Trajectory object"):
+        classify(None)

@@ -309,3 +309,14 @@ def test_a_slide_at_rest_on_the_stable_pseudo_equilibrium_stays_there_until_the_
     n, f = tr.contact_forces(t)
     assert np.all(n > 0.0) and np.allclose(f, -p.mu * n, rtol=1e-12)
     assert np.allclose(n, stable[0].normal_force, rtol=1e-8)
+
+
+def test_an_impact_table_needs_impact_records():
+    from rotorcontact import simulate
+    from rotorcontact.simulation.trajectory import ImpactTable
+
+    traj = simulate(REF, 0.5, 0.0, 50.0)
+    assert len(ImpactTable(traj.records)) == len(traj.impacts)
+    for bad in (None, "x", np.zeros(5), np.zeros((3, 2)), traj.records.tolist()):
+        with pytest.raises(ParameterError, match=r"^records = .* is invalid; allowed: the \(n, 14\) float array"):
+            ImpactTable(bad)

@@ -11,6 +11,10 @@ followed continuously (the whirl), z_s the stator's centre (0 for a fixed stator
 Dormand-Prince 5(4) scheme of `contact` (relative tolerance ``tol``); its end (delta back to 0), the switches between sliding and rolling (v_rel = 0,
 |F_t| = mu F_n), the rotor at rest and the maxima of delta and F_n are located by bisection on single
 steps to `contact.EVENT_TOL` in time.
+
+Its functions are compiled kernels for the event loops and take their arguments unchecked (NaN gives NaN;
+text is a numba typing error): `rotorcontact.simulate`, `drop` and `run_general` are the checked entry
+points.
 """
 
 from __future__ import annotations

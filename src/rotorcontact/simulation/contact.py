@@ -19,6 +19,10 @@ linear in time. The tangential force that holds it is -F, and rolling lasts
 while |F| <= mu N; with psi = phi - theta moving at the constant rate
 1 + r_ratio, both limits are of the form a + b cos(psi) + c sin(psi), so the
 first slip or lift-off is found in closed form.
+
+Its functions are compiled kernels for the event loops and take their arguments unchecked (NaN gives NaN;
+text is a numba typing error): `rotorcontact.simulate`, `drop` and `run_general` are the checked entry
+points.
 """
 
 from __future__ import annotations

@@ -7,6 +7,10 @@ t_fail: the flight in progress is cut there and the next one has K = C = F_s = 0
 inertia, a free speed. The rigid impact law sits behind one call, `_impact`; with a contact stiffness the
 compliant law of MODEL.md §8 replaces it: each impact starts a contact episode (`_episode`,
 `compliant.compliant_episode`) integrated until the surfaces part.
+
+Its functions are compiled kernels for the event loops and take their arguments unchecked (NaN gives NaN;
+text is a numba typing error): `rotorcontact.simulate`, `drop` and `run_general` are the checked entry
+points.
 """
 
 from __future__ import annotations

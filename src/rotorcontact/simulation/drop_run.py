@@ -21,7 +21,8 @@ from ..model.machine_model import (
 )
 from ..model.params import MAX_SPEED, MAX_T_END as MAX_RUN_TIME, Machine, check_machine_value, check_range
 from ..model.units import RPM
-from ..model.validation import MAX_COUNT, check_int, check_machine, complex_value, is_pair, quoted, real_array
+from ..model.validation import (MAX_COUNT, check_choice, check_int, check_machine, complex_value, is_pair, quoted,
+                                real_array)
 from .drop import COMPLIANT_FIELDS, CONTACT_KINDS, IMPACT_FIELDS, STATUS_NAMES, drop_kernel
 
 __all__ = ["DropResult", "drop", "run_general", "levitated_state", "check_drop_speed", "contact_force_history", "RPM",
@@ -198,7 +199,8 @@ class DropResult:
         return self.t_stop if self.status == "at-rest" else None
 
     def column(self, name: str) -> np.ndarray:
-        """One column of the impact table by its name in `IMPACT_FIELDS`."""
+        """One column of the impact table by its name in `IMPACT_FIELDS` (a `ParameterError` for another)."""
+        check_choice("name", name, IMPACT_FIELDS)
         return self.impacts[:, _COL[name]]
 
     @property

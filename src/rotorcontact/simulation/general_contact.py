@@ -12,6 +12,10 @@ located by bisection on single steps to `contact.EVENT_TOL` in time:
 * a race whose bearing has a constant drag torque T_b stops where Omega_b reaches 0, and is then held
   while the contact's torque m R_b |q| stays within T_b (static friction: the phase is that of a fixed
   stator), or turns back; a held race turns again where m R_b |q| reaches T_b.
+
+Its functions are compiled kernels for the event loops and take their arguments unchecked (NaN gives NaN;
+text is a numba typing error): `rotorcontact.simulate`, `drop` and `run_general` are the checked entry
+points.
 """
 
 from __future__ import annotations

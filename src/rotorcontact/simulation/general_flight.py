@@ -14,6 +14,10 @@ Over [s, s + W] each part is bounded on its own:
 |Re(H (i Omega)^n e^{i Omega s})| <= |H| Omega^n; the polynomial by its Taylor terms; the homogeneous
 part, h^(n)(s + u) = e^{-gamma u/2}(C(u) h^(n)(s) + S(u)(gamma h^(n)(s)/2 + h^(n+1)(s))), by
 `window_bounds`. No step crosses the wall, so a grazing impact is never missed.
+
+Its functions are compiled kernels for the event loops and take their arguments unchecked (NaN gives NaN;
+text is a numba typing error): `rotorcontact.simulate`, `drop` and `run_general` are the checked entry
+points.
 """
 
 from __future__ import annotations

@@ -7,7 +7,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..errors import ParameterError
 from ..model.angles import angle_difference
+from ..model.validation import check_float, check_int, check_type, quoted, real_array
 
 if TYPE_CHECKING:
     from .trajectory import Trajectory
@@ -49,7 +51,14 @@ def canonical_regime(name: str) -> str:
     -------
     str
         ``"forward-rub"`` for ``"rub"``, ``"backward-whirl"`` for ``"rolling"``, otherwise ``name``.
+
+    Raises
+    ------
+    ParameterError
+        If ``name`` is not text.
     """
+    if not isinstance(name, str):
+        raise ParameterError(f"name = {name!r} is invalid; allowed: a regime or class name (text)")
     return REGIME_ALIASES.get(name, name)
 
 
@@ -66,7 +75,13 @@ def regime_code(summary: "MotionSummary") -> int:
     int
         `FAILED_REGIME` for a failed run, `UNDETERMINED` for an undetermined motion, else the index of
         its regime in `REGIMES`.
+
+    Raises
+    ------
+    ParameterError
+        If ``summary`` is not a `MotionSummary`.
     """
+    check_type("summary", summary, MotionSummary, "a MotionSummary (classify)")
     if summary.regime is None:
         return FAILED_REGIME
     if summary.motion == "undetermined":
@@ -123,7 +138,20 @@ def detect_period(theta, rdot, thetadot, t, *, max_p: int = MAX_PERIOD_IMPACTS, 
     The last ``max(2p, 6)`` impacts must each match the impact p earlier in
     angle, rdot and thetadot to ``tol``, and consecutive periods must agree to
     ``tol``. Returns ``(p, period)`` or ``(None, None)``.
+
+    Raises
+    ------
+    ParameterError
+        Unless the four sequences are 1-D arrays of real numbers of one length, ``max_p`` an integer >= 1
+        and ``tol`` a number > 0.
     """
+    arrays = [real_array(v) for v in (theta, rdot, thetadot, t)]
+    if any(a is None for a in arrays) or any(a.ndim != 1 or a.shape != arrays[3].shape for a in arrays):
+        raise ParameterError(f"theta, rdot, thetadot, t = {quoted(theta)}, ... are invalid; allowed: four 1-D "
+                             "sequences of real numbers of one length (one entry per impact)")
+    theta, rdot, thetadot, t = arrays
+    max_p = check_int("max_p", max_p, 1)
+    tol = check_float("tol", tol, 0.0, low_open=True)
     n = len(t)
     for p in range(1, max_p + 1):
         m = max(2 * p, 6)
@@ -143,7 +171,11 @@ def detect_period(theta, rdot, thetadot, t, *, max_p: int = MAX_PERIOD_IMPACTS, 
 
 
 def classify(traj: "Trajectory") -> MotionSummary:
-    """Classify the long-run motion of ``traj`` (see `MotionSummary`)."""
+    """Classify the long-run motion of ``traj`` (see `MotionSummary`); a `ParameterError` unless it is a
+    `rotorcontact.Trajectory`."""
+    from .trajectory import Trajectory
+
+    check_type("traj", traj, Trajectory, "a Trajectory (rotorcontact.simulate)")
     imp = traj.impacts
     n = len(imp)
     if traj.status == "failed":

@@ -14,6 +14,10 @@ integrator (`general_contact.contact_phase`) would follow each with tens of step
 
 A panel in which the contact would end (n <= 0, |q| >= mu n), the rotor near rest or turning back (w
 small), or t_end falls, is handed to `contact_phase` from its start, which locates the event.
+
+Its functions are compiled kernels for the event loops and take their arguments unchecked (NaN gives NaN;
+text is a numba typing error): `rotorcontact.simulate`, `drop` and `run_general` are the checked entry
+points.
 """
 
 from __future__ import annotations

@@ -22,6 +22,10 @@ Stepping never crosses the surface. Near a transversal crossing the steps
 converge to it from below at least quadratically (like Newton); near a tangency
 that stays below 1 they walk past it; a crossing whose excursion above 1 is
 tiny is still found because no step can jump over it.
+
+Its functions are compiled kernels for the event loops and take their arguments unchecked (NaN gives NaN;
+text is a numba typing error): `rotorcontact.simulate`, `drop` and `run_general` are the checked entry
+points.
 """
 
 from __future__ import annotations

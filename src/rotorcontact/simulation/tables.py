@@ -2,6 +2,9 @@
 
 Rows are copied element by element: numba's slice assignment compiles its broadcasting checks and their
 error messages, several seconds of a cold start.
+
+Its functions are compiled helpers of the kernels and take their arguments unchecked (a row index is
+not bounds-checked); the kernels that call them size the tables.
 """
 
 from __future__ import annotations

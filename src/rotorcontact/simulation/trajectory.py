@@ -17,7 +17,7 @@ from ..errors import ParameterError
 from ..interpreted import call_kernel
 from ..model.flow import propagate, to_inertial
 from ..model.impact_law import relative_velocity
-from ..model.validation import check_int, check_machine, real_array
+from ..model.validation import check_int, check_machine, quoted, real_array
 from ..model.params import Machine, Parameters, check_range
 
 __all__ = ["Trajectory", "ImpactTable", "COLUMNS"]
@@ -60,6 +60,10 @@ class ImpactTable:
     """
 
     def __init__(self, records: np.ndarray):
+        if not (isinstance(records, np.ndarray) and records.ndim == 2 and records.shape[1] == len(COLUMNS)
+                and records.dtype.kind == "f"):
+            raise ParameterError(f"records = {quoted(records)} is invalid; allowed: the (n, {len(COLUMNS)}) float "
+                                 "array of a simulation's impact records (Trajectory.records)")
         self._records = records
         for i, name in enumerate(COLUMNS):
             setattr(self, name, records[:, i])

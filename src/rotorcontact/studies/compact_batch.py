@@ -21,6 +21,9 @@ batch kernel: a window whose contact phases end out of order or after its stop t
 overshoots its end time by rounding), where what is kept cannot give the kernel's summary exactly. Such
 an item is *deferred*, and is computed again through the simulator's kernel
 (`rotorcontact.studies.batch._run_steps`, `rotorcontact.studies.cuda_batch`).
+
+Its functions are compiled kernels and take their arguments unchecked; `simulate_batch` and the
+studies check theirs.
 """
 
 from __future__ import annotations
