@@ -727,3 +727,20 @@ def test_a_search_longer_than_the_bound_is_refused_before_it_runs():
         with pytest.raises(ParameterError, match=rf"^t_max = 20000.0 is too large; allowed: t_max <= "
                                                  rf"{im.MAX_T_MAX:g} "):
             call(p, 2e4)
+
+
+def test_labels_and_stability_refuse_what_they_cannot_read():
+    assert im.label_f1_zeros([-1, 1, -1], True) == [(1, "a"), (1, "b"), (2, "a")]
+    assert im.label_f1_zeros(np.array([1.0]), np.bool_(False)) == [(1, "b")]
+    for bad in (None, "x", [None], [[1, -1]], [math.nan]):
+        with pytest.raises(ParameterError, match=r"^directions = .* is invalid; allowed: a sequence of the signs"):
+            im.label_f1_zeros(bad, True)
+    with pytest.raises(ParameterError, match=r"^starts_positive = 'x' is invalid"):
+        im.label_f1_zeros([1], "x")
+    assert im.orbit_stability([0.5, 0.1 + 0.2j], True) is True and im.orbit_stability([1.5], True) is False
+    assert im.orbit_stability([0.5], False) is None
+    for bad in (None, "x", [], [math.nan], [[0.5, 0.1]]):
+        with pytest.raises(ParameterError, match=r"^multipliers = .* is invalid; allowed: a non-empty sequence"):
+            im.orbit_stability(bad, True)
+    with pytest.raises(ParameterError, match=r"^slipping = 'x' is invalid"):
+        im.orbit_stability([0.5], "x")

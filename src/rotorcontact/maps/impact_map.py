@@ -127,7 +127,7 @@ from ..model.flow import (
     scaled_cs,
 )
 from ..model.params import Parameters, check_finite, check_range
-from ..model.validation import check_bool, check_choice, check_params, real_array
+from ..model.validation import check_bool, check_choice, check_params, complex_array, real_array
 from ..model.impact_law import (
     apply_reset,
     ideal_reset,
@@ -1051,7 +1051,18 @@ def label_f1_zeros(directions: Sequence[int], starts_positive: bool) -> list[tup
     -------
     list of (int, str)
         (n, kind) of each zero, n >= 1.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``directions`` is a sequence of signs (+1, -1, 0) and ``starts_positive`` a bool.
     """
+    signs = real_array(directions)
+    if signs is None or signs.ndim != 1 or not np.all(np.isin(np.sign(signs), (-1.0, 0.0, 1.0))) \
+            or not np.all(np.isfinite(signs)):
+        raise ParameterError(f"directions = {directions!r} is invalid; allowed: a sequence of the signs of F1's "
+                             "changes (+1, -1)")
+    starts_positive = check_bool("starts_positive", starts_positive)
     n = 0 if starts_positive else 1
     labels = []
     for direction in directions:
@@ -1355,10 +1366,19 @@ def orbit_stability(multipliers, slipping: bool) -> bool | None:
         impact does not slip, since the friction of the law of MODEL.md §5
         then reverses v_rel (`ImpactOrbit.friction_reverses`) and the fixed
         point is not an orbit of the simulator, whose stability could be claimed.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``multipliers`` is a non-empty sequence of finite (complex) numbers and ``slipping`` a bool.
     """
-    if not slipping:
+    z = complex_array(multipliers)
+    if z is None or z.ndim != 1 or z.size == 0 or not np.all(np.isfinite(z)):
+        raise ParameterError(f"multipliers = {multipliers!r} is invalid; allowed: a non-empty sequence of finite "
+                             "(complex) numbers")
+    if not check_bool("slipping", slipping):
         return None
-    return bool(np.all(np.abs(np.asarray(multipliers)) < 1.0))
+    return bool(np.all(np.abs(z) < 1.0))
 
 
 def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> ImpactOrbit:
