@@ -164,3 +164,10 @@ def test_a_machine_takes_numpy_numbers_as_python_numbers():
     with pytest.raises(ParameterError, match=r"speed = .* is not a number"):
         Machine.from_mapping(data)
 
+
+
+def test_a_machine_value_that_is_not_a_quantity_is_named_first():
+    from rotorcontact import Machine, reference_machine
+
+    with pytest.raises(ParameterError, match=r"^speed = 'abc' has no number"):
+        Machine(**{**reference_machine().as_dict(), "speed": "abc"})

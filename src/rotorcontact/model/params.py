@@ -245,7 +245,8 @@ class Parameters:
         unknown = set(changes) - set(_PARAMETER_RULES)
         if unknown:
             name = sorted(unknown)[0]
-            raise ParameterError(f"unknown parameter {name!r}; allowed: {', '.join(_PARAMETER_RULES)}")
+            raise ParameterError(f"{name} = {changes[name]!r} is not a parameter (unknown parameter {name!r}); "
+                                 f"allowed: {', '.join(_PARAMETER_RULES)}")
         checked = {name: check_finite(name, changes[name]) for name in _PARAMETER_RULES if name in changes}
         for name, value in checked.items():
             check_range(name, value, **_PARAMETER_RULES[name])
@@ -390,11 +391,12 @@ def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
     """
     if name == "contact":
         return raw  # a word, checked by `Machine`
+    label = f"{source}: {name}" if source else name  # a file names itself first, as compilers do
     if isinstance(raw, np.ndarray) and raw.ndim == 0:
         raw = raw[()]
     if isinstance(raw, (bool, np.bool_)) or not isinstance(raw, (int, float, np.integer, np.floating, str)):
         raise ParameterError(
-            f"{source}: {name} = {raw!r} is not a number; a finite real number in {unit}, "
+            f"{label} = {raw!r} is not a number; a finite real number in {unit}, "
             f"or a string with units such as '1.5 {unit}', is required"
         )
     if not isinstance(raw, str):
@@ -402,7 +404,7 @@ def to_si(name: str, raw: Any, unit: str, source: str = "machine") -> float:
     from .units import quantity_in
 
     # a number is in SI units; a string carries its own (a bare "12000" could as well be meant in rpm)
-    return quantity_in(f"{source}: {name}", raw, unit, unit_required=unit != "1")
+    return quantity_in(label, raw, unit, unit_required=unit != "1")
 
 
 @dataclass(frozen=True)
@@ -514,7 +516,7 @@ class Machine:
             if value is None and f.name in OPTIONAL_MACHINE_KEYS:
                 continue
             if isinstance(value, str):  # a quantity with units, as in machine files: "12000 rpm"
-                value = to_si(f.name, value, self._unit(f.name), source="Machine")
+                value = to_si(f.name, value, self._unit(f.name), source="")
             object.__setattr__(self, f.name, check_machine_value(f.name, value))
         given = [key for key in RACE_KEYS if getattr(self, key) is not None]
         if given and len(given) < len(RACE_KEYS):

@@ -768,8 +768,8 @@ def simulate_batch(
     if settings is None:
         unknown = sorted(set(kwargs) - {f.name for f in fields(BatchSettings)})
         if unknown:
-            raise ParameterError(f"unknown setting {unknown[0]!r}; allowed: "
-                                 f"{', '.join(f.name for f in fields(BatchSettings))}")
+            raise ParameterError(f"{unknown[0]} = {kwargs[unknown[0]]!r} is not a setting (unknown setting "
+                                 f"{unknown[0]!r}); allowed: {', '.join(f.name for f in fields(BatchSettings))}")
         settings = BatchSettings(**kwargs)
     elif kwargs:
         raise ParameterError(f"give either settings or keyword settings, not both ({', '.join(kwargs)})")
