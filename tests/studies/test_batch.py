@@ -362,7 +362,8 @@ def test_bad_batches_are_refused_by_name():
         simulate_batch(REF, du0=[0j, 2 * MAX_VELOCITY + 0j], n_transient=2, n_record=1)
     with pytest.raises(ParameterError, match="^the batch is empty"):
         simulate_batch(REF, u0=[], n_transient=2, n_record=1)
-    with pytest.raises(ParameterError, match=r"^foo = 3 is not a setting \(unknown setting 'foo'\); allowed: n_transient"):
+    with pytest.raises(ParameterError, match=r"^foo = 3 is not a setting \(unknown setting 'foo'\); allowed: "
+                                             r"n_transient"):
         simulate_batch(REF, foo=3)
 
 
