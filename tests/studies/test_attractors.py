@@ -262,3 +262,19 @@ def test_params_that_are_not_the_machines_are_refused_by_every_parameter_path():
     with pytest.raises(ParameterError, match=rf"^values of 'gamma' = .* allowed: at most {MAX_GRID_POINTS}$"):
         path_values("gamma", range(MAX_GRID_POINTS + 1))
 
+
+
+def test_attractor_labels_and_the_attributes_of_a_study_check_what_they_take():
+    from rotorcontact.studies.attributes import parameter_attrs, settings_attrs, summary_variables
+
+    assert attractor_label("irregular", np.float64(0.1), None) == attractor_label("irregular", 0.1, None)
+    for args, name in (((None, 0.1, 0.01), "name"), (("irregular", "0.1", 0.01), "exponent"),
+                       (("irregular", 0.1, True), "error"), (("irregular", 0.1, 0.01, "yes"), "settles")):
+        with pytest.raises(ParameterError, match=rf"^{name} = "):
+            attractor_label(*args)
+    for call, name in ((lambda: parameter_attrs(None), "params"),
+                       (lambda: parameter_attrs(REF, machine="m"), "machine"),
+                       (lambda: settings_attrs(REF), "settings"),
+                       (lambda: summary_variables(None, ("x",)), "result")):
+        with pytest.raises(ParameterError, match=rf"^{name} = .* is not an? "):
+            call()

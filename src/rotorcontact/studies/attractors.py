@@ -45,7 +45,8 @@ import numpy as np
 from .. import __version__
 from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_finite
-from ..model.validation import check_bool, check_float, check_int, check_machine, check_params, quoted, real_array
+from ..model.validation import (check_bool, check_float, check_int, check_machine, check_params, check_type, quoted,
+                                real_array)
 from .basins import DEFAULT_CHUNK, BasinGrid, class_names, name_points, parse_grid
 from .batch import NSUM, PARAMETER_ORDER, BatchResult, BatchSettings, check_batch_settings, parameter_array
 from .driver import run_study
@@ -240,7 +241,19 @@ def identity_names(result: BatchResult, codes: np.ndarray, orbit_labels, params:
 
 def attractor_label(name: str, exponent: float | None, error: float | None, settles: bool = False) -> str:
     """Label of an attractor (module docstring) from its identity, largest exponent, and whether its motion
-    continued settles into a final regime."""
+    continued settles into a final regime.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``name`` is text, ``exponent`` and ``error`` numbers or None, and ``settles`` a bool.
+    """
+    check_type("name", name, str, "an attractor's identity, such as 'B1,d' or 'irregular'")
+    for label, value in (("exponent", exponent), ("error", error)):
+        if value is not None and (isinstance(value, (bool, np.bool_))
+                                  or not isinstance(value, (int, float, np.integer, np.floating))):
+            raise ParameterError(f"{label} = {value!r} is invalid; allowed: a number or None")
+    settles = check_bool("settles", settles)
     if name == "x_R" or name.endswith("-impact") or name.startswith("B") or name == "one-impact":
         return "periodic"
     if name in ("P1", "P2") or name in _CONTACT_CLASSES:

@@ -13,6 +13,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..model.params import Machine, Parameters
+from ..model.validation import check_machine, check_params, check_type
 from ..simulation.simulator import STATUS_NAMES
 from .batch import FINAL_KIND_NAMES, PARAMETER_ORDER, REGIME_NAMES, BatchResult, BatchSettings
 
@@ -88,7 +89,10 @@ _INT_FIELDS = ("regime", "impacts_per_period", "n_impacts", "n_contacts", "trans
 
 
 def parameter_attrs(params: Parameters, skip: str | None = None, machine: Machine | None = None) -> dict[str, Any]:
-    """Attributes holding the model parameters and their units, and the machine in SI units if given."""
+    """Attributes holding the model parameters and their units, and the machine in SI units if given (a
+    `ParameterError` for what is not `Parameters`, or not a `Machine` or None)."""
+    check_params(params)
+    check_machine(machine)
     attrs: dict[str, Any] = {}
     for name in PARAMETER_ORDER:
         if name == skip:
@@ -104,7 +108,9 @@ def parameter_attrs(params: Parameters, skip: str | None = None, machine: Machin
 
 
 def settings_attrs(settings: BatchSettings) -> dict[str, Any]:
-    """Attributes holding the transient and window settings."""
+    """Attributes holding the transient and window settings (a `ParameterError` for what is not
+    `BatchSettings`)."""
+    check_type("settings", settings, BatchSettings, "a BatchSettings")
     s = settings.as_dict()
     return {
         "n_transient": np.int32(s["n_transient"]),
@@ -119,7 +125,9 @@ def settings_attrs(settings: BatchSettings) -> dict[str, Any]:
 
 
 def summary_variables(result: BatchResult, dims: tuple[str, ...]) -> dict[str, Any]:
-    """Per-item variables of a batch result for an xarray Dataset (netCDF3 types)."""
+    """Per-item variables of a batch result for an xarray Dataset (netCDF3 types); a `ParameterError` for
+    what is not a `BatchResult`."""
+    check_type("result", result, BatchResult, "a BatchResult (simulate_batch)")
     out: dict[str, Any] = {}
     for name in ("regime", "impacts_per_period", "period", "n_impacts", "n_contacts", "transient_impacts",
                  "contact_time", "final_kind", "status", "transient_status", "t_transient", "t_window"):
