@@ -379,3 +379,15 @@ def test_codim2_figure_refuses_bad_input_before_a_figure(refused):
     refused(r"^mask = \[1, 2\] is invalid", region_label_cells, [1, 2])
     refused(r"^min_depth = -1\.0 is invalid; allowed: a finite number >= 0$", region_label_cells,
             np.ones((3, 3), dtype=bool), -1)
+
+
+def test_labels_of_another_form_and_unknown_options_are_refused(refused):
+    from rotorcontact.plotting.branches import compute_branches, plot_rdot
+    from rotorcontact.plotting.equilibria import save_equilibria_figure
+    from reference_parameters import REF
+
+    branches = compute_branches(REF, "gamma", 0.05, 0.1, n_seeds=4)
+    refused(r"^labels = .* holds 'B9,z', not a one-impact orbit label", plot_rdot, REF, branches=branches,
+            labels=["B1,d", "B9,z"])
+    refused(r"^foo = 1 is not an option of orbit_branches; allowed: ", compute_branches, REF, foo=1)
+    refused(r"^foo = 1 is not an option of plot_equilibria; allowed: ", save_equilibria_figure, REF, "x.png", foo=1)

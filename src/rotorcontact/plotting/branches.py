@@ -18,6 +18,7 @@ branch letter. Every line carries a ``gid`` ``"<label>:<style>"`` with style
 from __future__ import annotations
 
 import math
+import re
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
@@ -29,7 +30,8 @@ from ..model.params import Parameters
 from ..model.validation import (check_bool, check_choice, check_float, check_params, check_type, is_pair, quoted,
                                 real_array)
 from .equilibria import PARAM_LABELS
-from .style import CLEARANCE_COLOR, MAX_FIGURE_INCHES, check_ax, check_limits, check_names, new_axes, orbit_tex
+from .style import (CLEARANCE_COLOR, MAX_FIGURE_INCHES, check_ax, check_keywords, check_limits, check_names, new_axes,
+                    orbit_tex)
 
 __all__ = [
     "BRANCH_COLORS",
@@ -76,7 +78,9 @@ LocalEstimate = Callable[[str, np.ndarray], "np.ndarray | None"] | Mapping[str, 
 
 def compute_branches(params: Parameters, param: str = "gamma", start: float = -0.6, stop: float = 0.25,
                      **kwargs) -> OrbitBranches:
-    """`rotorcontact.continuation.branches.orbit_branches` (a shorthand for the figures)."""
+    """`rotorcontact.continuation.branches.orbit_branches` (a shorthand for the figures); a `ParameterError`
+    for a keyword it does not take."""
+    check_keywords(kwargs, orbit_branches)
     return orbit_branches(params, param, start, stop, **kwargs)
 
 
@@ -110,7 +114,13 @@ def _draw_styled(ax, label: str, x: np.ndarray, y: np.ndarray, b: LabelBranch, c
             i0 = i
 
 
+#: The form of a one-impact orbit's label.
+ORBIT_LABEL = re.compile(r"B[1-9][0-9]*,[abcd]")
+
+
 def _check_labels(branches: OrbitBranches, labels: Sequence[str]) -> list[str]:
+    """The orbit labels of ``labels`` that ``branches`` holds: a label that the range does not reach is left
+    out (the paper's figures name all four of B1); `_check_options` refused labels of another form."""
     out = [lab for lab in labels if lab in branches.labels]
     return out
 
@@ -121,6 +131,10 @@ _BRANCHES = "the OrbitBranches of rotorcontact.continuation.branches.orbit_branc
 def _check_options(labels, ax, xlim, ylim, local=None, **flags) -> None:
     """The checks of the drawing options the figures of branches share (made before any computation)."""
     check_names("labels", labels)
+    for lab in labels:
+        if not ORBIT_LABEL.fullmatch(lab):
+            raise ParameterError(f"labels = {quoted(labels)} holds {lab!r}, not a one-impact orbit label; allowed: "
+                                 "labels 'B<n>,<a|b|c|d>', such as 'B1,d'")
     check_ax(ax)
     check_limits("xlim", xlim)
     check_limits("ylim", ylim)

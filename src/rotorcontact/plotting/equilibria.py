@@ -23,7 +23,7 @@ from ..analysis.equilibria import (PSEUDO_NAMES, EquilibriumBranches, equilibriu
                                    regular_equilibrium)
 from ..model.params import Parameters
 from ..model.validation import check_bool, check_choice, check_params, check_type
-from .style import check_ax, check_figure_path, check_limits, new_axes, save_figure
+from .style import check_ax, check_figure_path, check_keywords, check_limits, new_axes, save_figure
 
 __all__ = ["plot_equilibrium_branches", "plot_equilibria", "save_equilibria_figure", "PARAM_LABELS"]
 
@@ -237,5 +237,6 @@ def save_equilibria_figure(
         for the arguments `plot_equilibria` refuses.
     """
     check_figure_path(path)
+    check_keywords(kwargs, plot_equilibria)
     fig, _ = plot_equilibria(params, param, start, stop, **kwargs)
     return save_figure(fig, path)

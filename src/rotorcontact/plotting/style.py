@@ -166,6 +166,19 @@ def check_names(name: str, value: Any, what: str = "orbit labels such as 'B1,a'"
     return tuple(value)
 
 
+def check_keywords(kwargs: dict[str, Any], target: Any) -> None:
+    """Refuse keyword arguments that ``target`` (the function they are passed on to) does not take, naming
+    the first and listing those it takes, rather than a `TypeError` from inside."""
+    import inspect
+
+    params = inspect.signature(target).parameters
+    taken = [n for n, p in params.items() if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    unknown = sorted(set(kwargs) - set(taken))
+    if unknown:
+        raise ParameterError(f"{unknown[0]} = {quoted(kwargs[unknown[0]])} is not an option of {target.__name__}; "
+                             f"allowed: {', '.join(taken)}")
+
+
 def check_figure_path(path: Any) -> Path:
     """``path`` as a `pathlib.Path` if a figure can be written there: a .png, .svg or .pdf file in a
     folder that exists.
