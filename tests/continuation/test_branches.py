@@ -343,3 +343,21 @@ def test_a_range_that_starts_at_the_undamped_resonance_keeps_to_its_box():
         return sorted((e.type, e.orbits, round(e.value, 7)) for e in b.events if 0.01 <= e.value <= 0.19)
 
     assert inner(at_zero) == inner(wider) and inner(wider)
+
+
+@pytest.mark.parametrize("args, match", [
+    ((None, 0.0, 0.1), r"^param = None is invalid; allowed: 'gamma', 'omega', 'rho', 'mu', 'd'$"),
+    (("x", 0.0, 0.1), r"^param = 'x' is invalid"),
+    (("gamma", 0.1, 0.0), r"^stop = 0.0 is invalid; allowed: a number > start = 0.1"),
+    (("gamma", 0.1, 0.1), r"^stop = 0.1 is invalid"),
+    (("gamma", math.nan, 0.1), r"^start = nan is not finite"),
+    (("gamma", 0.0, "1"), r"^stop = '1' is text"),
+])
+def test_default_seeds_refuse_an_unknown_parameter_or_an_empty_range(args, match):
+    with pytest.raises(ParameterError, match=match):
+        default_seeds(*args)
+
+
+def test_default_seeds_take_numpy_scalars():
+    assert default_seeds("gamma", np.float32(-5.0), np.float64(0.2)) == default_seeds("gamma", -5.0, 0.2)
+    assert default_seeds("d", np.int64(0), np.int64(1)) == default_seeds("d", 0.0, 1.0)

@@ -87,3 +87,31 @@ def test_ratios_helper_and_bad_input():
             cascades_of(empty, bad_events)
     with pytest.raises(ParameterError, match="depth"):
         cascades(REF, "gamma", 0.08, 0.1, depth=0)
+
+
+@pytest.mark.parametrize("grid, match", [
+    ("x", r"^grid = 'x' is invalid; allowed: three integers >= 1"),
+    ((1, 1), r"^grid = \(1, 1\) is invalid"),
+    ((1.5, 1, 1), r"^grid\[0\] = 1.5 is invalid; allowed: an integer from 1 to"),
+    ((0, 1, 1), r"^grid\[0\] = 0 is invalid"),
+    ((100, 100, 100), r"^grid = \(100, 100, 100\) is invalid; allowed: .* a product of at most"),
+])
+def test_the_grid_is_checked_for_one_impact_cascades_too(grid, match):
+    # p = 1 uses no grid of seeds, but a bad one is still refused (before any computation)
+    with pytest.raises(ParameterError, match=match):
+        cascades(REF, "gamma", 0.08, 0.1, impacts=1, depth=3, t_max=4, n_seeds=4, grid=grid)
+
+
+@pytest.mark.parametrize("kw, match", [(dict(t_max=-1.0), r"^t_max = -1.0 is "), (dict(n_seeds=1), r"^n_seeds = 1 is "),
+                                       (dict(t_max="x"), r"^t_max = 'x' is ")])
+def test_the_one_impact_options_are_checked_for_multi_impact_cascades_too(kw, match):
+    # the base gamma lies outside the range: the options are refused before that is found
+    with pytest.raises(ParameterError, match=match):
+        cascades(REF, "gamma", 0.0, 0.1, impacts=2, **kw)
+
+
+def test_cascades_take_numpy_scalars():
+    a = cascades(REF, "gamma", np.float64(0.08), np.float32(0.1), impacts=np.int64(1), depth=np.int32(3),
+                 t_max=np.float64(4.0), n_seeds=np.int64(4), grid=(np.int64(2), 2, np.int32(2)))
+    b = cascades(REF, "gamma", 0.08, float(np.float32(0.1)), impacts=1, depth=3, t_max=4, n_seeds=4)
+    assert [c.to_dict() for c in a] == [c.to_dict() for c in b] and a

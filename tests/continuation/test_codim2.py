@@ -277,3 +277,85 @@ def test_the_dib_function_is_that_of_k_and_needs_parameters():
     for bad in (None, reference_machine()):
         with pytest.raises(ParameterError, match=r"^p = .* is not a Parameters object"):
             dib_function(bad)
+
+
+# ---------------------------------------------------------------------------
+# bounds and checks of the arguments
+# ---------------------------------------------------------------------------
+
+SMALL = dict(n_seeds=1, n_scan=2)
+BOX = ((0.05, 0.1), (0.7, 0.8))
+
+
+def _empty_diagram(curves=None):
+    from rotorcontact.continuation.codim2 import Codim2Diagram
+
+    return Codim2Diagram(param=("gamma", "omega"), events=(), ranges=BOX, base=REF, curves=curves or {})
+
+
+@pytest.mark.parametrize("call", ["fold", "coalescence", "diagram"])
+@pytest.mark.parametrize("t_max", [1e300, 2000.0])
+def test_t_max_is_bounded_over_the_box(call, t_max):
+    from rotorcontact.continuation.codim2 import coalescence_curves
+    from rotorcontact.maps.impact_map import f1_zeros
+
+    # the flight grows fastest at the corner gamma = 0.5, omega = 0.6 of the default box (e^{0.25 T}), where
+    # 2000 is too long a period, though not at the base parameters
+    f1_zeros(REF, 2000.0)
+    f = {"fold": fold_curve, "coalescence": coalescence_curves,
+         "diagram": lambda p, **kw: codim2_diagram(p, folds=[], grazing=[], **kw)}[call]
+    with pytest.raises(ParameterError, match=r"^t_max = .* is too large"):
+        f(REF, t_max=t_max, **SMALL)
+
+
+@pytest.mark.parametrize("n", [10**6, 101, 0, 1.5, None])
+def test_the_pair_of_a_fold_or_coalescence_is_bounded(n):
+    from rotorcontact.continuation.codim2 import MAX_PAIR, coalescence_curves
+
+    with pytest.raises(ParameterError, match=rf"^n = .* is invalid; allowed: an integer from 1 to {MAX_PAIR}$"):
+        fold_curve(REF, ("gamma", "omega"), BOX, n=n, **SMALL)
+    with pytest.raises(ParameterError, match=r"^n = .* is invalid"):
+        coalescence_curves(REF, ("gamma", "omega"), BOX, n=n, **SMALL)
+
+
+def test_the_folds_of_a_diagram_are_bounded_as_the_fold_curve():
+    with pytest.raises(ParameterError, match=r"^folds = 101 is invalid; allowed: an integer from 1 to 100$"):
+        codim2_diagram(REF, ("gamma", "omega"), BOX, folds=[1, 101], **SMALL)
+
+
+@pytest.mark.parametrize("diagram", [None, REF, "x"])
+def test_dib_labels_need_a_diagram(diagram):
+    from rotorcontact.continuation.codim2 import dib_labels
+
+    with pytest.raises(ParameterError, match=r"^diagram = .* is not a Codim2Diagram object"):
+        dib_labels(diagram, 12.0, lambda p: None)
+
+
+@pytest.mark.parametrize("beb_kind", [None, "x", 1])
+def test_dib_labels_need_a_callable_beb_kind(beb_kind):
+    from rotorcontact.continuation.codim2 import dib_labels
+
+    with pytest.raises(ParameterError, match=r"^beb_kind = .* is invalid; allowed: a function of the parameters"):
+        dib_labels(_empty_diagram(), 12.0, beb_kind)
+
+
+def test_dib_labels_refuse_a_bad_t_max_and_a_kind_that_is_not_text():
+    from rotorcontact.continuation.codim2 import dib_labels
+
+    for t_max in (1e300, -1.0, "x"):
+        with pytest.raises(ParameterError, match=r"^t_max = "):
+            dib_labels(_empty_diagram(), t_max, lambda p: None)
+    dib = dib_curve(REF.replace(gamma=0.1), ("gamma", "omega"), ((0.0, 0.5), (0.6, 1.25)), n_seeds=2, n_scan=11)
+    diagram = _empty_diagram({"dib": dib})
+    with pytest.raises(ParameterError, match=r"^beb_kind = .* returning text or None \(it returned 1\)"):
+        dib_labels(diagram, 12.0, lambda p: 1)
+    labels = dib_labels(diagram, np.float64(12.0), lambda p: "persistence")
+    assert labels == dib_labels(diagram, 12.0, lambda p: "persistence")
+    assert {t for t, _, _ in labels} <= {"NSFH", "Pers"}
+
+
+def test_the_curves_take_numpy_scalars():
+    kw = dict(n_seeds=np.int64(1), n_scan=np.int32(2), t_max=np.float64(12.0))
+    c, _ = fold_curve(REF, ("gamma", "omega"), BOX, n=np.int64(1), **kw)
+    d, _ = fold_curve(REF, ("gamma", "omega"), BOX, n=1, n_seeds=1, n_scan=2, t_max=12.0)
+    assert c.name == d.name == "fold_1" and c.to_list() == d.to_list()

@@ -189,3 +189,172 @@ def test_both_ways_stops_after_a_closed_loop_and_joins_two_runs():
     assert both.points[-1] == pytest.approx(both.runs[0].points[-1])
     hits = list(corrected_crossings(parabola, both.points, 1, -0.16))
     assert sorted(h[0] for h in hits) == pytest.approx([-0.4, 0.4], abs=1e-12)
+
+
+# ---------------------------------------------------------------------------
+# bad arguments are refused by name; numpy scalars are numbers
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["step", "min_step", "max_step", "newton_tol", "residual_tol", "max_angle",
+                                  "max_drift", "location_tol", "fd_step"])
+def test_settings_refuse_a_bool_for_a_length_or_tolerance(name):
+    with pytest.raises(ParameterError, match=rf"^{name} = True is invalid; allowed: a finite number > 0"):
+        ContinuationSettings(**{name: True})
+
+
+@pytest.mark.parametrize("name, bound", [("max_points", "MAX_POINTS"), ("max_newton", "MAX_NEWTON"),
+                                         ("max_location_iterations", "MAX_LOCATION_ITERATIONS")])
+def test_settings_bound_their_counts(name, bound):
+    from rotorcontact.continuation import engine
+
+    high = getattr(engine, bound)
+    assert ContinuationSettings(**{name: high}) == ContinuationSettings(**{name: high})
+    with pytest.raises(ParameterError, match=rf"^{name} = 1000000000000 is invalid; allowed: an integer from 1 to "
+                                             rf"{high}$"):
+        ContinuationSettings(**{name: 10**12})
+
+
+@pytest.mark.parametrize("grow", [math.inf, 1e12, None, "x", True, 1.0])
+def test_settings_bound_the_growth_of_the_step(grow):
+    with pytest.raises(ParameterError, match=r"^grow = .* is invalid; allowed: a finite number > 1 and <= 10"):
+        ContinuationSettings(grow=grow)
+
+
+def test_settings_name_the_bad_field_rather_than_step():
+    with pytest.raises(ParameterError, match=r"^min_step = True is invalid"):
+        ContinuationSettings(min_step=True)
+
+
+def test_settings_take_numpy_scalars():
+    s = ContinuationSettings(step=np.float32(0.01), max_step=np.float64(0.2), grow=np.float32(2.0),
+                             max_points=np.int64(300), max_newton=np.int32(8), location_tol=np.float16(1e-3))
+    assert s.step == pytest.approx(0.01) and type(s.step) is float and type(s.max_points) is int
+    assert s.max_points == 300 and s.max_newton == 8 and s.grow == 2.0
+    assert ContinuationSettings() == ContinuationSettings(step=0.02)  # the defaults are valid
+    res = continue_curve(circle, [1.0, 0.0], settings=s)
+    assert res.status == "closed"
+
+
+def _short(**kw):
+    return continue_curve(circle, [1.0, 0.0], **{"settings": ContinuationSettings(max_points=3), **kw})
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(direction=None), r"^direction = None is invalid; allowed: a finite number other than 0"),
+    (dict(direction=[math.nan, 1.0]), r"^direction = \[nan, 1.0\] is invalid"),
+    (dict(direction=0.0), r"^direction = 0.0 is invalid"),
+    (dict(direction=[0, 0]), r"^direction = \[0, 0\] is invalid"),
+    (dict(direction=[1.0, 0.0, 0.0]), r"^direction = .* a vector of 2 finite numbers"),
+    (dict(direction="up"), r"^direction = 'up' is invalid"),
+    (dict(events="x"), r"^events = 'x' is invalid; allowed: a list of EventFunction"),
+    (dict(events=[lambda y: y[0]]), r"^events = .* is invalid; allowed: a list of EventFunction"),
+    (dict(weights="ab"), r"^weights = 'ab' is invalid"),
+    (dict(param_index=None), r"^param_index = None is invalid; allowed: an integer from -2 to 1$"),
+    (dict(param_index=1.5), r"^param_index = 1.5 is invalid"),
+    (dict(param_index=2), r"^param_index = 2 is invalid"),
+    (dict(correct_start="no"), r"^correct_start = 'no' is invalid; allowed: True or False"),
+    (dict(jacobian="x"), r"^jacobian = 'x' is invalid; allowed: a function"),
+])
+def test_continue_curve_refuses_bad_arguments_by_name(kw, match):
+    with pytest.raises(ParameterError, match=match):
+        _short(**kw)
+
+
+@pytest.mark.parametrize("y0", ["ab", [1.0], [[1.0, 0.0]], [1.0, True], None, [1.0, "0"]])
+def test_continue_curve_refuses_a_start_that_is_not_a_vector(y0):
+    with pytest.raises(ParameterError, match=r"^y0 = .* is invalid; allowed: a vector of at least 2 finite numbers"):
+        continue_curve(circle, y0)
+    with pytest.raises(ParameterError, match=r"^y0 = "):
+        continue_both_ways(circle, y0)
+
+
+@pytest.mark.parametrize("residual", [1, None, "circle"])
+def test_the_residual_must_be_callable(residual):
+    for call in (lambda: continue_curve(residual, [1.0, 0.0]), lambda: continue_both_ways(residual, [1.0, 0.0]),
+                 lambda: correct_fixed(residual, [1.0, 0.0], 1), lambda: numerical_jacobian(residual, [1.0, 0.0]),
+                 lambda: corrected_crossings(residual, np.array([[1.0, 0.0], [0.0, 1.0]]), 1, 0.5)):
+        with pytest.raises(ParameterError, match=r"^residual = .* is invalid; allowed: a function"):
+            call()
+
+
+def test_a_residual_or_jacobian_of_the_wrong_shape_is_refused_by_name():
+    def two(y):
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0, 0.0])
+
+    for kw in ({}, dict(correct_start=False)):
+        with pytest.raises(ParameterError, match=r"^residual = .* returning an array of shape \(1,\) \(it returned "
+                                                 r"shape \(2,\)\)"):
+            continue_curve(two, [1.0, 0.0], **kw)
+    with pytest.raises(ParameterError, match=r"^jacobian = .* returning an array of shape \(1, 2\)"):
+        continue_curve(circle, [1.0, 0.0], jacobian=lambda y: np.zeros(2))
+    with pytest.raises(ParameterError, match=r"^residual = .* returning a vector"):
+        numerical_jacobian(lambda y: 1.0, [1.0, 0.0])
+
+
+def test_correct_fixed_refuses_bad_arguments_by_name():
+    with pytest.raises(ParameterError, match=r"^index = None is invalid; allowed: an integer from -2 to 1$"):
+        correct_fixed(circle, [0.9, 0.3], None)
+    with pytest.raises(ParameterError, match=r"^index = 2 is invalid"):
+        correct_fixed(circle, [0.9, 0.3], 2)
+    with pytest.raises(ParameterError, match=r"^y = 'ab' is invalid"):
+        correct_fixed(circle, "ab", 1)
+    y = correct_fixed(circle, np.array([0.9, 0.3]), np.int64(-1))
+    assert y[1] == 0.3 and y[0] == pytest.approx(math.sqrt(1 - 0.09), abs=1e-14)
+
+
+@pytest.mark.parametrize("rel_step", [0, 0.0, math.nan, -1.0, 2.0, True, "x", None])
+def test_numerical_jacobian_refuses_a_step_that_gives_no_difference(rel_step):
+    with pytest.raises(ParameterError, match=r"^rel_step = .* is invalid; allowed: a finite number > 0 and <= 1"):
+        numerical_jacobian(circle, [0.6, 0.8], rel_step)
+
+
+def test_numerical_jacobian_and_null_vector_take_numpy_scalars_and_refuse_other_input():
+    j = numerical_jacobian(circle, [np.float64(0.6), np.float32(0.8)], np.float32(1e-6))
+    assert j == pytest.approx(circle_jac([0.6, 0.8]), abs=1e-5)
+    with pytest.raises(ParameterError, match=r"^y = \[0.6, nan\] is invalid"):
+        numerical_jacobian(circle, [0.6, math.nan])
+    for bad in ("x", np.zeros((2, 2)), [[1.0, math.nan]], np.zeros(3)):
+        with pytest.raises(ParameterError, match=r"^jac = .* is invalid; allowed: an n x \(n \+ 1\) matrix"):
+            null_vector(bad)
+    with pytest.raises(ParameterError, match=r"^reference = .* a vector of 2 finite numbers"):
+        null_vector(j, np.array([1.0, 0.0, 0.0]))
+
+
+def test_corrected_crossings_refuses_bad_arguments_when_called():
+    pts = np.array([[1.0, 0.0], [0.0, 1.0]])
+    for kw, match in ((dict(value=math.nan), r"^value = nan is invalid; allowed: a finite number"),
+                      (dict(value="x"), r"^value = 'x' is invalid"),
+                      (dict(index=None), r"^index = None is invalid"),
+                      (dict(index=5), r"^index = 5 is invalid"),
+                      (dict(points="ab"), r"^points = 'ab' is invalid; allowed: an \(m, n \+ 1\) array"),
+                      (dict(points=np.zeros(3)), r"^points = .* is invalid")):
+        args = dict(points=pts, index=1, value=0.5)
+        args.update(kw)
+        with pytest.raises(ParameterError, match=match):
+            corrected_crossings(circle, args["points"], args["index"], args["value"])  # not iterated
+    hits = list(corrected_crossings(circle, pts, np.int64(-1), np.float64(0.5)))
+    assert len(hits) == 1 and hits[0] == pytest.approx([math.sqrt(0.75), 0.5], abs=1e-12)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(name=None), r"^name = None is not a str object"),
+    (dict(function=None), r"^function = None is invalid; allowed: a function"),
+    (dict(terminal="x"), r"^terminal = 'x' is invalid; allowed: True or False"),
+    (dict(kind=None), r"^kind = None is invalid; allowed: 'continuous', 'discrete'"),
+])
+def test_event_functions_are_checked(kw, match):
+    args = dict(name="e", function=lambda y: y[0])
+    args.update(kw)
+    with pytest.raises(ParameterError, match=match):
+        EventFunction(**args)
+    assert EventFunction("e", abs, terminal=np.bool_(True)).terminal is True
+
+
+def test_continue_curve_takes_numpy_scalars():
+    ev = EventFunction("lambda = 0.5", lambda y: y[1] - 0.5)
+    a = continue_curve(circle, [1.0, 0.0], events=(ev,), direction=np.float64(-2.0), param_index=np.int64(1),
+                       weights=np.array([1.0, 1.0]), correct_start=np.bool_(True))
+    b = continue_curve(circle, [1.0, 0.0], events=[ev], direction=-1.0, param_index=1)
+    assert a.status == b.status == "closed" and np.array_equal(a.points, b.points)
+    assert a.points[1, 1] < 0  # the direction's sign: the last component decreases first

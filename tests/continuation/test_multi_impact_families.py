@@ -76,3 +76,79 @@ def test_bad_input():
         multi_impact_branches(BASE, 2, "gamma", 0.08, 0.09, doublings=99)
     with pytest.raises(ParameterError, match="impacts"):
         multi_impact_branches(BASE, 0, "gamma", 0.08, 0.09)
+
+
+# ---------------------------------------------------------------------------
+# arguments refused by name, before any continuation
+# ---------------------------------------------------------------------------
+
+
+def _doubling(**kw):
+    from rotorcontact.continuation.results import BranchEvent
+
+    args = dict(kind="period-doubling", value=0.0845, param="gamma", orbits=("B1,d",))
+    args.update(kw)
+    return BranchEvent(**args)
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(one_impact_events="x"), r"^one_impact_events = 'x' is invalid; allowed: a tuple of BranchEvent"),
+    (dict(one_impact_events=[1]), r"^one_impact_events = \[1\] is invalid"),
+    (dict(one_impact_events=None), r"^one_impact_events = None is invalid"),
+    (dict(max_points=10**12), r"^max_points = 1000000000000 is invalid; allowed: an integer from 1 to 1000000"),
+    (dict(max_points=0), r"^max_points = 0 is invalid"),
+    (dict(grid=(1.5, 1, 1)), r"^grid\[0\] = 1.5 is invalid"),
+    (dict(seeds="x"), r"^seeds = 'x' is invalid; allowed: a tuple of MultiImpactOrbit"),
+])
+def test_the_family_refuses_bad_options_by_name(kw, match):
+    # one impact: no seeds are searched, so nothing is computed before the options are checked
+    with pytest.raises(ParameterError, match=match):
+        multi_impact_branches(BASE, 1, "gamma", 0.08, 0.09, **kw)
+
+
+def test_the_family_takes_numpy_scalars():
+    a = multi_impact_branches(BASE, np.int64(1), "gamma", np.float64(0.08), np.float32(0.09), doublings=np.int64(1),
+                              max_points=np.int64(10), grid=(np.int64(2), 2, 2))
+    assert a.impacts == 1 and a.branches == () and a.start == 0.08
+
+
+@pytest.mark.parametrize("args, match", [
+    ((None, None), r"^params = None is not a Parameters object"),
+    ((REF, None), r"^event = None is not a BranchEvent object"),
+    ((REF, "x"), r"^event = 'x' is not a BranchEvent object"),
+    ((REF, "no T"), r"^event = .* is invalid; allowed: an event of a one-impact branch, .* with its T and rdot"),
+])
+def test_one_impact_seed_needs_an_event_of_a_one_impact_branch(args, match):
+    from rotorcontact.continuation.multi_impact_families import one_impact_seed
+
+    params, event = args
+    event = _doubling() if event == "no T" else event
+    with pytest.raises(ParameterError, match=match):
+        one_impact_seed(params, event)
+
+
+@pytest.mark.parametrize("args, match", [
+    ((None, "B1,d/PD", "gamma", 0.08, 0.09), r"^event = None is not a BranchEvent object"),
+    (("fold", "B1,d/PD", "gamma", 0.08, 0.09), r"^event = .* is invalid; allowed: a period doubling"),
+    (("pd", 1, "gamma", 0.08, 0.09), r"^label = 1 is not a str object"),
+    (("pd", "B1,d/PD", "phi", 0.08, 0.09), r"^param = 'phi' is invalid"),
+    (("pd", "B1,d/PD", "gamma", 0.09, 0.08), r"^stop = 0.08 is invalid; allowed: a number > start = 0.09"),
+    (("pd", "B1,d/PD", "gamma", 0.08, 0.09, 10**12), r"^max_points = 1000000000000 is invalid"),
+])
+def test_switching_checks_its_arguments_even_without_an_orbit(args, match):
+    from rotorcontact.continuation.multi_impact_families import switch_at_doubling
+
+    event = {"pd": _doubling(), "fold": _doubling(kind="fold")}.get(args[0], args[0])
+    with pytest.raises(ParameterError, match=match):
+        switch_at_doubling(event, *args[1:])
+    assert switch_at_doubling(_doubling(), "B1,d/PD", "gamma", np.float64(0.08), 0.09, np.int64(5)) is None
+
+
+def test_seed_orbits_name_their_grid():
+    from rotorcontact.continuation.multi_impact_families import seed_orbits
+
+    for grid, match in (((1.5, 1, 1), r"^grid\[0\] = 1.5 is invalid"), ("x", r"^grid = 'x' is invalid")):
+        with pytest.raises(ParameterError, match=match):
+            seed_orbits(BASE, 2, grid)
+    with pytest.raises(ParameterError, match=r"^impacts = 0 is invalid"):
+        seed_orbits(BASE, 0)

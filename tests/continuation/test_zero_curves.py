@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from rotorcontact import ParameterError
@@ -19,3 +20,22 @@ def test_the_seed_scan_is_bounded_as_for_the_orbit_branches(n_seeds):
 def test_settings_that_are_not_continuation_settings_are_refused():
     with pytest.raises(ParameterError, match=r"^settings = 'x' is not a ContinuationSettings"):
         f1_zero_curves(REF, "gamma", 0.0, 0.25, settings="x")
+
+
+def _curves():
+    from rotorcontact.continuation.results import BranchEvent
+    from rotorcontact.continuation.zero_curves import F1ZeroCurves
+
+    folds = (BranchEvent(kind="fold", value=0.17, param="gamma", orbits=("T0,1,a", "T0,1,b"), T=2.0, n=1),)
+    return F1ZeroCurves(param="gamma", events=folds, start=0.0, stop=0.25, base=REF, t_max=12.0, curves=())
+
+
+@pytest.mark.parametrize("n", [None, "x", 0, -1, 1.5, True])
+def test_fold_values_refuse_what_is_not_a_pair_index(n):
+    with pytest.raises(ParameterError, match=r"^n = .* is invalid; allowed: an integer >= 1$"):
+        _curves().fold_values(n)
+
+
+def test_fold_values_take_numpy_integers():
+    assert _curves().fold_values(np.int64(1)) == _curves().fold_values(1) == (0.17,)
+    assert _curves().fold_values(np.int32(2)) == ()

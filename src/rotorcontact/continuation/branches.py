@@ -66,6 +66,7 @@ from .results import (
     OrbitBranches,
     OrbitCurve,
     OrbitEvent,
+    check_interval,
     check_param_range,
 )
 from .engine import (
@@ -81,7 +82,7 @@ from ..errors import ParameterError
 from ..maps.impact_map import f1_zeros, rdot_roots
 from ..maps.orbit_system import BRANCH_PARAMETERS, OneImpactSystem, orbit_with_extrema
 from ..model.params import Parameters, check_range
-from ..model.validation import check_bool, check_int, check_params, settings_or_default
+from ..model.validation import check_bool, check_choice, check_int, check_params, settings_or_default
 
 __all__ = [
     "EVENT_TYPES",
@@ -119,11 +120,22 @@ def default_seeds(param: str, start: float, stop: float) -> int:
     A curve confined between two seed values is not seen, so a wider range keeps the spacing rather
     than the count (the seeds of two ranges need not coincide; a curve narrower than the spacing can
     still fall between them).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``param`` is one of `DEFAULT_RANGES` and start < stop are finite numbers.
     """
-    lo, hi = DEFAULT_RANGES[param]
+    lo, hi = DEFAULT_RANGES[check_choice("param", param, tuple(DEFAULT_RANGES))]
+    start, stop = check_interval(start, stop)
     spacing = (hi - lo) / (DEFAULT_SEEDS - 1)
     return int(min(MAX_SEEDS, max(DEFAULT_SEEDS, math.ceil((stop - start) / spacing - 1e-9) + 1)))
 
+
+
+def check_n_seeds(n_seeds, param: str, start: float, stop: float) -> int:
+    """``n_seeds`` as an int from 2 to `MAX_SEEDS`, or `default_seeds` where it is None."""
+    return default_seeds(param, start, stop) if n_seeds is None else check_int("n_seeds", n_seeds, 2, MAX_SEEDS)
 
 
 def default_settings() -> ContinuationSettings:
@@ -251,7 +263,7 @@ def orbit_branches(
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     t_min = check_range("t_min", t_min, low=0.0, low_open=True, high=t_max, high_open=True)
     rdot_max = check_range("rdot_max", rdot_max, low=0.0, low_open=True)
-    n_seeds = default_seeds(param, start, stop) if n_seeds is None else check_int("n_seeds", n_seeds, 2, MAX_SEEDS)
+    n_seeds = check_n_seeds(n_seeds, param, start, stop)
     span = stop - start
     settings = settings_or_default(settings, ContinuationSettings, default_settings)
     events_on_virtual = check_bool("events_on_virtual", events_on_virtual)

@@ -34,16 +34,17 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..maps.multi_impact import MAX_ORBIT_IMPACTS, NewtonFailure
-from ..model.params import Parameters
+from ..model.params import Parameters, check_range
 from ..model.validation import check_int, check_params, check_type, quoted, real_array
-from .branches import orbit_branches
+from .branches import check_n_seeds, orbit_branches
+from .multi_impact_branches import check_grid
 from .multi_impact_families import (
     MAX_DOUBLINGS,
     MultiImpactBranches,
     multi_impact_branches,
     one_impact_seed,
 )
-from .results import BranchEvent, check_param_range
+from .results import BranchEvent, check_events, check_param_range
 
 __all__ = ["FEIGENBAUM_DELTA", "Cascade", "cascades", "cascades_of", "feigenbaum_ratios"]
 
@@ -158,9 +159,7 @@ def cascades_of(family: MultiImpactBranches, one_impact: tuple[BranchEvent, ...]
         Unless ``family`` is a `MultiImpactBranches` and ``one_impact`` a sequence of `BranchEvent`.
     """
     check_type("family", family, MultiImpactBranches, "a MultiImpactBranches (multi_impact_branches)")
-    if not isinstance(one_impact, (tuple, list)) or not all(isinstance(e, BranchEvent) for e in one_impact):
-        raise ParameterError(f"one_impact = {quoted(one_impact)} is invalid; allowed: a tuple of BranchEvent "
-                             "(the period doublings of one-impact branches)")
+    one_impact = check_events("one_impact", one_impact)
     out = []
     n = len(family.branches)
     children = {i: [j for j in range(n) if family.parents[j] == i] for i in range(-1, n)}
@@ -241,6 +240,12 @@ def cascades(
     Returns
     -------
     tuple of Cascade
+
+    Raises
+    ------
+    ParameterError
+        Naming the first argument that is not of the kind above; ``t_max`` and ``n_seeds`` are checked for
+        p >= 2 and ``grid`` for p = 1 too, where they are not used.
     """
     check_params(params)
     p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
@@ -249,6 +254,9 @@ def cascades(
         raise ParameterError(f"impacts = {p} doubled depth = {depth} times makes orbits of {p * 2**depth} impacts; "
                              f"allowed: impacts * 2^depth <= {MAX_ORBIT_IMPACTS}")
     start, stop = check_param_range(param, params, start, stop)
+    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+    n_seeds = check_n_seeds(n_seeds, param, start, stop)
+    grid = check_grid(grid)
     if p == 1:
         one = orbit_branches(params, param, start, stop, t_max=t_max, n_seeds=n_seeds)
         events = tuple(_with_orbit(params, replace(e, impacts=1)) for e in one.events if e.kind == "period-doubling")

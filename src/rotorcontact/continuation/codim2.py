@@ -63,13 +63,14 @@ from .engine import (
     ContinuationSettings,
     CorrectionError,
     EventFunction,
+    check_callable,
     continue_both_ways,
     continue_curve,
     correct_fixed,
     corrected_crossings,
 )
 from ..errors import ParameterError
-from .results import BranchEvent, BranchResult
+from .results import POINT_TYPES, BranchEvent, BranchResult
 from ..model.flow import propagate
 from ..maps.impact_map import (
     IDEAL,
@@ -82,8 +83,8 @@ from ..maps.impact_map import (
     rdot_roots,
 )
 from ..maps.orbit_system import BRANCH_PARAMETERS, orbit_angles, regularised_residual, with_parameters
-from ..model.params import Parameters, check_finite, check_range
-from ..model.validation import check_int, check_params, is_pair, settings_or_default
+from ..model.params import Parameters, check_finite
+from ..model.validation import check_int, check_params, check_type, is_pair, quoted, settings_or_default
 
 __all__ = [
     "DEFAULT_RANGES",
@@ -113,9 +114,6 @@ DEFAULT_RANGES = {
     "d": (0.5, 1.0),
 }
 
-#: Types of the intersection points.
-POINT_TYPES = ("fold-dib", "grazing-dib", "fold-grazing")
-
 #: Region names (MODEL.md §5).
 REGIONS = ("R1", "R2", "R3", "R4")
 
@@ -126,6 +124,20 @@ MAX_SCAN = 10_000
 #: Most points on a side of `classify_plane`'s grid: each point finds the orbits of one parameter set
 #: (a few milliseconds), so 1000 x 1000 take an hour or more.
 MAX_PLANE_SIDE = 1000
+#: Largest pair index n of a fold or coalescence curve (as the command line's ``--folds``): the pairs of
+#: zeros of F1 lie about 2 pi / (1 + omega) apart in T, so pair 100 needs periods of hundreds, far
+#: beyond the orbits a diagram follows.
+MAX_PAIR = 100
+
+
+def _check_pair(name: str, n) -> int:
+    """``n`` as the index of a pair of zeros of F1, 1 to `MAX_PAIR`."""
+    return check_int(name, n, 1, MAX_PAIR)
+
+
+def _check_scan(n_seeds, n_scan) -> tuple[int, int]:
+    """The scan lines per axis (1 to `MAX_SEEDS`) and points per line (2 to `MAX_SCAN`) of the seed scans."""
+    return check_int("n_seeds", n_seeds, 1, MAX_SEEDS), check_int("n_scan", n_scan, 2, MAX_SCAN)
 
 
 def _settings() -> ContinuationSettings:
@@ -290,6 +302,20 @@ class _Plane:
                 self._cache.clear()
             self._cache[key] = p
         return p
+
+    def check_t_max(self, t_max) -> float:
+        """``t_max`` as a float if it is a period that F1 and the flight are evaluated for at every point of the
+        box: at its corners, where the flight grows fastest (the largest |gamma| and the smallest omega).
+
+        Raises
+        ------
+        ParameterError
+            Naming ``t_max`` and the bound at the corner that refuses it.
+        """
+        for v1 in self.ranges[0]:
+            for v2 in self.ranges[1]:
+                t_max = _check_t_max(self.at(v1, v2), t_max)
+        return t_max
 
     def span(self, i: int) -> float:
         lo, hi = self.ranges[i]
@@ -474,14 +500,21 @@ def fold_curve(
     curve : Codim2Curve
     points : tuple of BranchEvent
         The ``fold-dib`` points.
+
+    Raises
+    ------
+    ParameterError
+        Naming the first argument that is not of the kind above: ``n`` from 1 to `MAX_PAIR`, ``t_max`` a
+        period within the limit of the flight at every corner of the box (`_Plane.check_t_max`),
+        ``n_seeds`` from 1 to `MAX_SEEDS`, ``n_scan`` from 2 to `MAX_SCAN`.
     """
     plane = _Plane(params, param, ranges)
-    n = check_int("n", n, 1)
-    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+    n = _check_pair("n", n)
+    t_max = plane.check_t_max(t_max)
     settings = settings_or_default(settings, ContinuationSettings, _settings)
+    n_seeds, n_scan = _check_scan(n_seeds, n_scan)
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
-                                         check_int("n_scan", n_scan, 2, MAX_SCAN)):
+    for fixed, grid, axis in _scan_lines(plane, n_seeds, n_scan):
         ex = [_pair_exists(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v), n, t_max) for v in grid]
         for i in range(len(grid) - 1):
             if ex[i] != ex[i + 1]:
@@ -556,11 +589,17 @@ def coalescence_curves(
     -------
     (Codim2Curve, Codim2Curve)
         ``"coalescence_ac_<n>"`` and ``"coalescence_bd_<n>"``, of kind ``"coalescence"``.
+
+    Raises
+    ------
+    ParameterError
+        As `fold_curve`.
     """
     plane = _Plane(params, param, ranges)
-    n = check_int("n", n, 1)
-    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+    n = _check_pair("n", n)
+    t_max = plane.check_t_max(t_max)
     settings = settings_or_default(settings, ContinuationSettings, _settings)
+    n_seeds, n_scan = _check_scan(n_seeds, n_scan)
 
     def residual(y):
         r, j = regularised_residual(plane.at(y[2], y[3]), float(y[0]), float(y[1]))
@@ -568,8 +607,7 @@ def coalescence_curves(
 
     seeds = []
     for kind in COALESCENCES.values():
-        for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
-                                             check_int("n_scan", n_scan, 2, MAX_SCAN)):
+        for fixed, grid, axis in _scan_lines(plane, n_seeds, n_scan):
             def at(v, fixed=fixed, axis=axis):
                 return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
 
@@ -609,7 +647,13 @@ def coalescence_curves(
 
 def coalescence_curve(params: Parameters, param: Sequence[str] = ("gamma", "omega"), ranges=None, *,
                       pair: str = "ac", **kw) -> Codim2Curve:
-    """One of `coalescence_curves`: ``pair`` ``"ac"`` or ``"bd"``."""
+    """One of `coalescence_curves`: ``pair`` ``"ac"`` or ``"bd"``.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``pair`` is one of the two; otherwise as `coalescence_curves`.
+    """
     if pair not in COALESCENCES:
         raise ParameterError(f"pair = {pair!r} is invalid; allowed: 'ac', 'bd'")
     ac, bd = coalescence_curves(params, param, ranges, **kw)
@@ -634,12 +678,16 @@ def dib_curve(
 
     In the (gamma, omega) plane it is gamma_DIB(omega) = sqrt(rho^2 - (1 - omega^2)^2).
     Parameters as in `fold_curve`.
+
+    Raises
+    ------
+    ParameterError
+        As `fold_curve`.
     """
     plane = _Plane(params, param, ranges)
     settings = settings_or_default(settings, ContinuationSettings, _settings)
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
-                                         check_int("n_scan", n_scan, 2, MAX_SCAN)):
+    for fixed, grid, axis in _scan_lines(plane, *_check_scan(n_seeds, n_scan)):
         def g(v, fixed=fixed, axis=axis):
             return dib_function(plane.at(v, fixed) if axis == 0 else plane.at(fixed, v))
 
@@ -707,14 +755,18 @@ def grazing_curve(
         Named ``"grazing_B1d"`` (the label without its comma).
     points : tuple of BranchEvent
         ``grazing-dib`` and ``fold-grazing`` points.
+
+    Raises
+    ------
+    ParameterError
+        As `fold_curve`, and unless ``orbit`` is an orbit label.
     """
     plane = _Plane(params, param, ranges)
-    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+    t_max = plane.check_t_max(t_max)
     settings = settings_or_default(settings, ContinuationSettings, _settings)
     _check_label(orbit)
     seeds = []
-    for fixed, grid, axis in _scan_lines(plane, check_int("n_seeds", n_seeds, 1, MAX_SEEDS),
-                                         check_int("n_scan", n_scan, 2, MAX_SCAN)):
+    for fixed, grid, axis in _scan_lines(plane, *_check_scan(n_seeds, n_scan)):
         def at(v, fixed=fixed, axis=axis):
             return plane.at(v, fixed) if axis == 0 else plane.at(fixed, v)
 
@@ -815,8 +867,15 @@ def codim2_diagram(
     Returns
     -------
     Codim2Diagram
+
+    Raises
+    ------
+    ParameterError
+        As `fold_curve`, and unless ``folds`` lists pair indices (1 to `MAX_PAIR`) and ``grazing`` orbit
+        labels.
     """
     plane = _Plane(params, param, ranges)
+    t_max = plane.check_t_max(t_max)
     if isinstance(folds, (int, np.integer)) and not isinstance(folds, bool):
         folds = (folds,)  # one pair
     if isinstance(grazing, str):
@@ -827,7 +886,7 @@ def codim2_diagram(
     for label in grazing:
         _check_label(label)
     for n in folds:
-        check_int("folds", n, 1)
+        _check_pair("folds", n)
     curves: dict[str, Codim2Curve] = {}
     points: list[BranchEvent] = []
     kw = dict(t_max=t_max, n_seeds=n_seeds, n_scan=n_scan, settings=settings)
@@ -870,7 +929,17 @@ def dib_labels(
     Returns
     -------
     list of (str, float, float)
+
+    Raises
+    ------
+    ParameterError
+        Unless ``diagram`` is a `Codim2Diagram`, ``t_max`` a period within the limit of the flight over its
+        box (`_Plane.check_t_max`) and ``beb_kind`` callable, returning text or None.
     """
+    check_type("diagram", diagram, Codim2Diagram, "a Codim2Diagram (codim2_diagram)")
+    t_max = _Plane(diagram.base, diagram.param, diagram.ranges).check_t_max(t_max)
+    check_callable("beb_kind", beb_kind, "a function of the parameters returning the kind of the boundary "
+                   "equilibrium bifurcation (text or None)")
     out: list[tuple[str, float, float]] = []
     curve = diagram.curves.get("dib")
     if curve is None:
@@ -882,7 +951,11 @@ def dib_labels(
             if any(z.n == 1 for z in f1_zeros(p, t_max)):
                 kinds.append("NSFH")
             else:
-                kinds.append({"nonsmooth-fold": "NSF", "persistence": "Pers"}.get(beb_kind(p), ""))
+                kind = beb_kind(p)
+                if not (kind is None or isinstance(kind, str)):
+                    raise ParameterError(f"beb_kind = {quoted(beb_kind)} is invalid; allowed: a function returning "
+                                         f"text or None (it returned {quoted(kind)})")
+                kinds.append({"nonsmooth-fold": "NSF", "persistence": "Pers"}.get(kind, ""))
         i0 = 0
         for i in range(1, len(kinds) + 1):
             if i == len(kinds) or kinds[i] != kinds[i0]:

@@ -33,6 +33,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..maps.impact_map import (
     SLIP_BOUNDED,
+    _check_t_max,
     flight_extrema,
     impact_map_jacobian,
     one_impact_orbits,
@@ -48,9 +49,9 @@ from ..maps.multi_impact import (
 )
 from ..model.flow import propagate
 from ..model.params import Parameters
-from ..model.validation import settings_or_default
+from ..model.validation import check_choice, check_params, check_type, quoted, settings_or_default
 from ..simulation.motion import MAX_PERIOD_IMPACTS
-from .codim2 import Codim2Curve, _Plane, coalescence_curves
+from .codim2 import Codim2Curve, _check_scan, _Plane, coalescence_curves
 from .engine import (
     ContinuationSettings,
     CorrectionError,
@@ -59,10 +60,11 @@ from .engine import (
     correct_fixed,
 )
 from .events import bialternate_product, det_minus_identity, det_plus_identity
-from .multi_impact_branches import continue_multi_impact
+from .multi_impact_branches import check_orbit, continue_multi_impact
 from .multi_impact_families import seed_orbits
 
-__all__ = ["CURVE_KINDS", "CURVE_SPECS", "extra_curves", "grazing_curve_of", "orbit_by_label", "orbit_curve"]
+__all__ = ["CURVE_KINDS", "CURVE_SPECS", "MAX_SPECS", "extra_curves", "grazing_curve_of", "orbit_by_label",
+           "orbit_curve"]
 
 #: The ``--curves`` specifications: a kind of `CURVE_KINDS` by its short name, or the coalescences.
 CURVE_SPECS = ("coalescence", "pd:<orbit>", "ns:<orbit>", "fold:<orbit>", "grazing:<orbit>")
@@ -71,6 +73,30 @@ CURVE_SPECS = ("coalescence", "pd:<orbit>", "ns:<orbit>", "fold:<orbit>", "grazi
 CURVE_KINDS = {"period-doubling": "pd", "neimark-sacker": "ns", "fold": "fold"}
 
 _TESTS = {"period-doubling": det_plus_identity, "neimark-sacker": bialternate_product, "fold": det_minus_identity}
+
+#: Most specifications of `extra_curves`: each asks for a continuation of a curve (a minute or more for
+#: an orbit of many impacts); the command line's ``--curves`` takes fewer.
+MAX_SPECS = 40
+
+
+def _check_name(name) -> str | None:
+    return check_type("name", name, str, "the name of the curve (text)", optional=True)
+
+
+#: The orbit labels of `orbit_by_label`.
+LABEL_FORMS = f"B<n>,<m> (B1,d) or M<p>-<j> (M2-1) with p from 1 to {MAX_PERIOD_IMPACTS}"
+
+
+def _label_kind(label) -> tuple[str, int] | None:
+    """``("M", p)`` for a label ``"M<p>-<j>"``, ``("B", 1)`` for ``"B<n>,<m>"``, None for anything else
+    (`LABEL_FORMS`)."""
+    if isinstance(label, str):
+        m = re.fullmatch(r"M(\d+)-(\d+)", label)
+        if m and 1 <= int(m.group(1)) <= MAX_PERIOD_IMPACTS:
+            return "M", int(m.group(1))
+        if re.fullmatch(r"B\d+,[abcd]", label):
+            return "B", 1
+    return None
 
 
 def _settings() -> ContinuationSettings:
@@ -122,11 +148,16 @@ def orbit_curve(
         of F1 of `rotorcontact.continuation.codim2`). With no piece when no
         seed is found along p1. The unknowns of a piece
         are (x_0 .. x_{p-1}, p1, p2).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``orbit`` is a `MultiImpactOrbit`, ``kind`` one of `CURVE_KINDS`, ``param`` and ``ranges`` a
+        plane and its box, ``name`` text or None and ``settings`` a `ContinuationSettings` or None.
     """
-    if not isinstance(orbit, MultiImpactOrbit):
-        raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
-    if kind not in CURVE_KINDS:
-        raise ParameterError(f"kind = {kind!r} is invalid; allowed: {', '.join(CURVE_KINDS)}")
+    check_orbit(orbit)
+    kind = check_choice("kind", kind, tuple(CURVE_KINDS))
+    _check_name(name)
     plane = _Plane(orbit.params, param, ranges)
     name = name or f"{CURVE_KINDS[kind]}_{orbit.label.replace(',', '')}"
     curve_kind = "orbit-fold" if kind == "fold" else kind
@@ -220,9 +251,15 @@ def grazing_curve_of(orbit: MultiImpactOrbit, param: Sequence[str] = ("gamma", "
     Codim2Curve
         ``"grazing_<label>"`` (comma dropped) of kind ``"grazing"``; no piece when
         the branch in p1 ends at no grazing.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``orbit`` is a `MultiImpactOrbit`, ``param`` and ``ranges`` a plane and its box, ``name``
+        text or None and ``settings`` a `ContinuationSettings` or None.
     """
-    if not isinstance(orbit, MultiImpactOrbit):
-        raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
+    check_orbit(orbit)
+    _check_name(name)
     plane = _Plane(orbit.params, param, ranges)
     name = name or f"grazing_{orbit.label.replace(',', '')}"
     settings = settings_or_default(settings, ContinuationSettings, _settings)
@@ -272,29 +309,32 @@ def orbit_by_label(params: Parameters, label: str, t_max: float = 12.0) -> Multi
     Raises
     ------
     ParameterError
-        When there is no such orbit there (naming those found).
+        Unless ``params`` is a `Parameters`, ``label`` such a label and ``t_max`` a period within the
+        limit of the flight; when there is no such orbit there (naming those found).
     """
-    m = re.fullmatch(r"M(\d+)-(\d+)", label)
-    if m:
-        p = int(m.group(1))
-        if not 1 <= p <= MAX_PERIOD_IMPACTS:
-            raise ParameterError(f"orbit {label!r} has {p} impacts; allowed: 1 to {MAX_PERIOD_IMPACTS}")
+    check_params(params)
+    kind = _label_kind(label)
+    if kind is None:
+        raise ParameterError(f"label = {quoted(label)} is invalid; allowed: {LABEL_FORMS}")
+    family, p = kind
+    t_max = _check_t_max(params, t_max)
+    if family == "M":
         found = seed_orbits(params, p)
         hit = [o for o in found if o.label == label]
         if not hit:
-            raise ParameterError(f"orbit {label!r} is not found here; found: {', '.join(o.label for o in found) or 'none'}")
+            raise ParameterError(f"label = {label!r} is not found here; allowed: an orbit found here: "
+                                 f"{', '.join(o.label for o in found) or 'none'}")
         return hit[0]
-    if not re.fullmatch(r"B\d+,[abcd]", label):
-        raise ParameterError(f"orbit = {label!r} is invalid; allowed: B<n>,<m> (B1,d) or M<p>-<j> (M2-1)")
     orbits = [o for o in one_impact_orbits(params, t_max) if o.admissible]
     hit = [o for o in orbits if o.label == label]
     if not hit:
-        raise ParameterError(f"orbit {label!r} is not an admissible orbit here; found: "
+        raise ParameterError(f"label = {label!r} is not an admissible orbit here; allowed: an orbit found here: "
                              f"{', '.join(o.label for o in orbits) or 'none'}")
     try:
         return solve_multi_impact(params, [hit[0].state], label=label)
     except NewtonFailure as exc:
-        raise ParameterError(f"orbit {label!r} is not an orbit of the simulator's impact map here: {exc}") from None
+        raise ParameterError(f"label = {label!r} is not an orbit of the simulator's impact map here ({exc}); "
+                             "allowed: an orbit of the simulator") from None
 
 
 def extra_curves(params: Parameters, param: Sequence[str], ranges, specs: Sequence[str], *, t_max: float = 12.0,
@@ -306,18 +346,36 @@ def extra_curves(params: Parameters, param: Sequence[str], ranges, specs: Sequen
     ``"ns:<orbit>"``, ``"fold:<orbit>"``: `orbit_curve` of the orbit
     (`orbit_by_label`) at the base parameters; ``"grazing:<orbit>"``:
     `grazing_curve_of` it, named ``"grazing_<label>_p<impacts>"`` (apart from
-    the one-impact grazing curves of ``--grazing``).
+    the one-impact grazing curves of ``--grazing``). A specification given twice is computed once.
+
+    Raises
+    ------
+    ParameterError
+        Before any curve is computed: unless ``params`` is a `Parameters`, ``param`` and ``ranges`` a plane
+        and its box, ``specs`` a list of at most `MAX_SPECS` specifications of `CURVE_SPECS`, ``t_max`` a
+        period within the limit of the flight over the box and ``n_seeds``, ``n_scan`` as in
+        `rotorcontact.continuation.codim2.fold_curve`; then as `orbit_by_label` for an orbit that is not there.
     """
+    check_params(params)
+    plane = _Plane(params, param, ranges)
+    if not isinstance(specs, (list, tuple)) or len(specs) > MAX_SPECS:
+        raise ParameterError(f"specs = {quoted(specs)} is invalid; allowed: a list of at most {MAX_SPECS} of "
+                             f"{', '.join(CURVE_SPECS)}")
     short = {v: k for k, v in CURVE_KINDS.items()}
+    for i, spec in enumerate(specs):
+        kind, _, label = spec.partition(":") if isinstance(spec, str) else ("", "", "")
+        if spec != "coalescence" and (kind not in (*short, "grazing") or _label_kind(label) is None):
+            raise ParameterError(f"specs[{i}] = {quoted(spec)} is invalid; allowed: {', '.join(CURVE_SPECS)}, "
+                                 f"<orbit> {LABEL_FORMS}")
+    t_max = plane.check_t_max(t_max)
+    n_seeds, n_scan = _check_scan(n_seeds, n_scan)
     out: dict[str, Codim2Curve] = {}
-    for spec in specs:
+    for spec in dict.fromkeys(specs):
         if spec == "coalescence":
             for c in coalescence_curves(params, param, ranges, t_max=t_max, n_seeds=n_seeds, n_scan=n_scan):
                 out[c.name] = c
             continue
         kind, _, label = spec.partition(":")
-        if kind not in (*short, "grazing") or not label:
-            raise ParameterError(f"curve {spec!r} is invalid; allowed: {', '.join(CURVE_SPECS)}")
         orbit = orbit_by_label(params, label, t_max)
         c = grazing_curve_of(orbit, param, ranges) if kind == "grazing" else orbit_curve(orbit, short[kind], param,
                                                                                          ranges)

@@ -26,7 +26,8 @@ that components of different size count alike in the arclength.
   ``max_step``. The continuation stops when h falls below ``min_step``.
 * **Bounds.** Every loop has an iteration cap (``max_points`` steps, at most
   ``max_newton`` Newton iterations per correction, ``max_location_iterations``
-  per event), so the continuation always ends.
+  per event, themselves bounded by `MAX_POINTS`, `MAX_NEWTON` and
+  `MAX_LOCATION_ITERATIONS`), so the continuation always ends.
 
 Events
 ------
@@ -59,7 +60,16 @@ from typing import Callable, Iterator, Literal, Sequence
 import numpy as np
 
 from ..errors import ParameterError
-from ..model.validation import check_int, settings_or_default
+from ..model.validation import (
+    check_bool,
+    check_choice,
+    check_float,
+    check_int,
+    check_type,
+    quoted,
+    real_array,
+    settings_or_default,
+)
 
 __all__ = [
     "ContinuationSettings",
@@ -74,14 +84,70 @@ __all__ = [
     "TwoWayCurve",
     "continue_both_ways",
     "corrected_crossings",
+    "MAX_POINTS",
+    "MAX_NEWTON",
+    "MAX_LOCATION_ITERATIONS",
+    "MAX_GROW",
 ]
 
 Residual = Callable[[np.ndarray], np.ndarray]
 Jacobian = Callable[[np.ndarray], np.ndarray]
 
 
+#: Most accepted steps of one continuation: each costs at least one residual and one Jacobian, and the
+#: points are kept, so a million steps take many minutes and hundreds of megabytes.
+MAX_POINTS = 10**6
+#: Most Newton iterations per correction: Newton converges quadratically from a good prediction, within a
+#: handful of iterations; one that has not converged after 100 is not converging.
+MAX_NEWTON = 100
+#: Most iterations locating one event: the bracket at least halves every three iterations, so 1000 shrink
+#: it far below the resolution of a double.
+MAX_LOCATION_ITERATIONS = 1000
+#: Largest growth factor of the step after an easy step: a step grown more than tenfold at once leaves the
+#: region where the turn of the tangent, which the step control measures, says anything about the next one.
+MAX_GROW = 10.0
+
+
 class CorrectionError(RuntimeError):
     """Newton's method did not converge onto the curve."""
+
+
+class _ShapeError(ParameterError):
+    """A residual or Jacobian returned an array of the wrong shape: bad input, not a point where it is undefined."""
+
+
+def check_callable(name: str, value, allowed: str, *, optional: bool = False):
+    """Return ``value`` if it is callable (or None where ``optional``), else raise `ParameterError`."""
+    if (value is None and optional) or callable(value):
+        return value
+    raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {allowed}{' or None' if optional else ''}")
+
+
+def check_max_points(value, name: str = "max_points") -> int:
+    """``value`` as a number of continuation steps, 1 to `MAX_POINTS`."""
+    return check_int(name, value, 1, MAX_POINTS)
+
+
+def _vector(name: str, value, length: int | None = None, min_length: int = 1) -> np.ndarray:
+    """``value`` as a 1-d array of finite floats (of ``length``, or at least ``min_length``), else a
+    `ParameterError` naming ``name``."""
+    v = real_array(value)
+    if (v is None or v.ndim != 1 or len(v) < min_length or (length is not None and len(v) != length)
+            or not np.all(np.isfinite(v))):
+        size = f"{length}" if length is not None else f"at least {min_length}"
+        raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: a vector of {size} finite numbers")
+    return v
+
+
+def _check_index(name: str, value, n: int) -> int:
+    """``value`` as an index into a vector of ``n`` components (negative counts from the end)."""
+    return check_int(name, value, -n, n - 1)
+
+
+def _check_events(events) -> tuple:
+    if not isinstance(events, (list, tuple)) or not all(isinstance(e, EventFunction) for e in events):
+        raise ParameterError(f"events = {quoted(events)} is invalid; allowed: a list of EventFunction")
+    return tuple(events)
 
 
 @dataclass(frozen=True)
@@ -95,11 +161,11 @@ class ContinuationSettings:
     min_step, max_step : float
         Bounds of the step length.
     grow : float
-        Factor by which the step grows after an easy step (> 1).
+        Factor by which the step grows after an easy step (> 1, at most `MAX_GROW`).
     max_points : int
-        Largest number of accepted steps.
+        Largest number of accepted steps (1 to `MAX_POINTS`).
     max_newton : int
-        Newton iterations per correction.
+        Newton iterations per correction (1 to `MAX_NEWTON`).
     newton_tol : float
         Convergence when the Newton update is below ``newton_tol * (1 + |z|)``
         and the residual below ``residual_tol``.
@@ -114,9 +180,17 @@ class ContinuationSettings:
         Events are located until the bracket is shorter than this in the
         reported parameter.
     max_location_iterations : int
-        Iteration cap of the event location.
+        Iteration cap of the event location (1 to `MAX_LOCATION_ITERATIONS`).
     fd_step : float
         Relative step of the central differences of `numerical_jacobian`.
+
+    The lengths and tolerances are finite numbers > 0 (numpy's too, stored as floats), the counts
+    integers, with min_step <= step <= max_step.
+
+    Raises
+    ------
+    ParameterError
+        Naming the first field that is not a number of its kind or lies outside its bounds.
     """
 
     step: float = 0.02
@@ -137,19 +211,16 @@ class ContinuationSettings:
         positive = ("step", "min_step", "max_step", "newton_tol", "residual_tol", "max_angle", "max_drift",
                     "location_tol", "fd_step")
         for name in positive:
-            value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise ParameterError(f"{name} = {value!r} is invalid; allowed: a finite number > 0")
-        for name in ("max_points", "max_newton", "max_location_iterations"):
-            value = getattr(self, name)
-            check_int(name, value, 1)
+            object.__setattr__(self, name, check_float(name, getattr(self, name), 0.0, low_open=True))
+        object.__setattr__(self, "grow", check_float("grow", self.grow, 1.0, MAX_GROW, low_open=True))
+        for name, high in (("max_points", MAX_POINTS), ("max_newton", MAX_NEWTON),
+                           ("max_location_iterations", MAX_LOCATION_ITERATIONS)):
+            object.__setattr__(self, name, check_int(name, getattr(self, name), 1, high))
         if not self.min_step <= self.step <= self.max_step:
             raise ParameterError(
                 f"step = {self.step!r} is invalid; allowed: min_step <= step <= max_step "
                 f"({self.min_step!r} .. {self.max_step!r})"
             )
-        if not self.grow > 1.0:
-            raise ParameterError(f"grow = {self.grow!r} is invalid; allowed: > 1")
 
 
 @dataclass(frozen=True)
@@ -169,6 +240,11 @@ class EventFunction:
         jump is located by bisection).
     terminal : bool
         The continuation stops at the located event.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``name`` is text, ``function`` callable, ``kind`` one of the two and ``terminal`` True or False.
     """
 
     name: str
@@ -177,8 +253,10 @@ class EventFunction:
     terminal: bool = False
 
     def __post_init__(self) -> None:
-        if self.kind not in ("continuous", "discrete"):
-            raise ParameterError(f"kind = {self.kind!r} is invalid; allowed: 'continuous', 'discrete'")
+        check_type("name", self.name, str, "the name of the event (text)")
+        check_callable("function", self.function, "a function of a point y of the curve")
+        check_choice("kind", self.kind, ("continuous", "discrete"))
+        object.__setattr__(self, "terminal", check_bool("terminal", self.terminal))
 
 
 @dataclass(frozen=True)
@@ -270,22 +348,85 @@ class ContinuationResult:
 
 
 def numerical_jacobian(residual: Residual, y: np.ndarray, rel_step: float = 1e-7) -> np.ndarray:
-    """Central-difference Jacobian of ``residual`` at ``y`` (steps ``rel_step * max(1, |y_j|)``)."""
-    y = np.asarray(y, dtype=float)
-    f0 = np.asarray(residual(y), dtype=float)
-    jac = np.empty((f0.shape[0], y.shape[0]))
+    """Central-difference Jacobian of ``residual`` at ``y`` (steps ``rel_step * max(1, |y_j|)``).
+
+    Parameters
+    ----------
+    residual : callable
+        ``residual(y)``: a vector of m values.
+    y : sequence of float
+        The point, n finite numbers.
+    rel_step : float
+        Relative step, 0 < rel_step <= 1.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, n)
+
+    Raises
+    ------
+    ParameterError
+        Unless ``residual`` is callable and returns a vector, ``y`` is a vector of finite numbers and
+        ``rel_step`` lies in (0, 1].
+    """
+    check_callable("residual", residual, "a function of y returning a vector")
+    y = _vector("y", y)
+    rel_step = check_float("rel_step", rel_step, 0.0, 1.0, low_open=True)
+    f0 = residual(y)
+    values = real_array(f0)
+    if values is None or values.ndim != 1:
+        raise _ShapeError(f"residual = {quoted(residual)} is invalid; allowed: a function of y returning a vector of "
+                          f"numbers (it returned {quoted(f0)})")
+    return _numerical_jacobian(residual, y, rel_step, len(values))
+
+
+def _returned(name: str, function, value, shape: tuple[int, ...]) -> np.ndarray:
+    """``value``, what ``function`` returned, as a float array if it has ``shape``, else a `ParameterError`
+    naming ``name``."""
+    try:
+        value = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        value = np.empty((0,) * (len(shape) + 1))  # not numbers: no shape of numbers
+    if value.shape != shape:
+        raise _ShapeError(f"{name} = {quoted(function)} is invalid; allowed: a function of y returning an array of "
+                          f"shape {shape} (it returned shape {value.shape})")
+    return value
+
+
+def _numerical_jacobian(residual: Residual, y: np.ndarray, rel_step: float, m: int) -> np.ndarray:
+    """`numerical_jacobian` of a residual of ``m`` values, its arguments unchecked."""
+    jac = np.empty((m, y.shape[0]))
     for j in range(y.shape[0]):
         h = rel_step * max(1.0, abs(y[j]))
         yp = y.copy()
         ym = y.copy()
         yp[j] += h
         ym[j] -= h
-        jac[:, j] = (np.asarray(residual(yp), dtype=float) - np.asarray(residual(ym), dtype=float)) / (2.0 * h)
+        jac[:, j] = (_returned("residual", residual, residual(yp), (m,))
+                     - _returned("residual", residual, residual(ym), (m,))) / (2.0 * h)
     return jac
 
 
 def null_vector(jac: np.ndarray, reference: np.ndarray | None = None) -> np.ndarray:
-    """Unit null vector of an n x (n + 1) matrix, oriented along ``reference`` (if given)."""
+    """Unit null vector of an n x (n + 1) matrix, oriented along ``reference`` (if given).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``jac`` is an n x (n + 1) matrix of finite numbers (n >= 1) and ``reference`` None or a vector
+        of n + 1 finite numbers.
+    """
+    matrix = real_array(jac)
+    if (matrix is None or matrix.ndim != 2 or matrix.shape[0] < 1 or matrix.shape[1] != matrix.shape[0] + 1
+            or not np.all(np.isfinite(matrix))):
+        raise ParameterError(f"jac = {quoted(jac)} is invalid; allowed: an n x (n + 1) matrix of finite numbers")
+    if reference is not None:
+        reference = _vector("reference", reference, matrix.shape[1])
+    return _null_vector(matrix, reference)
+
+
+def _null_vector(jac: np.ndarray, reference: np.ndarray | None = None) -> np.ndarray:
+    """`null_vector`, unchecked."""
     n1 = jac.shape[1]
     if reference is not None:
         border = np.vstack([jac, reference[None, :]])
@@ -311,22 +452,28 @@ def null_vector(jac: np.ndarray, reference: np.ndarray | None = None) -> np.ndar
 
 
 class _Scaled:
-    """F and F_y in scaled coordinates z = w * y, with failures as exceptions."""
+    """F and F_y in scaled coordinates z = w * y, with failures as exceptions.
+
+    F has one value fewer than y; a residual or Jacobian of another shape is refused by name (`_returned`).
+    """
 
     def __init__(self, residual: Residual, jacobian: Jacobian | None, weights: np.ndarray, fd_step: float):
         self.residual = residual
         self.jacobian = jacobian
         self.w = weights
         self.fd_step = fd_step
+        n = weights.shape[0]
+        self.shapes = ((n - 1,), (n - 1, n))
 
     def y(self, z: np.ndarray) -> np.ndarray:
         return z / self.w
 
     def f(self, z: np.ndarray) -> np.ndarray:
         try:
-            val = np.asarray(self.residual(self.y(z)), dtype=float)
+            val = self.residual(self.y(z))
         except (ParameterError, ZeroDivisionError, OverflowError, ValueError) as exc:
             raise CorrectionError(f"residual undefined: {exc}") from None
+        val = _returned("residual", self.residual, val, self.shapes[0])
         if not np.all(np.isfinite(val)):
             raise CorrectionError("residual not finite")
         return val
@@ -335,9 +482,11 @@ class _Scaled:
         y = self.y(z)
         try:
             if self.jacobian is not None:
-                j = np.asarray(self.jacobian(y), dtype=float)
+                j = _returned("jacobian", self.jacobian, self.jacobian(y), self.shapes[1])
             else:
-                j = numerical_jacobian(self.residual, y, self.fd_step)
+                j = _numerical_jacobian(self.residual, y, self.fd_step, self.shapes[0][0])
+        except _ShapeError:
+            raise
         except (ParameterError, ZeroDivisionError, OverflowError, ValueError) as exc:
             raise CorrectionError(f"Jacobian undefined: {exc}") from None
         if not np.all(np.isfinite(j)):
@@ -407,14 +556,31 @@ def correct_fixed(
     ------
     CorrectionError
         When Newton's method does not converge.
+    ParameterError
+        Unless ``residual`` (and ``jacobian``) are callable and return arrays of the shapes above, ``y`` is a
+        vector of at least two finite numbers, ``index`` an index into it and ``settings`` a
+        `ContinuationSettings` or None.
     """
-    settings = settings_or_default(settings, ContinuationSettings, ContinuationSettings)
-    y = np.array(y, dtype=float)
+    settings = _check_problem(residual, jacobian, settings)
+    y = _vector("y", y, min_length=2)
+    return _correct_fixed(residual, y, _check_index("index", index, len(y)), jacobian, settings)
+
+
+def _correct_fixed(residual: Residual, y: np.ndarray, index: int, jacobian: Jacobian | None,
+                   settings: ContinuationSettings) -> np.ndarray:
+    """`correct_fixed`, its arguments unchecked."""
     e = np.zeros_like(y)
     e[index] = 1.0
     prob = _Scaled(residual, jacobian, np.ones_like(y), settings.fd_step)
     z, _ = _newton(prob, y, e, y, 0.0, settings)
     return z
+
+
+def _check_problem(residual, jacobian, settings) -> ContinuationSettings:
+    """The checks shared by the entry points: F and F_y callable, and the settings (default where None)."""
+    check_callable("residual", residual, "a function F(y) returning a vector of one value fewer than y")
+    check_callable("jacobian", jacobian, "a function F_y(y) returning an n x (n + 1) array", optional=True)
+    return settings_or_default(settings, ContinuationSettings, ContinuationSettings)
 
 
 # ---------------------------------------------------------------------------
@@ -584,14 +750,25 @@ def _locate(
 # ---------------------------------------------------------------------------
 
 
-def _initial_tangent(prob: _Scaled, z0: np.ndarray, direction) -> np.ndarray:
-    t = null_vector(prob.jac(z0))
-    if isinstance(direction, (int, float, np.integer, np.floating)):
-        sign = 1.0 if direction >= 0 else -1.0
-        if t[-1] * sign < 0 or (t[-1] == 0 and sign < 0):
+def _check_direction(direction, n: int) -> float | np.ndarray:
+    """``direction`` as a sign (+1.0 or -1.0) if it is a number, or as a vector of ``n`` values."""
+    v = real_array(direction)
+    if v is not None and v.ndim == 0 and np.isfinite(v) and v != 0:
+        return 1.0 if v > 0 else -1.0
+    if v is not None and v.shape == (n,) and np.all(np.isfinite(v)) and np.any(v != 0):
+        return v
+    raise ParameterError(f"direction = {quoted(direction)} is invalid; allowed: a finite number other than 0 (the "
+                         f"sign of the first change of the last component) or a vector of {n} finite numbers, "
+                         "not all 0")
+
+
+def _initial_tangent(prob: _Scaled, z0: np.ndarray, direction: float | np.ndarray) -> np.ndarray:
+    t = _null_vector(prob.jac(z0))
+    if isinstance(direction, float):
+        if t[-1] * direction < 0 or (t[-1] == 0 and direction < 0):
             t = -t
         return t
-    ref = np.asarray(direction, dtype=float) * prob.w
+    ref = direction * prob.w
     if t @ ref < 0:
         t = -t
     return t
@@ -621,17 +798,17 @@ def continue_curve(
     jacobian : callable, optional
         F_y, an n x (n + 1) array; central differences when omitted.
     direction : float or sequence of float
-        A number: the sign of the last component of the first tangent
-        (+1: the last component increases). A vector: the first tangent points
-        along it.
-    events : sequence of EventFunction
+        A number other than 0: the sign of the last component of the first
+        tangent (+1: the last component increases). A vector (not all 0): the
+        first tangent points along it.
+    events : list of EventFunction
         Functions whose sign changes (or value changes) are located.
     settings : ContinuationSettings, optional
     weights : sequence of float, optional
         Scale factors w of the components (arclength is measured in w * y).
     param_index : int
         Component reported as the parameter of the located events, and in
-        which ``location_tol`` is measured.
+        which ``location_tol`` is measured (negative counts from the end).
     correct_start : bool
         Correct ``y0`` onto the curve first (holding the component
         ``param_index`` fixed).
@@ -639,15 +816,27 @@ def continue_curve(
     Returns
     -------
     ContinuationResult
+
+    Raises
+    ------
+    ParameterError
+        Naming the first argument that is not of the kind above: ``residual`` or ``jacobian`` not callable
+        (or returning arrays of other shapes), ``y0`` not a vector of at least two finite numbers,
+        ``direction`` 0 or not finite, ``events`` not a list of `EventFunction`, ``weights`` not positive,
+        ``param_index`` not an index into y0, ``correct_start`` not True or False.
+    CorrectionError
+        When ``y0`` cannot be corrected onto the curve, or no tangent is found there.
     """
-    settings = settings_or_default(settings, ContinuationSettings, ContinuationSettings)
-    y0 = np.array(y0, dtype=float)
-    if y0.ndim != 1 or y0.shape[0] < 2 or not np.all(np.isfinite(y0)):
-        raise ParameterError(f"y0 = {y0!r} is invalid; allowed: a finite vector of length >= 2")
-    w = np.ones_like(y0) if weights is None else np.array(weights, dtype=float)
-    if w.shape != y0.shape or not np.all(np.isfinite(w)) or np.any(w <= 0):
-        raise ParameterError(f"weights = {weights!r} is invalid; allowed: {y0.shape[0]} finite numbers > 0")
-    pidx = param_index % y0.shape[0]
+    settings = _check_problem(residual, jacobian, settings)
+    y0 = _vector("y0", y0, min_length=2)
+    n = y0.shape[0]
+    direction = _check_direction(direction, n)
+    events = _check_events(events)
+    w = np.ones_like(y0) if weights is None else real_array(weights)
+    if w is None or w.shape != y0.shape or not np.all(np.isfinite(w)) or np.any(w <= 0):
+        raise ParameterError(f"weights = {quoted(weights)} is invalid; allowed: {n} finite numbers > 0 or None")
+    pidx = _check_index("param_index", param_index, n) % n
+    correct_start = check_bool("correct_start", correct_start)
     prob = _Scaled(residual, jacobian, w, settings.fd_step)
     z0 = w * y0
     if correct_start:
@@ -670,7 +859,7 @@ def continue_curve(
         while h >= settings.min_step:
             try:
                 z_new, iters = _newton(prob, z + h * t, t, z, h, settings)
-                t_new = null_vector(prob.jac(z_new), t)
+                t_new = _null_vector(prob.jac(z_new), t)
             except CorrectionError:
                 h *= 0.5
                 continue
@@ -742,7 +931,7 @@ def continue_curve(
             located.append(terminal[1])
             z_end = w * terminal[1].y
             zs.append(z_end)
-            ts.append(null_vector(prob.jac(z_end), t))
+            ts.append(_null_vector(prob.jac(z_end), t))
             status = "terminal"
             message = f"terminal event {terminal[1].name!r} at parameter {terminal[1].parameter:.12g}"
             break
@@ -838,6 +1027,11 @@ def continue_both_ways(
     -------
     TwoWayCurve or None
         None when neither run could start.
+
+    Raises
+    ------
+    ParameterError
+        As `continue_curve`.
     """
     runs: list[ContinuationResult] = []
     for direction in (1.0, -1.0):
@@ -893,7 +1087,27 @@ def corrected_crossings(
     Yields
     ------
     numpy.ndarray
+
+    Raises
+    ------
+    ParameterError
+        At the call, before any point is yielded: unless ``residual`` (and ``jacobian``) are callable,
+        ``points`` is an (m, n + 1) array of numbers (m >= 1, n >= 1), ``index`` an index into a point,
+        ``value`` a finite number and ``settings`` a `ContinuationSettings` or None.
     """
+    settings = _check_problem(residual, jacobian, settings)
+    pts = real_array(points)
+    if pts is None or pts.ndim != 2 or pts.shape[0] < 1 or pts.shape[1] < 2:
+        raise ParameterError(f"points = {quoted(points)} is invalid; allowed: an (m, n + 1) array of numbers, "
+                             "the points of a curve")
+    index = _check_index("index", index, pts.shape[1]) % pts.shape[1]
+    value = check_float("value", value)
+    return _crossings(residual, pts, index, value, jacobian, settings)
+
+
+def _crossings(residual: Residual, points: np.ndarray, index: int, value: float, jacobian: Jacobian | None,
+               settings: ContinuationSettings) -> Iterator[np.ndarray]:
+    """`corrected_crossings`, its arguments checked (``index`` >= 0)."""
     lam = points[:, index]
     near = np.abs(lam - value) <= 1e-9 * (1.0 + abs(value))
     side = np.where(near, 0.0, np.sign(lam - value))
@@ -904,6 +1118,6 @@ def corrected_crossings(
     for guess in guesses:
         guess[index] = value
         try:
-            yield correct_fixed(residual, guess, index % len(guess), jacobian=jacobian, settings=settings)
+            yield _correct_fixed(residual, guess, index, jacobian, settings)
         except CorrectionError:
             yield guess

@@ -24,17 +24,20 @@ multipliers with product 1 (not a bifurcation).
 
 from __future__ import annotations
 
+import abc
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ParameterError
 from .engine import EventFunction, LocatedEvent
 from ..maps.impact_map import IDEAL, flight_extrema, impact_map_jacobian
 from ..maps.orbit_system import OneImpactSystem, label_of, orbit_angles, regularised_residual
-from .results import BranchEvent
+from ..model.validation import check_bool, check_choice, check_float, check_type, complex_array, quoted, real_array
+from .results import BranchEvent, check_interval
 
-__all__ = ["BranchAnalyser", "MultiplierTests", "at_turning_point", "bialternate_product", "branch_event_functions", "classify_event",
+__all__ = ["BranchAnalyser", "at_turning_point", "bialternate_product", "branch_event_functions", "classify_event",
            "det_minus_identity", "det_plus_identity", "multiplier_kind", "report_events", "rotation_angle",
            "turning_points"]
 
@@ -57,11 +60,20 @@ class _Core:
     multipliers: np.ndarray | None
 
 
-class MultiplierTests:
-    """The multiplier test functions at a point y, from ``self.multipliers(y)`` (None where undefined)."""
+#: The multiplier test functions: `det_minus_identity`, `det_plus_identity`, `bialternate_product`.
+MULTIPLIER_TESTS = ("plus-one", "minus-one", "torus")
 
-    def multipliers(self, y: np.ndarray) -> np.ndarray | None:  # pragma: no cover - provided by subclasses
-        raise NotImplementedError
+
+class MultiplierTests(abc.ABC):
+    """The multiplier test functions at a point y, from ``self.multipliers(y)`` (None where undefined).
+
+    The base of the problems whose branches are followed (`BranchAnalyser`, the system of
+    `rotorcontact.continuation.multi_impact_branches`); a subclass provides `multipliers`.
+    """
+
+    @abc.abstractmethod
+    def multipliers(self, y: np.ndarray) -> np.ndarray | None:
+        """The multipliers at the point y, or None where they are not defined."""
 
     def plus_one(self, y: np.ndarray) -> float | None:
         """det(J - I) = prod (z_i - 1)."""
@@ -88,11 +100,16 @@ class BranchAnalyser(MultiplierTests):
     virtual : bool
         Also evaluate the orbit-property functions (grazing, extrema,
         multipliers of the formal impact map) on virtual orbits.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``system`` is a `rotorcontact.maps.orbit_system.OneImpactSystem` and ``virtual`` True or False.
     """
 
     def __init__(self, system: OneImpactSystem, virtual: bool = False):
-        self.system = system
-        self.virtual = virtual
+        self.system = _check_system(system)
+        self.virtual = check_bool("virtual", virtual)
         self._core: dict[bytes, _Core] = {}
 
     def core(self, y: np.ndarray) -> _Core:
@@ -152,14 +169,35 @@ class BranchAnalyser(MultiplierTests):
 
 
 
+def _multipliers(z, least: int = 1) -> np.ndarray:
+    """``z`` as a 1-d complex array of at least ``least`` multipliers, else a `ParameterError` naming z."""
+    v = complex_array(z)
+    if v is None or v.ndim != 1 or len(v) < least:
+        raise ParameterError(f"z = {quoted(z)} is invalid; allowed: the multipliers, a sequence of at least "
+                             f"{least} real or complex numbers")
+    return v
+
+
 def det_minus_identity(z: np.ndarray) -> float:
-    """det(J - I) = prod (z_i - 1) from the multipliers z of J: zero where a multiplier is +1."""
-    return float(np.prod(np.asarray(z) - 1.0).real)
+    """det(J - I) = prod (z_i - 1) from the multipliers z of J: zero where a multiplier is +1.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``z`` is a sequence of at least one number.
+    """
+    return float(np.prod(_multipliers(z) - 1.0).real)
 
 
 def det_plus_identity(z: np.ndarray) -> float:
-    """det(J + I) = prod (z_i + 1) from the multipliers z of J: zero where a multiplier is -1."""
-    return float(np.prod(np.asarray(z) + 1.0).real)
+    """det(J + I) = prod (z_i + 1) from the multipliers z of J: zero where a multiplier is -1.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``z`` is a sequence of at least one number.
+    """
+    return float(np.prod(_multipliers(z) + 1.0).real)
 
 
 def bialternate_product(z: np.ndarray) -> float:
@@ -167,7 +205,13 @@ def bialternate_product(z: np.ndarray) -> float:
 
     Zero where a complex pair of multipliers lies on the unit circle (a
     Neimark-Sacker point) or where two real multipliers have product 1.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``z`` is a sequence of at least two numbers (a product over pairs).
     """
+    z = _multipliers(z, 2)
     prod = 1.0 + 0j
     for i in range(len(z)):
         for j in range(i + 1, len(z)):
@@ -184,27 +228,78 @@ def multiplier_kind(name: str, z: np.ndarray, tol: float = 1e-6) -> str | None:
     within ``tol`` of -1, ``"neimark-sacker"`` when a complex pair is within
     ``tol`` of the unit circle, and None otherwise (a sign change through a
     pole, or a real pair with product 1: not a bifurcation).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``name`` is one of the three, ``z`` a sequence of at least one number and ``tol`` a finite
+        number > 0.
     """
-    z = np.asarray(z)
+    name = check_choice("name", name, MULTIPLIER_TESTS)
+    z = _multipliers(z)
+    tol = check_float("tol", tol, 0.0, low_open=True)
     if name == "plus-one":
         return "plus-one" if np.min(np.abs(z - 1.0)) <= tol else None
     if name == "minus-one":
         return "period-doubling" if np.min(np.abs(z + 1.0)) <= tol else None
-    if name == "torus":
-        pair = [x for x in z if abs(x.imag) > 1e-9 and abs(abs(x) - 1.0) <= tol]
-        return "neimark-sacker" if pair else None
-    return None
+    pair = [x for x in z if abs(x.imag) > 1e-9 and abs(abs(x) - 1.0) <= tol]
+    return "neimark-sacker" if pair else None
 
 
 def rotation_angle(z: np.ndarray) -> float:
-    """The angle in (0, pi) of the complex multiplier nearest the unit circle (a Neimark-Sacker point)."""
-    pair = min((x for x in np.asarray(z) if abs(x.imag) > 1e-9), key=lambda x: abs(abs(x) - 1.0))
+    """The angle in (0, pi) of the complex multiplier nearest the unit circle (a Neimark-Sacker point).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``z`` is a sequence of numbers with at least one that is not real.
+    """
+    complex_ones = [x for x in _multipliers(z) if abs(x.imag) > 1e-9]
+    if not complex_ones:
+        raise ParameterError(f"z = {quoted(z)} is invalid; allowed: multipliers with a complex pair (a "
+                             "Neimark-Sacker point)")
+    pair = min(complex_ones, key=lambda x: abs(abs(x) - 1.0))
     return abs(math.atan2(pair.imag, pair.real))
+
+
+def _check_system(system) -> OneImpactSystem:
+    return check_type("system", system, OneImpactSystem, "a rotorcontact.maps.orbit_system.OneImpactSystem")
+
+
+def _check_analyser(an) -> "BranchAnalyser":
+    return check_type("an", an, BranchAnalyser, "a BranchAnalyser")
+
+
+def _check_located(raw) -> list[LocatedEvent]:
+    if not isinstance(raw, (list, tuple)) or not all(isinstance(e, LocatedEvent) for e in raw):
+        raise ParameterError(f"raw = {quoted(raw)} is invalid; allowed: a list of LocatedEvent (the events of a "
+                             "continuation)")
+    return list(raw)
+
+
+def _point(name: str, y) -> np.ndarray:
+    """``y`` as a point (T, rdot, lambda) of a branch, else a `ParameterError` naming ``name``."""
+    v = real_array(y)
+    if v is None or v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ParameterError(f"{name} = {quoted(y)} is invalid; allowed: a point (T, rdot, lambda) of a branch, "
+                             "three finite numbers")
+    return v
 
 
 def branch_event_functions(an: BranchAnalyser, start: float, stop: float, t_min: float, t_max: float,
                            rdot_max: float) -> list[EventFunction]:
-    """Terminal events of the box (parameter range, t_min <= T <= t_max, |rdot| <= rdot_max) and the tests."""
+    """Terminal events of the box (parameter range, t_min <= T <= t_max, |rdot| <= rdot_max) and the tests.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``an`` is a `BranchAnalyser`, start < stop, 0 < t_min < t_max and rdot_max > 0 (finite numbers).
+    """
+    _check_analyser(an)
+    start, stop = check_interval(start, stop)
+    t_min = check_float("t_min", t_min, 0.0, low_open=True)
+    t_max = check_float("t_max", t_max, t_min, low_open=True)
+    rdot_max = check_float("rdot_max", rdot_max, 0.0, low_open=True)
     return [
         EventFunction("lower", lambda y: y[2] - start, terminal=True),
         EventFunction("upper", lambda y: stop - y[2], terminal=True),
@@ -223,7 +318,21 @@ def branch_event_functions(an: BranchAnalyser, start: float, stop: float, t_min:
 
 
 def classify_event(e: LocatedEvent, an: BranchAnalyser, system: OneImpactSystem) -> tuple[str, str] | None:
-    """The reported type of a located event and a detail string, or None to drop it."""
+    """The reported type of a located event and a detail string, or None to drop it.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``e`` is a `LocatedEvent`, ``an`` a `BranchAnalyser` and ``system`` a `OneImpactSystem`.
+    """
+    check_type("e", e, LocatedEvent, "a LocatedEvent of a continuation")
+    _check_analyser(an)
+    _check_system(system)
+    return _classify(e, an, system)
+
+
+def _classify(e: LocatedEvent, an: BranchAnalyser, system: OneImpactSystem) -> tuple[str, str] | None:
+    """`classify_event`, its arguments unchecked."""
     if e.terminal:
         return None
     increasing = e.y_before[2] <= e.y_after[2]
@@ -260,25 +369,50 @@ def classify_event(e: LocatedEvent, an: BranchAnalyser, system: OneImpactSystem)
 
 
 def turning_points(raw: list[LocatedEvent]) -> list[np.ndarray]:
-    """The located folds and coalescences among ``raw``: where the branch turns in the parameter."""
-    return [e.y for e in raw if e.name in ("fold", "ac-coalescence") and e.continuous]
+    """The located folds and coalescences among ``raw``: where the branch turns in the parameter.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``raw`` is a list of `LocatedEvent`.
+    """
+    return [e.y for e in _check_located(raw) if e.name in ("fold", "ac-coalescence") and e.continuous]
 
 
 def at_turning_point(y: np.ndarray, turning: list[np.ndarray]) -> bool:
     """Whether the point y = (T, rdot, lambda) is one of the turning points (relative distance 1e-6).
 
     A multiplier +1 located there is the fold itself, not a separate branch point.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``y`` and every item of the list ``turning`` are points (T, rdot, lambda).
     """
+    y = _point("y", y)
+    if not isinstance(turning, (list, tuple)):
+        raise ParameterError(f"turning = {quoted(turning)} is invalid; allowed: a list of points (T, rdot, lambda) "
+                             "(turning_points)")
+    turning = [_point(f"turning[{i}]", t) for i, t in enumerate(turning)]
     return any(np.linalg.norm((y - t) / np.array([1.0 + abs(t[0]), 1.0 + abs(t[1]), 1.0])) < 1e-6
                for t in turning)
 
 
 def report_events(raw: list[LocatedEvent], an: BranchAnalyser, system: OneImpactSystem) -> tuple[BranchEvent, ...]:
-    """The reported events (typed, labelled, sorted by value, without duplicates) from the located ones."""
+    """The reported events (typed, labelled, sorted by value, without duplicates) from the located ones.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``raw`` is a list of `LocatedEvent`, ``an`` a `BranchAnalyser` and ``system`` a
+        `OneImpactSystem`.
+    """
     turning = turning_points(raw)
+    _check_analyser(an)
+    _check_system(system)
     out: list[BranchEvent] = []
     for e in raw:
-        kind = classify_event(e, an, system)
+        kind = _classify(e, an, system)
         if kind is None:
             continue
         typ, detail = kind

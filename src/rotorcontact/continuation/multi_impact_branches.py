@@ -35,8 +35,9 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import ParameterError
-from ..maps.impact_map import SLIP_BOUNDED, ImpactOrbit, flight_extrema, one_impact_orbits
+from ..maps.impact_map import SLIP_BOUNDED, ImpactOrbit, _check_t_max, flight_extrema, one_impact_orbits
 from ..maps.multi_impact import (
+    MAX_GRID_POINTS,
     MAX_ORBIT_IMPACTS,
     NEWTON_TOL,
     MultiImpactOrbit,
@@ -58,10 +59,17 @@ from ..maps.multi_impact import (
     solve_multi_impact,
 )
 from ..model.params import Parameters, check_range
-from ..model.validation import check_int, check_params
-from .engine import ContinuationSettings, CorrectionError, EventFunction, continue_curve
+from ..model.validation import check_bool, check_float, check_int, check_params, check_type, is_pair, quoted
+from ..simulation.simulator import check_start
+from .engine import (
+    ContinuationSettings,
+    CorrectionError,
+    EventFunction,
+    check_max_points,
+    continue_curve,
+)
 from .events import MultiplierTests, multiplier_kind, rotation_angle
-from .results import BranchEvent, BranchResult
+from .results import BranchEvent, BranchResult, check_param_value
 
 __all__ = [
     "BranchEvent",
@@ -70,6 +78,9 @@ __all__ = [
     "multi_impact_orbits",
     "PARAMETER_WEIGHT",
     "GRAZING_MARGIN",
+    "MAX_STEP",
+    "MAX_STARTS",
+    "MAX_SCAN_WIDTH",
 ]
 
 #: Weight of the parameter in the arclength (the unknowns are of order one), so that steps move it.
@@ -80,6 +91,41 @@ GRAZING_MARGIN = 1e-2
 MULTIPLIER_TOL = 1e-6
 #: The branch's own period doubling is looked for while max |x_0 - x_{p/2}| is below this.
 HALF_PERIOD_MARGIN = 0.05
+#: Smallest step of the scaled arclength of `continue_multi_impact`, below which a step counts as failed.
+MIN_STEP = 1e-9
+#: Largest step of the scaled arclength of `continue_multi_impact`: the unknowns are of order one (angles in
+#: radians, velocities in clearances per unit time) and the parameter weighted by `PARAMETER_WEIGHT`, so a
+#: step of 1 already moves a state by a radian or the parameter by 0.01, beyond where the predictor holds.
+MAX_STEP = 1.0
+#: Most starts of the simulations of `multi_impact_orbits`: each is a simulation over 1800 time units (a
+#: quarter of a second or more), so a thousand take minutes.
+MAX_STARTS = 1000
+#: Widest gamma window of `multi_impact_orbits` in which a period doubling is looked for: gamma of a
+#: rotor is of order 0.1 (`rotorcontact.continuation.branches.DEFAULT_RANGES`), and the doubled branch is
+#: continued across the window.
+MAX_SCAN_WIDTH = 1.0
+
+
+def check_grid(grid) -> tuple[int, int, int] | None:
+    """``grid`` as three ints (each >= 1, a product of at most `MAX_GRID_POINTS`), or None.
+
+    The shape of the grid of impact states of `rotorcontact.maps.multi_impact.orbits_from_grid`.
+    """
+    if grid is None:
+        return None
+    allowed = f"three integers >= 1 with a product of at most {MAX_GRID_POINTS}, or None"
+    listed = isinstance(grid, (list, tuple)) or (isinstance(grid, np.ndarray) and grid.ndim == 1)
+    if not listed or len(grid) != 3:
+        raise ParameterError(f"grid = {quoted(grid)} is invalid; allowed: {allowed}")
+    shape = tuple(check_int(f"grid[{i}]", n, 1, MAX_GRID_POINTS) for i, n in enumerate(grid))
+    if math.prod(shape) > MAX_GRID_POINTS:
+        raise ParameterError(f"grid = {quoted(grid)} is invalid; allowed: {allowed}")
+    return shape
+
+
+def check_orbit(orbit) -> MultiImpactOrbit:
+    """``orbit`` if it is a `MultiImpactOrbit`, else a `ParameterError` naming it."""
+    return check_type("orbit", orbit, MultiImpactOrbit, "a rotorcontact.maps.multi_impact.MultiImpactOrbit")
 
 
 @dataclass(frozen=True)
@@ -244,21 +290,27 @@ def continue_multi_impact(
     stop : float
         The parameter value to reach.
     step, max_step : float
-        First and largest step of the (scaled) arclength.
+        First and largest step of the (scaled) arclength, from `MIN_STEP` to `MAX_STEP` (a smaller
+        ``max_step`` is raised to ``step``).
     max_points : int
-        Largest number of steps (>= 1).
+        Largest number of steps (1 to `rotorcontact.continuation.engine.MAX_POINTS`).
 
     Returns
     -------
     MultiImpactBranch
+
+    Raises
+    ------
+    ParameterError
+        Unless ``orbit`` is a `MultiImpactOrbit`, ``param`` a continuation parameter, ``stop`` a value it may
+        take and the steps and ``max_points`` within their bounds.
     """
-    if not isinstance(orbit, MultiImpactOrbit):
-        raise ParameterError(f"orbit = {orbit!r} is not a MultiImpactOrbit")
+    check_orbit(orbit)
     param = _check_parameter(param)
-    stop = check_range("stop", stop)
-    step = check_range("step", step, low=0.0, low_open=True)
-    max_step = max(check_range("max_step", max_step, low=0.0, low_open=True), step)
-    max_points = check_int("max_points", max_points, 1)
+    stop = check_param_value("stop", orbit.params, param, check_range("stop", stop))
+    step = check_float("step", step, MIN_STEP, MAX_STEP)
+    max_step = max(check_float("max_step", max_step, MIN_STEP, MAX_STEP), step)
+    max_points = check_max_points(max_points)
     p = orbit.impacts
     base = orbit.params
     start = float(getattr(base, param))
@@ -278,7 +330,7 @@ def continue_multi_impact(
     ]
     settings = ContinuationSettings(
         step=min(step, max_step),
-        min_step=1e-9,
+        min_step=MIN_STEP,
         max_step=max_step,
         max_points=max_points,
         residual_tol=1e-10,
@@ -507,14 +559,41 @@ def multi_impact_orbits(
     are added, unstable ones included. Orbits found twice are reported once,
     with the branch label.
 
+    Parameters
+    ----------
+    params : Parameters
+    impacts : int
+        p, 2 to `rotorcontact.maps.multi_impact.MAX_ORBIT_IMPACTS`.
+    starts : sequence of (u0, du0), optional
+        Initial states of the simulations (at most `MAX_STARTS`), each as `rotorcontact.simulate` takes
+        them; default those of `rotorcontact.maps.multi_impact.orbits_from_simulation`.
+    period_doubling : bool
+        Add the period-doubled branches of the one-impact orbits (p = 2).
+    scan_width : float
+        Half-width of the gamma window of the period doublings, 0 < scan_width <= `MAX_SCAN_WIDTH`.
+    t_max : float
+        Largest period of the one-impact orbits.
+    grid : (int, int, int), optional
+        Shape of the grid of impact states (each >= 1, a product of at most
+        `rotorcontact.maps.multi_impact.MAX_GRID_POINTS`).
+
     Returns
     -------
     tuple of MultiImpactOrbit
         Branch-switched orbits first, then the others by period.
+
+    Raises
+    ------
+    ParameterError
+        Naming the first argument that is not of the kind above (every one is checked, used or not).
     """
     check_params(params)
     p = check_int("impacts", impacts, 2, MAX_ORBIT_IMPACTS)
-    scan_width = check_range("scan_width", scan_width, low=0.0, low_open=True)
+    starts = _check_starts(starts)
+    period_doubling = check_bool("period_doubling", period_doubling)
+    scan_width = check_float("scan_width", scan_width, 0.0, MAX_SCAN_WIDTH, low_open=True)
+    t_max = _check_t_max(params, t_max)
+    grid = check_grid(grid)
     out: list[MultiImpactOrbit] = []
     if p == 2 and period_doubling:
         for parent in one_impact_orbits(params, t_max):
@@ -536,6 +615,27 @@ def multi_impact_orbits(
         n += 1
         out.append(_relabel(o, f"M{p}-{n}"))
     return tuple(out)
+
+
+def _check_starts(starts) -> list[tuple[complex, complex]] | None:
+    """``starts`` as a list of checked initial states (u0, du0), or None."""
+    if starts is None:
+        return None
+    listed = isinstance(starts, (list, tuple)) or (isinstance(starts, np.ndarray) and starts.ndim >= 1)
+    if not listed or len(starts) > MAX_STARTS:
+        raise ParameterError(f"starts = {quoted(starts)} is invalid; allowed: a list of at most {MAX_STARTS} initial "
+                             "states (u0, du0), or None")
+    out = []
+    for i, start in enumerate(starts):
+        if not is_pair(start):
+            raise ParameterError(f"starts[{i}] = {quoted(start)} is invalid; allowed: an initial state (u0, du0), two "
+                                 "complex numbers")
+        try:
+            out.append(check_start(*start))
+        except ParameterError as exc:
+            raise ParameterError(f"starts[{i}] = {quoted(start)} is invalid; allowed: an initial state (u0, du0) "
+                                 f"that rotorcontact.simulate takes ({exc})") from None
+    return out
 
 
 def _pd_branch_orbit(params: Parameters, parent: ImpactOrbit, width: float, t_max: float) -> MultiImpactOrbit | None:

@@ -46,12 +46,14 @@ from ..maps.multi_impact import (
     period_doubling_at,
     solve_multi_impact,
 )
+from ..maps.multi_impact import _check_parameter
 from ..maps.orbit_system import orbit_angles
 from ..model.params import Parameters
-from ..model.validation import check_int, check_params
+from ..model.validation import check_int, check_params, check_type, quoted
+from .engine import check_max_points
 from .limits import MAX_DOUBLINGS
-from .multi_impact_branches import MultiImpactBranch, continue_multi_impact
-from .results import BranchEvent, BranchResult, check_param_range
+from .multi_impact_branches import MultiImpactBranch, check_grid, continue_multi_impact
+from .results import BranchEvent, BranchResult, check_events, check_interval, check_param_range
 
 __all__ = ["MAX_DOUBLINGS", "MultiImpactBranches", "multi_impact_branches", "one_impact_seed", "seed_orbits",
            "switch_at_doubling"]
@@ -179,7 +181,16 @@ def seed_orbits(params: Parameters, impacts: int, grid: tuple[int, int, int] | N
 
     Those of long simulations and of Newton's method from a grid of impact
     states, deduplicated, sorted by period and labelled ``"M<p>-<j>"``.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``params`` is a `Parameters`, ``impacts`` a number of impacts per period and ``grid`` None or
+        a shape of `rotorcontact.continuation.multi_impact_branches.check_grid`.
     """
+    check_params(params)
+    impacts = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
+    grid = check_grid(grid)
     kw = {} if grid is None else {"shape": grid}
     found = list(orbits_from_simulation(params, impacts))
     for o in orbits_from_grid(params, impacts, **kw):
@@ -196,7 +207,15 @@ def one_impact_seed(params: Parameters, event: BranchEvent) -> MultiImpactOrbit:
     ------
     NewtonFailure
         When the simulator's impact map has no fixed point there (a virtual orbit, or friction that reverses).
+    ParameterError
+        Unless ``params`` is a `Parameters` and ``event`` a `BranchEvent` along one parameter with the
+        period ``T`` and impact velocity ``rdot`` of its one-impact orbit.
     """
+    check_params(params)
+    check_type("event", event, BranchEvent, "a BranchEvent of rotorcontact.continuation.branches.orbit_branches")
+    if not isinstance(event.param, str) or event.T is None or event.rdot is None:
+        raise ParameterError(f"event = {quoted(event)} is invalid; allowed: an event of a one-impact branch, along "
+                             "one parameter, with its T and rdot (orbit_branches)")
     p = params.replace(**{event.param: event.value})
     theta, thetadot = orbit_angles(p, float(event.T), float(event.rdot))
     label = event.orbits[0] if event.orbits else "M1"
@@ -209,7 +228,19 @@ def switch_at_doubling(event: BranchEvent, label: str, param: str, start: float,
 
     Returns None when the branch cannot be entered (no orbit at the event, or
     Newton fails at the switching amplitude).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``event`` is a period-doubling `BranchEvent` (its orbit a `MultiImpactOrbit` or None), ``label``
+        text, ``param`` a continuation parameter, start < stop and ``max_points`` a number of steps; all are
+        checked whether the branch can be entered or not.
     """
+    _check_doubling(event)
+    check_type("label", label, str, "the label of the doubled branch, such as 'B1,d/PD'")
+    param = _check_parameter(param)
+    start, stop = check_interval(start, stop)
+    max_points = check_max_points(max_points)
     orbit = event.orbit
     if orbit is None:
         return None
@@ -239,6 +270,14 @@ def switch_at_doubling(event: BranchEvent, label: str, param: str, start: float,
     if not start <= getattr(first.params, param) <= stop:
         return None
     return continue_multi_impact(first, param, end, max_points=max_points)
+
+
+def _check_doubling(event) -> BranchEvent:
+    check_type("event", event, BranchEvent, "a period doubling located along a branch (BranchEvent)")
+    if event.kind != "period-doubling" or not (event.orbit is None or isinstance(event.orbit, MultiImpactOrbit)):
+        raise ParameterError(f"event = {quoted(event)} is invalid; allowed: a period doubling (kind "
+                             "'period-doubling') whose orbit is a MultiImpactOrbit or None")
+    return event
 
 
 def multi_impact_branches(
@@ -276,11 +315,18 @@ def multi_impact_branches(
     grid : (int, int, int), optional
         Shape of the grid of `rotorcontact.maps.multi_impact.orbits_from_grid`.
     max_points : int
-        Largest number of steps of each continuation run.
+        Largest number of steps of each continuation run (1 to
+        `rotorcontact.continuation.engine.MAX_POINTS`).
 
     Returns
     -------
     MultiImpactBranches
+
+    Raises
+    ------
+    ParameterError
+        Naming the first argument that is not of the kind above (every one is checked, used or not), or
+        when the base value of ``param`` lies outside the range.
     """
     check_params(params)
     p = check_int("impacts", impacts, 1, MAX_ORBIT_IMPACTS)
@@ -289,6 +335,12 @@ def multi_impact_branches(
         raise ParameterError(f"impacts = {p} doubled doublings = {doublings} times makes orbits of "
                              f"{p * 2**doublings} impacts; allowed: impacts * 2^doublings <= {MAX_ORBIT_IMPACTS}")
     start, stop = check_param_range(param, params, start, stop)
+    if seeds is not None and (not isinstance(seeds, (list, tuple))
+                              or not all(isinstance(o, MultiImpactOrbit) for o in seeds)):
+        raise ParameterError(f"seeds = {quoted(seeds)} is invalid; allowed: a tuple of MultiImpactOrbit, or None")
+    one_impact_events = check_events("one_impact_events", one_impact_events)
+    grid = check_grid(grid)
+    max_points = check_max_points(max_points)
     base_value = float(getattr(params, param))
     if not start <= base_value <= stop:
         raise ParameterError(f"{param} = {base_value!r} is outside the range {start!r} .. {stop!r}; allowed: a base "

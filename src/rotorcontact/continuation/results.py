@@ -16,6 +16,7 @@ regroups the points by orbit label (`LabelBranch`), in connected pieces; its
 
 from __future__ import annotations
 
+import abc
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -24,10 +25,15 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..maps.impact_map import ImpactOrbit
+from ..maps.orbit_system import BRANCH_PARAMETERS
 from ..model.params import Parameters, check_finite
+from ..model.validation import check_choice, check_params, check_type, quoted
 
 __all__ = [
     "EVENT_TYPES",
+    "EVENT_KINDS",
+    "POINT_TYPES",
+    "ORBIT_COLUMNS",
     "BranchEvent",
     "BranchResult",
     "branch_to_dict",
@@ -36,6 +42,7 @@ __all__ = [
     "LabelBranch",
     "OrbitBranches",
     "check_param_range",
+    "check_interval",
 ]
 
 #: Types of the events reported along branches of one-impact orbits.
@@ -49,6 +56,19 @@ EVENT_TYPES = (
     "extrema-change",
     "ac-coalescence",
 )
+#: Types of the intersection points of curves in a plane of two parameters
+#: (`rotorcontact.continuation.codim2`).
+POINT_TYPES = ("fold-dib", "grazing-dib", "fold-grazing")
+#: Every kind of `BranchEvent`: those of one-impact branches, ``"slip"`` of multi-impact branches (whose
+#: other kinds are among the one-impact ones) and the intersection points of two-parameter curves.
+EVENT_KINDS = EVENT_TYPES + ("slip",) + POINT_TYPES
+#: The orbit attributes of `OrbitCurve.column`: those that are numbers (or True, False or None).
+ORBIT_COLUMNS = ("T", "theta", "rdot", "thetadot", "n", "r_max_interior", "interior_extrema", "admissible",
+                 "plausible", "slipping", "stable", "friction_reverses")
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
 @dataclass(frozen=True)
@@ -85,6 +105,12 @@ class BranchEvent:
     impacts : int or None
         Impacts per period of the orbits of the branch (branches of multi-impact
         orbits; written as ``"impacts"`` in JSON when set).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``kind`` is one of `EVENT_KINDS`, ``param`` a parameter name (``value`` then a number) or a
+        tuple of names (``value`` a tuple of as many numbers) and ``orbits`` a tuple of labels.
     """
 
     kind: str
@@ -99,6 +125,22 @@ class BranchEvent:
     orbit: Any = field(default=None, repr=False, compare=False)
     impacts: int | None = None
 
+    def __post_init__(self) -> None:
+        check_choice("kind", self.kind, EVENT_KINDS)
+        if isinstance(self.param, str):
+            if not _is_number(self.value):
+                raise ParameterError(f"value = {quoted(self.value)} is invalid; allowed: a number, the value of "
+                                     f"{self.param} at the event")
+        elif not (isinstance(self.param, tuple) and self.param and all(isinstance(q, str) for q in self.param)):
+            raise ParameterError(f"param = {quoted(self.param)} is invalid; allowed: a parameter name, or a tuple of "
+                                 "names (a plane of two parameters)")
+        elif not (isinstance(self.value, tuple) and len(self.value) == len(self.param)
+                  and all(_is_number(v) for v in self.value)):
+            raise ParameterError(f"value = {quoted(self.value)} is invalid; allowed: a tuple of {len(self.param)} "
+                                 f"numbers, the values of {', '.join(self.param)} at the event")
+        if not isinstance(self.orbits, tuple) or not all(isinstance(o, str) for o in self.orbits):
+            raise ParameterError(f"orbits = {quoted(self.orbits)} is invalid; allowed: a tuple of orbit labels")
+
     @property
     def type(self) -> str:
         """`kind` (the name used by the JSON output)."""
@@ -112,7 +154,7 @@ class BranchEvent:
     @property
     def values(self) -> tuple[float, ...]:
         """`value` as a tuple, one entry per name of `params`."""
-        return (self.value,) if isinstance(self.value, (int, float)) else tuple(self.value)
+        return (self.value,) if isinstance(self.param, str) else tuple(self.value)
 
     def to_dict(self) -> dict[str, Any]:
         """The JSON object of the event (see `event_to_dict`)."""
@@ -143,8 +185,10 @@ OrbitEvent = BranchEvent
 
 
 @dataclass(frozen=True)
-class BranchResult:
+class BranchResult(abc.ABC):
     """What every branch result holds: the continuation parameter(s) and the special points.
+
+    An abstract base: each result provides `curves_dict`.
 
     Attributes
     ----------
@@ -157,9 +201,9 @@ class BranchResult:
     param: str | tuple[str, ...]
     events: tuple[BranchEvent, ...]
 
+    @abc.abstractmethod
     def curves_dict(self) -> Any:
         """The curves in JSON form (the part of `to_dict` beside the special points)."""
-        raise NotImplementedError
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for JSON (`branch_to_dict`)."""
@@ -173,7 +217,14 @@ def branch_to_dict(result: BranchResult) -> dict[str, Any]:
     --json`` contract for `OrbitBranches`); in a plane of two parameters:
     ``{"curves", "points"}`` (the ``codim2 --json`` contract). Events are
     written by `event_to_dict`.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``result`` is a `BranchResult`.
     """
+    check_type("result", result, BranchResult, "a branch result (OrbitBranches, MultiImpactBranches, "
+               "F1ZeroCurves, Codim2Diagram ...)")
     events = [event_to_dict(e) for e in result.events]
     curves = result.curves_dict()
     if isinstance(result.param, str):
@@ -209,7 +260,14 @@ class OrbitCurve:
     ends: tuple[str, str]
 
     def column(self, name: str) -> np.ndarray:
-        """An orbit attribute along the curve as an array (None -> nan)."""
+        """An orbit attribute along the curve as an array (None -> nan).
+
+        Raises
+        ------
+        ParameterError
+            Unless ``name`` is one of `ORBIT_COLUMNS`.
+        """
+        check_choice("name", name, ORBIT_COLUMNS)
         out = [getattr(o, name) for o in self.orbits]
         return np.array([math.nan if v is None else v for v in out], dtype=float)
 
@@ -298,13 +356,29 @@ class OrbitBranches(BranchResult):
         return tuple(sorted(found, key=lambda lab: found[lab]))
 
     def select(self, type: str | None = None, orbit: str | None = None) -> tuple[BranchEvent, ...]:
-        """The events of one type and/or involving one orbit."""
+        """The events of one type and/or involving one orbit.
+
+        Raises
+        ------
+        ParameterError
+            Unless ``type`` is None or one of `EVENT_TYPES` and ``orbit`` None or an orbit label.
+        """
+        if type is not None:
+            check_choice("type", type, EVENT_TYPES)
+        check_type("orbit", orbit, str, "an orbit label such as 'B1,d'", optional=True)
         return tuple(
             e for e in self.events if (type is None or e.kind == type) and (orbit is None or orbit in e.orbits)
         )
 
     def branch(self, label: str) -> LabelBranch:
-        """The points of one label, in pieces (see `LabelBranch`)."""
+        """The points of one label, in pieces (see `LabelBranch`).
+
+        Raises
+        ------
+        ParameterError
+            Unless ``label`` is the label of an orbit met (one of `labels`).
+        """
+        check_type("label", label, str, "an orbit label such as 'B1,d'")
         rows: list[tuple | None] = []
         for curve in self.curves:
             pieces = _label_pieces(curve, label)
@@ -314,7 +388,8 @@ class OrbitBranches(BranchResult):
                 for i in idx:
                     rows.append((curve.values[i], curve.orbits[i], curve.extrema[i]))
         if not rows:
-            raise ParameterError(f"orbit {label!r} has no branch here; found: {', '.join(self.labels) or 'none'}")
+            raise ParameterError(f"label = {label!r} is invalid; allowed: an orbit with a branch here: "
+                                 f"{', '.join(self.labels) or 'none'}")
 
         def col(fn, empty=math.nan, dtype=float):
             return np.array([empty if r is None else fn(r) for r in rows], dtype=dtype)
@@ -353,21 +428,52 @@ class OrbitBranches(BranchResult):
         return branches
 
 
+def check_interval(start, stop) -> tuple[float, float]:
+    """``(start, stop)`` as floats if they are finite numbers with start < stop.
+
+    Raises
+    ------
+    ParameterError
+        Naming the bad end (``stop`` where the range is empty).
+    """
+    start = check_finite("start", start)
+    stop = check_finite("stop", stop)
+    if not start < stop:
+        raise ParameterError(f"stop = {stop!r} is invalid; allowed: a number > start = {start!r} (a range start .. "
+                             "stop)")
+    return start, stop
+
+
+def check_param_value(name: str, base: Parameters, param: str, value: float) -> float:
+    """``value`` if ``param`` may take it in ``base``, else a `ParameterError` naming ``name``."""
+    try:
+        base.replace(**{param: value})
+    except ParameterError as exc:
+        raise ParameterError(f"{name} = {value!r} is invalid; allowed: a value that {param} may take ({exc})") from None
+    return value
+
+
 def check_param_range(param: str, base: Parameters, start, stop) -> tuple[float, float]:
     """``(start, stop)`` as floats if they are finite, start < stop and ``param`` may take both values.
 
     Raises
     ------
     ParameterError
-        Naming the bad end, or the empty range.
+        Unless ``param`` is one of `rotorcontact.maps.orbit_system.BRANCH_PARAMETERS` and ``base`` a
+        `Parameters`; naming the bad end, or ``stop`` where the range is empty.
     """
-    start = check_finite("start", start)
-    stop = check_finite("stop", stop)
-    if not start < stop:
-        raise ParameterError(f"range {start!r} .. {stop!r} is empty; allowed: start < stop")
-    base.replace(**{param: start})
-    base.replace(**{param: stop})
-    return start, stop
+    param = check_choice("param", param, BRANCH_PARAMETERS)
+    check_params(base, "base")
+    start, stop = check_interval(start, stop)
+    return check_param_value("start", base, param, start), check_param_value("stop", base, param, stop)
+
+
+def check_events(name: str, events) -> tuple[BranchEvent, ...]:
+    """``events`` as a tuple if it is a list or tuple of `BranchEvent`, else a `ParameterError` naming ``name``."""
+    if not isinstance(events, (tuple, list)) or not all(isinstance(e, BranchEvent) for e in events):
+        raise ParameterError(f"{name} = {quoted(events)} is invalid; allowed: a tuple of BranchEvent (the period "
+                             "doublings of one-impact branches)")
+    return tuple(events)
 
 
 def _label_pieces(curve: OrbitCurve, label: str) -> list[list[int]]:

@@ -86,7 +86,14 @@ class F1ZeroCurves(BranchResult):
         return self.events
 
     def fold_values(self, n: int) -> tuple[float, ...]:
-        """Parameter values of the folds of pair n."""
+        """Parameter values of the folds of pair n.
+
+        Raises
+        ------
+        ParameterError
+            Unless ``n`` is an integer >= 1 (numpy's too).
+        """
+        n = check_int("n", n, 1)
         return tuple(f.value for f in self.events if f.n == n)
 
     def curves_dict(self) -> list[dict[str, list]]:
