@@ -5,6 +5,7 @@ from __future__ import annotations
 import cmath
 import math
 
+import numpy as np
 import pytest
 
 from rotorcontact import Machine, ParameterError, reference_machine
@@ -105,3 +106,35 @@ def test_what_is_not_a_machine_is_refused(machine):
 def test_a_bearing_failed_flag_that_is_not_a_bool_is_refused(flag):
     with pytest.raises(ParameterError, match=r"^bearing_failed = .* allowed: True or False$"):
         steady_dry_whip(reference_machine(), bearing_failed=flag)
+
+
+@pytest.fixture(scope="module")
+def whip():
+    return steady_dry_whip(machine())
+
+
+@pytest.mark.parametrize("t", [None, "1", [1.0], {}, math.nan, math.inf, True, 1j])
+def test_the_time_of_a_state_is_a_finite_real_number(whip, t):
+    with pytest.raises(ParameterError, match=r"^t = .* is invalid; allowed: a finite number$"):
+        whip.state(t)
+
+
+def test_a_time_where_the_whirl_angle_is_not_resolved_is_refused(whip):
+    most = 1e7 / abs(whip.whirl_rate)
+    assert all(map(math.isfinite, (abs(z) for z in whip.state(-0.999 * most))))
+    for t in (1e300, -1.001 * most):
+        with pytest.raises(ParameterError, match=r"^t = .* s is invalid: the whirl would turn by more than 1e\+07 rad, "
+                                                 rf"where its angle is not resolved; allowed: \|t\| <= {most:.6g} s$"):
+            whip.state(t)
+
+
+def test_a_state_at_a_numpy_time_is_the_same(whip):
+    want = whip.state(0.37)
+    assert whip.state(np.float64(0.37)) == want and whip.state(np.array(0.37)) == want
+    assert whip.state(np.int64(2)) == whip.state(2.0) and whip.state(0) == whip.state(0.0)
+
+
+def test_a_rotor_without_radius_cannot_slide_forward():
+    with pytest.raises(ParameterError, match=r"^rotor_radius = 0.0 m is invalid: the rotor's surface does not") as err:
+        steady_dry_whip(machine(rotor_radius=0.0))
+    assert "inf" not in str(err.value) and "nan" not in str(err.value)

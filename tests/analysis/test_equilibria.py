@@ -15,7 +15,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, fsolve
 
-from rotorcontact import ParameterError, Parameters, simulate
+from rotorcontact import ParameterError, Parameters, reference_machine, simulate
 from rotorcontact.analysis.equilibria import (
     BRANCH_PARAMETERS,
     beb_omega_ranges,
@@ -26,12 +26,15 @@ from rotorcontact.analysis.equilibria import (
     contact_jacobian,
     equilibria,
     equilibrium_branches,
+    friction_sign,
+    impact_direction,
     normal_force,
     polar_field,
     polar_field_gamma,
     polar_jacobian,
     pseudo_equilibria,
     regular_equilibrium,
+    system_matrix,
     wrap_angle,
 )
 from reference_parameters import REF
@@ -501,7 +504,8 @@ def test_results_are_frozen():
 def test_bad_input_raises_parameter_error():
     with pytest.raises(ParameterError):
         regular_equilibrium("reference")
-    with pytest.raises(ParameterError, match="r = "):
+    with pytest.raises(ParameterError, match=r"^x = \[0.0, 0.0, 0.0, 0.0\] is invalid \(r = 0.0: the polar field is "
+                       "singular at r = 0\\); allowed: "):
         polar_field([0.0, 0.0, 0.0, 0.0], REF)
     with pytest.raises(ParameterError, match="rho"):
         beb_omega_ranges(-1.0, 0.1)
@@ -628,3 +632,106 @@ def test_equilibrium_branches_bound_their_grid():
     allowed = f"allowed: an integer from 2 to {MAX_EQUILIBRIUM_POINTS}"
     with pytest.raises(ParameterError, match=f"^n = {10**9} is invalid; {allowed}"):
         equilibrium_branches(REF, "gamma", 0.0, 0.2, n=10**9)
+
+
+# ---------------------------------------------------------------------------
+# Bad input to the fields and to the results, refused by name
+# ---------------------------------------------------------------------------
+
+X = [0.9, 0.3, 0.1, -0.4]
+FIELDS = [polar_field, polar_jacobian, polar_field_gamma]
+CONTACT = [normal_force, contact_field, contact_jacobian]
+
+
+@pytest.mark.parametrize("params", [None, reference_machine(), {}, "REF"])
+@pytest.mark.parametrize("call", [
+    system_matrix, impact_direction, lambda p: friction_sign(0.1, p),
+    *[lambda p, f=f: f(X, p) for f in FIELDS], *[lambda p, f=f: f(0.3, -0.2, p) for f in CONTACT],
+])
+def test_params_that_are_not_parameters_are_refused(call, params):
+    with pytest.raises(ParameterError, match=r"^params = .* is not a Parameters object; allowed: rotorcontact\."):
+        call(params)
+
+
+@pytest.mark.parametrize("func", FIELDS)
+@pytest.mark.parametrize("x", ["x", None, [1j, 0, 0, 0], [True, 0, 0, 0], [1.0, 0.0, 0.0], [[1.0, 0, 0, 0]],
+                               [1e300] * 4, [math.nan, 0, 0, 0], [1.0, math.inf, 0, 0], [1e-13, 0, 0, 0],
+                               [1.0, 0, 2e12, 0], [1.0, 0, 0, -2e12], [-1.0, 0, 0, 0]])
+def test_a_polar_state_is_four_bounded_real_numbers(func, x):
+    """Text, complex numbers, bools, other shapes and values where the fields overflow or are singular."""
+    with pytest.raises(ParameterError, match=r"^x = .* is invalid.*; allowed: a polar state \(r, theta, rdot, "
+                                             r"thetadot\) of 4 finite real numbers with 1e-12 <= r <= 1e\+12"):
+        func(x, REF)
+
+
+@pytest.mark.parametrize("func", CONTACT)
+@pytest.mark.parametrize("theta", [math.nan, math.inf, None, [1.0], "1.0", True, 1j])
+def test_the_contact_angle_is_a_finite_real_number(func, theta):
+    with pytest.raises(ParameterError, match=r"^theta = .* is invalid; allowed: a finite number$"):
+        func(theta, 0.0, REF)
+
+
+@pytest.mark.parametrize("call", [*[lambda v, f=f: f(0.3, v, REF) for f in CONTACT], lambda v: friction_sign(v, REF),
+                                  lambda v: impact_direction(REF, v)])
+@pytest.mark.parametrize("thetadot", [math.nan, -math.inf, None, [0.0], "1.0", True, 1j, 2e12])
+def test_the_angular_velocity_is_a_bounded_real_number(call, thetadot):
+    with pytest.raises(ParameterError, match=r"^thetadot = .* is invalid; allowed: a finite number >= -1e\+12 and "
+                                             r"<= 1e\+12$"):
+        call(thetadot)
+
+
+def test_numpy_scalars_and_integers_give_the_same_fields_to_the_bit():
+    x = np.array(X)
+    for func in FIELDS:
+        want = func(X, REF)
+        for same in (x, tuple(X), [np.float64(v) for v in X]):
+            assert func(same, REF).tobytes() == want.tobytes()
+    assert polar_field([1, 2, 3, 4], REF).tobytes() == polar_field([1.0, 2.0, 3.0, 4.0], REF).tobytes()
+    for func in CONTACT:
+        want = np.asarray(func(0.3, -0.2, REF))
+        for theta, thetadot in ((np.float64(0.3), np.float64(-0.2)), (np.array(0.3), np.array(-0.2))):
+            assert np.asarray(func(theta, thetadot, REF)).tobytes() == want.tobytes()
+        assert np.asarray(func(np.int64(2), -1, REF)).tobytes() == np.asarray(func(2.0, -1.0, REF)).tobytes()
+    assert friction_sign(np.float64(-0.5), REF) == 1.0 and friction_sign(np.int64(-2 - REF.r_ratio), REF) == -1.0
+    assert impact_direction(REF, np.array(-0.2)).tobytes() == impact_direction(REF, -0.2).tobytes()
+
+
+def test_the_omega_of_the_analytic_ranges_is_that_of_the_parameters():
+    ranges = beb_omega_ranges(REF.rho, REF.mu)
+    for omega in (-1.0, 0.0, math.nan, 2e6, "0.76", True, None):
+        for call in (ranges.kind, ranges.partner):
+            with pytest.raises(ParameterError, match=r"^omega = .* is invalid; allowed: a finite number > 0 and "
+                                                     r"<= 1e\+06$"):
+                call(omega)
+    assert ranges.kind(np.float64(0.76)) == ranges.kind(0.76) == "nonsmooth-fold"
+    assert ranges.partner(np.array(1.0)) == "P2"
+
+
+@pytest.mark.parametrize("rho, mu, name", [(1e300, 0.15, "rho"), (-1.0, 0.15, "rho"), (0.4, 2e6, "mu"),
+                                           (0.4, math.nan, "mu"), (True, 0.15, "rho"), (0.4, "0.1", "mu")])
+def test_the_analytic_ranges_take_rho_and_mu_in_their_ranges(rho, mu, name):
+    with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: a finite number >= 0 and <= 1e\+06$"):
+        beb_omega_ranges(rho, mu)
+    assert beb_omega_ranges(np.float64(REF.rho), np.int64(0)) == beb_omega_ranges(REF.rho, 0.0)
+
+
+def test_events_are_selected_by_known_branches_and_kinds_only():
+    br = equilibrium_branches(REF.replace(omega=0.76), "gamma", 0.0, 0.2, 21)
+    assert br.select() == br.events and br.select("x_R", "admissibility") == br.boundary_points
+    for branch in (1, "x", "R", ["x_R"]):
+        with pytest.raises(ParameterError, match=r"^branch = .* is invalid; allowed: 'x_R', 'P1', 'P2' or None$"):
+            br.select(branch=branch)
+    for kind in (["R"], "admissible", 0):
+        with pytest.raises(ParameterError, match=r"^kind = .* is invalid; allowed: 'admissibility', 'stability', "
+                                                 r"'existence' or None$"):
+            br.select(kind=kind)
+
+
+def test_pseudo_equilibria_are_looked_up_by_name():
+    eq = equilibria(REF)
+    br = equilibrium_branches(REF, "gamma", 0.0, 0.2, 21)
+    for owner in (eq, br):
+        assert owner.pseudo_by_name("P2") is owner.pseudo[1]
+        for name in (None, "P3", 1, "p1"):
+            with pytest.raises(ParameterError, match=r"^name = .* is invalid; allowed: 'P1', 'P2'$"):
+                owner.pseudo_by_name(name)

@@ -29,6 +29,7 @@ from rotorcontact.maps.impact_map import f1_zeros as rotor_f1_zeros
 from rotorcontact.maps.impact_map import one_impact_orbits
 from rotorcontact.analysis.local import (
     LinearImpactingSystem,
+    LocalComparison,
     compare_local_global,
     expm2,
     global_fixed_points,
@@ -176,7 +177,7 @@ def test_periods_beyond_the_accurate_range_of_e_minus_at_are_refused(general):
             call(limit * (1 + 1e-9))
     with pytest.raises(ParameterError, match=r"^max\(T\) = "):
         general.f1([1.0, 1.001 * limit])
-    for bad in (True, "3", [1.0, True], None, [1.0, -1.0], []):
+    for bad in (True, "3", [1.0, True], None, [1.0, -1.0], [[1.0], [1.0, 2.0]]):
         with pytest.raises(ParameterError, match="^T = "):
             general.a_matrix(bad)
 
@@ -482,7 +483,7 @@ def test_comparison_table_and_bad_input(rotor, general):
     assert row["rdot_error"] == pytest.approx(abs(row["rdot_local"] - row["rdot_global"]))
     with pytest.raises(ParameterError, match="fewer than two"):
         compare_local_global(rotor, [1e-3], labels=("B1,b",)).error_order("B1,b", "rdot")
-    with pytest.raises(ParameterError, match="no local orbit"):
+    with pytest.raises(ParameterError, match=r"^labels = \('B1,a',\) is invalid \(no local orbit 'B1,a'\); allowed: "):
         compare_local_global(general, [1e-3], labels=("B1,a",))
     with pytest.raises(ParameterError, match="quantity"):
         comp.rows[0].error("r")
@@ -502,3 +503,106 @@ def test_compare_local_global_takes_one_label_as_a_label(rotor):
     assert one.rows == compare_local_global(rotor, [0.001], labels=["B1,a"]).rows
     with pytest.raises(ParameterError, match=r"^labels = 3 is invalid"):
         compare_local_global(rotor, [0.001], labels=3)
+
+
+# ---------------------------------------------------------------------------
+# Bad input, refused by name
+# ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("m", [None, "x", 1.0, np.zeros(2), np.zeros((3, 3)), np.zeros((2, 2, 3)),
+                               [[math.nan, 0], [0, 0]], [[True, 0], [0, 0]], [[1.0, 0.0], [0.0]]])
+def test_expm2_takes_finite_two_by_two_matrices(m):
+    with pytest.raises(ParameterError, match=r"^m = .* is invalid; allowed: finite \(complex\) 2x2 matrices, an array "
+                                             r"of shape \(\.\.\., 2, 2\)$"):
+        expm2(m)
+
+
+def test_expm2_refuses_a_matrix_whose_exponential_overflows():
+    for m in (1e300 * np.eye(2), [[800.0, 0.0], [0.0, 0.0]], np.stack([np.eye(2), [[0.0, 1e200], [1e200, 0.0]]])):
+        with pytest.raises(ParameterError, match=r"^m = .* is invalid: e\^m overflows; allowed: "):
+            expm2(m)
+    assert np.all(np.isfinite(expm2([[300.0, 0.0], [0.0, -300.0]])))
+    assert expm2(np.zeros((0, 2, 2))).shape == (0, 2, 2)
+
+
+def test_expm2_takes_real_lists_and_numpy_scalars_as_complex_matrices():
+    m = [[0.1, 1.0], [-2.0, -0.3]]
+    want = expm2(np.array(m, dtype=complex))
+    assert expm2(m).tobytes() == want.tobytes()
+    assert expm2([[np.float64(v) for v in row] for row in m]).tobytes() == want.tobytes()
+    assert expm2([[1, 2], [3, 4]]).tobytes() == expm2([[1.0, 2.0], [3.0, 4.0]]).tobytes()
+
+
+@pytest.mark.parametrize("name, value", [("alpha0", 1e300 + 0j), ("beta0", complex(0.0, 2e7)), ("alpha1", 1.1e7),
+                                         ("beta1", (0.0, -1e300)), ("Gamma1", 1e300j)])
+def test_coefficients_are_bounded(name, value):
+    args = dict(alpha0=0.2 + 1j, beta0=1.0, psi=0.3, mu=0.1, d=0.9) | {name: value}
+    with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: a complex number with \|{name}\| "
+                                             r"<= 1e\+07 \("):
+        LinearImpactingSystem.on_boundary(**args)
+
+
+def test_the_rotor_at_the_largest_parameters_is_within_the_bounds(rotor):
+    big = rotor.replace(rho=1e6, omega=1.0, mu=1e6)
+    s = LinearImpactingSystem.from_parameters(big)
+    assert abs(s.alpha0) > 1e6 and abs(s.beta0) == pytest.approx(1e6) and abs(s.Gamma0) == pytest.approx(1e6)
+
+
+def test_gamma0_mu_and_sigma_are_bounded_too():
+    with pytest.raises(ParameterError, match=r"^alpha0 = \(1e\+300\+0j\) is invalid; allowed: "):
+        LinearImpactingSystem(1e300 + 0j, 1.0, 1.0, mu=0.1, d=0.9)
+    with pytest.raises(ParameterError, match=r"^Gamma0 = \(1e\+300\+0j\) is invalid; allowed: "):
+        LinearImpactingSystem(0.2 + 1j, 1.0, 1e300 + 0j, mu=0.1, d=0.9)
+    with pytest.raises(ParameterError, match=r"^mu = 1e\+300 is out of range; allowed: \[0, 1e\+06\]"):
+        LinearImpactingSystem.on_boundary(0.2 + 1j, 1.0, 0.3, mu=1e300, d=0.9)
+    with pytest.raises(ParameterError, match=r"^sigma = 1e\+300 is out of range; allowed: \(0, 1e\+06\]"):
+        LinearImpactingSystem.on_boundary(0.2 + 1j, 1.0, 0.3, mu=0.1, d=0.9, sigma=1e300)
+
+
+def test_an_unstable_or_off_boundary_system_is_refused_by_name():
+    with pytest.raises(ParameterError, match=r"^alpha0 = \(-0.1\+0j\) is invalid with beta0 = \(1\+0j\): A0 has "
+                                             r"eigenvalues .*, so the boundary equilibrium is not stable; allowed: "):
+        LinearImpactingSystem.on_boundary(-0.1 + 0j, 1.0, 0.3, mu=0.1, d=0.9)
+    with pytest.raises(ParameterError, match=r"^Gamma0 = \(1.1\+0j\) is invalid: \|Gamma0 / beta0\| = 1.1 is not "
+                                             r"sigma = 1.0, the equilibrium is not on the boundary; allowed: "):
+        LinearImpactingSystem(0.2 + 1j, 1.0, 1.1, mu=0.1, d=0.9)
+
+
+def test_an_empty_array_of_periods_gives_an_empty_result(general):
+    assert general.f1([]).shape == (0,) and general.f1(np.array([])).dtype == float
+    assert general.a_matrix([]).shape == (0, 2, 2)
+    assert general.f1(np.zeros((2, 0))).shape == (2, 0)
+
+
+def test_periods_given_as_numpy_scalars_give_the_same_values(general):
+    assert general.f1(np.float64(2.0)) == general.f1(2.0) and general.f1(np.array(2.0)) == general.f1(2.0)
+    assert general.f1(np.int64(2)) == general.f1(2.0)
+    assert general.a_matrix(np.float64(2.0)).tobytes() == general.a_matrix(2.0).tobytes()
+
+
+@pytest.fixture(scope="module")
+def comparison(rotor):
+    return compare_local_global(rotor, [1e-3, 2e-3])
+
+
+@pytest.mark.parametrize("label", [None, 1, "zz", "B7,a", ["B1,a"]])
+def test_orbits_and_rows_are_selected_by_known_labels(rotor_analysis, comparison, label):
+    allowed = r"allowed: 'B1,a', 'B1,b'$"
+    with pytest.raises(ParameterError, match=rf"^label = .* is invalid \(no local orbit has this label\); {allowed}"):
+        rotor_analysis.orbit(label)
+    with pytest.raises(ParameterError, match=rf"^label = .* is invalid \(no local orbit has this label\); {allowed}"):
+        comparison.select(label)
+    with pytest.raises(ParameterError, match=rf"^label = .* is invalid \(no local orbit has this label\); {allowed}"):
+        comparison.error_order(label, "rdot")
+
+
+def test_labels_and_quantities_that_are_known_still_work(rotor_analysis, comparison):
+    assert rotor_analysis.orbit("B1,b") is rotor_analysis.orbits[1]
+    assert [r.eps for r in comparison.select("B1,a")] == [1e-3, 2e-3]
+    with pytest.raises(ParameterError, match=r"^quantity = 'zz' is invalid; allowed: 'T', 'theta', 'rdot', "
+                                             r"'thetadot'$"):
+        comparison.error_order("B1,a", "zz")
+    empty = LocalComparison(analysis=rotor_analysis, rows=(), offset=0.0)
+    with pytest.raises(ParameterError, match=r"^label = 'B1,a' is invalid .*; allowed: none"):
+        empty.select("B1,a")

@@ -13,15 +13,18 @@ import math
 import numpy as np
 import pytest
 
-from rotorcontact import ParameterError, Parameters, simulate
+from rotorcontact import ParameterError, Parameters, reference_machine, simulate
 from rotorcontact.analysis.equilibria import pseudo_equilibria
 from rotorcontact.model.flow import free_flight
 from rotorcontact.maps.impact_map import one_impact_orbits
 from rotorcontact.analysis.lyapunov import (
     COORDINATES,
     accumulation_saltation,
+    contact_projection,
+    contact_variational_matrix,
     flight_tangent,
     impact_saltation,
+    liftoff_saltation,
     lyapunov_spectrum,
     trajectory_lyapunov,
     trajectory_tangent,
@@ -288,3 +291,122 @@ def test_bad_input_raises_parameter_error():
         trajectory_lyapunov(simulate(p, 0j, 0j, 10.0), align=0)
     with pytest.raises(ParameterError, match=r"^traj = None is not a Trajectory object"):
         trajectory_lyapunov(None)
+
+
+# ---------------------------------------------------------------------------
+# bad input to the tangent maps, refused by name
+# ---------------------------------------------------------------------------
+
+U = complex(math.cos(1.0), math.sin(1.0))
+DU = U * complex(0.6, -1.4)
+G = np.array([-2.0, 0.3])
+MAPS = {
+    "flight_tangent": lambda p: flight_tangent(p, 1.3),
+    "impact_saltation": lambda p: impact_saltation(p, U, DU),
+    "accumulation_saltation": lambda p: accumulation_saltation(p, U, DU, G),
+    "liftoff_saltation": lambda p: liftoff_saltation(p, 0.1, 0.2, G),
+    "contact_variational_matrix": lambda p: contact_variational_matrix(p, 0.1, 0.2, 1.0),
+}
+
+
+@pytest.mark.parametrize("params", [None, reference_machine(), "REF"])
+@pytest.mark.parametrize("name", sorted(MAPS))
+def test_the_maps_need_parameters(name, params):
+    with pytest.raises(ParameterError, match=r"^params = .* is not a Parameters object; allowed: rotorcontact\."):
+        MAPS[name](params)
+
+
+@pytest.mark.parametrize("s", [math.inf, math.nan, None, "1", [1.0], True, 1j])
+def test_the_length_of_a_flight_is_a_finite_real_number(s):
+    with pytest.raises(ParameterError, match=r"^s = .* is invalid; allowed: a finite number$"):
+        flight_tangent(REF, s)
+
+
+def test_a_flight_is_refused_where_its_tangent_map_would_overflow():
+    """Backwards the reference flight grows like e^(gamma |s| / 2): NaN by s = -1e4, refused from |s| = 300 / 0.076."""
+    limit = 300.0 / (0.5 * REF.gamma)
+    assert np.all(np.isfinite(flight_tangent(REF, -0.999 * limit)))
+    with pytest.raises(ParameterError, match=rf"^s = -10000.0 is invalid: the flight grows like e\^\(0.076 \|s\|\) at "
+                                             rf"gamma = 0.152009, omega = 0.760043; allowed: \|s\| <= {limit:.6g}$"):
+        flight_tangent(REF, -1e4)
+    assert np.all(flight_tangent(REF, 1e6) == 0.0)  # forwards it decays: any length is fine
+
+
+@pytest.mark.parametrize("call", [lambda u: impact_saltation(REF, u, DU), lambda u: contact_projection(u, DU),
+                                  lambda u: accumulation_saltation(REF, u, DU, G)])
+@pytest.mark.parametrize("u", [math.nan, None, "x", True, [U], 0j, 2.0, complex(math.inf, 0.0)])
+def test_an_impact_point_lies_on_the_stator(call, u):
+    with pytest.raises(ParameterError, match=r"^u = .* is invalid; allowed: a complex number on the stator, "
+                                             r"\| \|u\| - 1 \| <= 1e-06$"):
+        call(u)
+
+
+@pytest.mark.parametrize("call, name", [(lambda v: impact_saltation(REF, U, v), "du_minus"),
+                                        (lambda v: accumulation_saltation(REF, U, v, G), "du_minus"),
+                                        (lambda v: contact_projection(U, v), "du")])
+@pytest.mark.parametrize("v", [math.nan, None, [1.0], "1", True, 2e12j])
+def test_a_velocity_is_a_bounded_complex_number(call, name, v):
+    with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: a finite complex number with "
+                                             rf"\|{name}\| <= 1e\+12$"):
+        call(v)
+
+
+def test_impacts_that_do_not_approach_or_graze_are_refused():
+    # |conj(u) du-| is 0 (the tester's u = 1j, du- = 0.5 divided by zero) or so small that S overflows
+    with pytest.raises(ParameterError, match=r"^du_minus = \(0.5\+0j\) does not approach the stator at u = 1j"):
+        accumulation_saltation(REF, 1j, 0.5, G)
+    for v in (complex(1e-310, 1.0), complex(5e-324, -2.0)):
+        for call in (lambda: impact_saltation(REF, 1.0, v), lambda: accumulation_saltation(REF, 1.0, v, G)):
+            with pytest.raises(ParameterError, match=r"^du_minus = .* is invalid: .*so the tangent map is not finite"):
+                call()
+    assert np.all(np.isfinite(impact_saltation(REF, 1.0, complex(1e-300, 1.0))[0]))  # large, still finite
+
+
+@pytest.mark.parametrize("call", [lambda g: liftoff_saltation(REF, 0.1, 0.2, g),
+                                  lambda g: accumulation_saltation(REF, U, DU, g)])
+@pytest.mark.parametrize("g", [None, [1.0], [1.0, 2.0, 3.0], [math.nan, 0.0], "ab", [True, 0.0], [1j, 0.0]])
+def test_the_contact_field_is_two_finite_real_numbers(call, g):
+    with pytest.raises(ParameterError, match=r"^contact_field = .* is invalid; allowed: \(thetadot, theta''\), "
+                                             r"2 finite real numbers$"):
+        call(g)
+
+
+def test_a_tangent_lift_off_is_refused():
+    thetadot = 0.2
+    # at theta = phi, grad N = (0, 2 (1 + thetadot)): grad N . g = -1e-310 makes the correction overflow
+    g = [1.0, -1e-310 / (2.0 * (1.0 + thetadot))]
+    with pytest.raises(ParameterError, match=r"^contact_field = .* is invalid: N = 0 is reached tangentially"):
+        liftoff_saltation(REF, REF.phi, thetadot, g)
+
+
+@pytest.mark.parametrize("call", [lambda a, b: liftoff_saltation(REF, a, b, G),
+                                  lambda a, b: contact_variational_matrix(REF, a, b, 1.0)])
+def test_the_contact_state_is_a_finite_angle_and_a_bounded_velocity(call):
+    for theta in (math.inf, math.nan, True, None, "0.1"):
+        with pytest.raises(ParameterError, match=r"^theta = .* is invalid; allowed: a finite number$"):
+            call(theta, 0.2)
+    for thetadot in (math.inf, -2e12, [0.2]):
+        with pytest.raises(ParameterError, match=r"^thetadot = .* is invalid; allowed: a finite number >= -1e\+12"):
+            call(0.1, thetadot)
+
+
+@pytest.mark.parametrize("sgn", [math.nan, 0.5, None, True, "1", 2])
+def test_the_sign_of_v_rel_is_minus_one_zero_or_one(sgn):
+    with pytest.raises(ParameterError, match=r"^sgn = .* is invalid; allowed: "):
+        contact_variational_matrix(REF, 0.1, 0.2, sgn)
+
+
+def test_numpy_scalars_give_the_same_maps_to_the_bit():
+    def same(a, b):
+        return np.asarray(a).tobytes() == np.asarray(b).tobytes()
+
+    assert same(flight_tangent(REF, np.float64(1.3)), flight_tangent(REF, 1.3))
+    assert same(flight_tangent(REF, np.array(2)), flight_tangent(REF, 2.0))
+    s, du_plus, sticking = impact_saltation(REF, np.complex128(U), np.array(DU))
+    assert same(s, impact_saltation(REF, U, DU)[0]) and du_plus == impact_saltation(REF, U, DU)[1]
+    assert same(impact_saltation(REF, 1, 1 + 1j)[0], impact_saltation(REF, 1.0 + 0j, 1.0 + 1j)[0])
+    assert same(contact_projection(np.complex128(U), np.complex128(DU)), contact_projection(U, DU))
+    assert same(accumulation_saltation(REF, U, DU, [np.float64(-2.0), 0.3]), accumulation_saltation(REF, U, DU, G))
+    assert same(liftoff_saltation(REF, np.float64(0.1), np.array(0.2), (-2, 0.3)), liftoff_saltation(REF, 0.1, 0.2, G))
+    assert same(contact_variational_matrix(REF, np.float64(0.1), np.array(0.2), np.int64(-1)),
+                contact_variational_matrix(REF, 0.1, 0.2, -1.0))

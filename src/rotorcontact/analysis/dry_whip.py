@@ -16,9 +16,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError
-from ..model.params import Machine
+from ..model.params import MAX_T_END, Machine
 from ..model.units import RPM
-from ..model.validation import check_bool, check_machine
+from ..model.validation import check_bool, check_float, check_machine
 
 __all__ = ["DryWhip", "steady_dry_whip"]
 
@@ -86,7 +86,20 @@ class DryWhip:
         }
 
     def state(self, t: float) -> tuple[complex, complex, complex, complex]:
-        """(z, z', z_s, z_s') at time t (s), m and m/s."""
+        """(z, z', z_s, z_s') at time t (s), m and m/s.
+
+        Raises
+        ------
+        ParameterError
+            Unless ``t`` is a finite real number over which the whirl turns by at most
+            `rotorcontact.model.params.MAX_T_END` radians (|whirl_rate t| <= 1e7: beyond it the angle is not
+            resolved to 1e-9 rad).
+        """
+        t = check_float("t", t)
+        rate = abs(self.whirl_rate)
+        if rate * abs(t) > MAX_T_END:
+            raise ParameterError(f"t = {t!r} s is invalid: the whirl would turn by more than {MAX_T_END:g} rad, where "
+                                 f"its angle is not resolved; allowed: |t| <= {MAX_T_END / rate:.6g} s")
         turn = complex(math.cos(self.whirl_rate * t), math.sin(self.whirl_rate * t))
         w = 1j * self.whirl_rate
         return self.rotor_orbit * turn, w * self.rotor_orbit * turn, self.stator_orbit * turn, \
@@ -122,7 +135,8 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
     ------
     ParameterError
         Without a stator on springs or friction, with an anisotropic support or bearing, where no root lies
-        below the coupled frequency, or where the machine's speed is too low for the contact to slide forward.
+        below the coupled frequency, or where the machine's speed is too low (or its rotor_radius 0) for the
+        contact to slide forward.
     """
     check_machine(machine, optional=False)
     bearing_failed = check_bool("bearing_failed", bearing_failed)
@@ -197,7 +211,13 @@ def steady_dry_whip(machine: Machine, bearing_failed: bool = True) -> DryWhip:
     r = rho * abs(b / (a + b))
     slip = machine.rotor_radius * machine.speed + w * rho
     if not slip > 0.0:
-        least = -w * rho / machine.rotor_radius if machine.rotor_radius > 0.0 else math.inf
+        if not machine.rotor_radius > 0.0:
+            raise ParameterError(
+                f"rotor_radius = {machine.rotor_radius!r} m is invalid: the rotor's surface does not move "
+                f"(R Omega = 0), so whatever the speed the contact cannot slide forward against the whirl's "
+                f"surface speed {-w * rho:.6g} m/s; allowed: rotor_radius > 0"
+            )
+        least = -w * rho / machine.rotor_radius
         raise ParameterError(
             f"speed = {machine.speed!r} rad/s: R Omega = {machine.rotor_radius * machine.speed:.6g} m/s is below the "
             f"whirl's surface speed {-w * rho:.6g} m/s, so the contact cannot slide forward; allowed: a speed above "

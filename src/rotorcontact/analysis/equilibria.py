@@ -54,8 +54,9 @@ from ..errors import ParameterError
 from ..model import contact_law
 from ..model.flow import flight_coefficients, has_regular_equilibrium
 from ..model.impact_law import impact_q, relative_velocity
-from ..model.params import BRANCH_PARAMETERS, Parameters, check_finite
-from ..model.validation import MAX_EQUILIBRIUM_POINTS, check_int, check_params
+from ..model.params import BRANCH_PARAMETERS, MAX_MAGNITUDE, Parameters, check_finite
+from ..model.validation import (MAX_EQUILIBRIUM_POINTS, check_choice, check_float, check_int, check_params, quoted,
+                                real_array)
 
 __all__ = [
     "STATE_NAMES",
@@ -102,26 +103,58 @@ BEBKind = Literal["nonsmooth-fold", "persistence"]
 # Relative tolerance below which a non-degeneracy quantity counts as zero.
 _DEGENERACY_RTOL = 1e-10
 
+#: Largest magnitude of r, rdot and thetadot in a state given to the fields, and 1 / the smallest r: a million
+#: times the fastest motion of the model (|U'| <= `rotorcontact.model.params.MAX_VELOCITY`, the rolling rate
+#: 1 + r_ratio <= 1 + `rotorcontact.model.params.MAX_MAGNITUDE`). Within it the fields and their Jacobians are
+#: far from overflow; closer to r = 0 the polar coordinates are singular (the field grows like 1 / r^2).
+MAX_STATE = 1e12
+
 
 # ---------------------------------------------------------------------------
 # Small helpers
 # ---------------------------------------------------------------------------
 
 
-def friction_sign(thetadot: float, params: Parameters) -> float:
-    """sgn(v_rel) with v_rel = r_ratio + 1 + thetadot (MODEL.md §2); 0 when v_rel = 0."""
+def _check_rate(name: str, value: Any) -> float:
+    """``value`` as a float if it is a finite real number with |value| <= `MAX_STATE` (an angular velocity)."""
+    return check_float(name, value, -MAX_STATE, MAX_STATE)
+
+
+def _contact_args(theta: Any, thetadot: Any, params: Any) -> tuple[float, float, Parameters]:
+    """The arguments (theta, thetadot, params) of the contact fields, checked: a finite angle, an angular
+    velocity (`_check_rate`) and `Parameters`."""
+    return check_float("theta", theta), _check_rate("thetadot", thetadot), check_params(params)
+
+
+def _friction_sign(thetadot: float, params: Parameters) -> float:
     return float(np.sign(relative_velocity(params.r_ratio, thetadot)))
 
 
-def _as_state(x: Sequence[float]) -> tuple[float, float, float, float]:
-    arr = np.asarray(x, dtype=float)
-    if arr.shape != (4,):
-        raise ParameterError(f"x = {x!r} is not a polar state; expected (r, theta, rdot, thetadot)")
-    if not np.all(np.isfinite(arr)):
-        raise ParameterError(f"x = {x!r} is not finite; a finite polar state is required")
+def friction_sign(thetadot: float, params: Parameters) -> float:
+    """sgn(v_rel) with v_rel = r_ratio + 1 + thetadot (MODEL.md §2); 0 when v_rel = 0.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``thetadot`` is a finite real number with |thetadot| <= `MAX_STATE` and ``params`` are `Parameters`.
+    """
+    return _friction_sign(_check_rate("thetadot", thetadot), check_params(params))
+
+
+def _as_state(x: Sequence[float], params: Any) -> tuple[float, float, float, float]:
+    """The polar state ``x`` as four floats, and ``params`` checked to be `Parameters`."""
+    check_params(params)
+    arr = real_array(x)
+    allowed = (f"allowed: a polar state (r, theta, rdot, thetadot) of 4 finite real numbers with "
+               f"{1.0 / MAX_STATE:g} <= r <= {MAX_STATE:g} and |rdot|, |thetadot| <= {MAX_STATE:g}")
+    if arr is None or arr.shape != (4,) or not np.all(np.isfinite(arr)):
+        raise ParameterError(f"x = {quoted(x)} is invalid; {allowed}")
     r, th, rd, thd = (float(v) for v in arr)
-    if r <= 0.0:
-        raise ParameterError(f"r = {r!r} is out of range for the polar field; allowed: (0, inf)")
+    if not 1.0 / MAX_STATE <= r <= MAX_STATE:
+        why = ": the polar field is singular at r = 0" if r < 1.0 / MAX_STATE else ""
+        raise ParameterError(f"x = {quoted(x)} is invalid (r = {r!r}{why}); {allowed}")
+    if not (abs(rd) <= MAX_STATE and abs(thd) <= MAX_STATE):
+        raise ParameterError(f"x = {quoted(x)} is invalid (rdot = {rd!r}, thetadot = {thd!r}); {allowed}")
     return r, th, rd, thd
 
 
@@ -144,8 +177,14 @@ def polar_field(x: Sequence[float], params: Parameters) -> np.ndarray:
     -------
     numpy.ndarray
         (rdot, thetadot, rddot, thetaddot).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``x`` is 4 finite real numbers with 1 / `MAX_STATE` <= r <= `MAX_STATE` and |rdot|, |thetadot|
+        <= `MAX_STATE`, and ``params`` are `Parameters`.
     """
-    r, th, rd, thd = _as_state(x)
+    r, th, rd, thd = _as_state(x, params)
     p = params
     psi = p.phi - th
     rdd = r * ((1.0 + thd) ** 2 - p.omega**2) - p.gamma * rd + p.rho * math.cos(psi)
@@ -154,8 +193,14 @@ def polar_field(x: Sequence[float], params: Parameters) -> np.ndarray:
 
 
 def polar_jacobian(x: Sequence[float], params: Parameters) -> np.ndarray:
-    """The 4x4 Jacobian F_x of `polar_field` at ``x`` (exact partial derivatives)."""
-    r, th, rd, thd = _as_state(x)
+    """The 4x4 Jacobian F_x of `polar_field` at ``x`` (exact partial derivatives).
+
+    Raises
+    ------
+    ParameterError
+        As `polar_field`.
+    """
+    r, th, rd, thd = _as_state(x, params)
     p = params
     psi = p.phi - th
     s, c = math.sin(psi), math.cos(psi)
@@ -174,8 +219,14 @@ def polar_jacobian(x: Sequence[float], params: Parameters) -> np.ndarray:
 
 
 def polar_field_gamma(x: Sequence[float], params: Parameters) -> np.ndarray:
-    """dF/dgamma, the derivative of `polar_field` with respect to gamma."""
-    r, th, rd, thd = _as_state(x)
+    """dF/dgamma, the derivative of `polar_field` with respect to gamma.
+
+    Raises
+    ------
+    ParameterError
+        As `polar_field`.
+    """
+    r, th, rd, thd = _as_state(x, params)
     return np.array([0.0, 0.0, -rd, -(1.0 + thd)])
 
 
@@ -185,39 +236,84 @@ def boundary_function_gradient() -> tuple[np.ndarray, float]:
 
 
 def impact_direction(params: Parameters, thetadot: float = 0.0) -> np.ndarray:
-    """W = (0, 0, 1 + d, mu (1 + d) sgn(v_rel)): the reset is x+ = x- - rdot- W (MODEL.md §2, §4)."""
+    """W = (0, 0, 1 + d, mu (1 + d) sgn(v_rel)): the reset is x+ = x- - rdot- W (MODEL.md §2, §4).
+
+    Raises
+    ------
+    ParameterError
+        As `friction_sign`.
+    """
+    thetadot = _check_rate("thetadot", thetadot)
+    check_params(params)
     q = impact_q(params.d, params.mu)
-    return np.array([0.0, 0.0, q.real, q.imag * friction_sign(thetadot, params)])
+    return np.array([0.0, 0.0, q.real, q.imag * _friction_sign(thetadot, params)])
 
 
 def normal_force(theta: float, thetadot: float, params: Parameters) -> float:
-    """Normal force per unit mass in continuous contact, N = (1 + thetadot)^2 - omega^2 + rho cos(phi - theta)."""
-    p = params
-    return float(contact_law.normal_force(float(theta), float(thetadot), p.omega, p.rho, p.phi))
+    """Normal force per unit mass in continuous contact, N = (1 + thetadot)^2 - omega^2 + rho cos(phi - theta).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``theta`` is a finite real number, ``thetadot`` one with |thetadot| <= `MAX_STATE` and ``params``
+        are `Parameters`.
+    """
+    return _normal_force(*_contact_args(theta, thetadot, params))
+
+
+def _normal_force(theta: float, thetadot: float, p: Parameters) -> float:
+    return float(contact_law.normal_force(theta, thetadot, p.omega, p.rho, p.phi))
 
 
 def contact_field(theta: float, thetadot: float, params: Parameters) -> np.ndarray:
     """Continuous-contact dynamics on r = 1 (MODEL.md §4): (thetadot, thetaddot).
 
     thetaddot = -(1 + thetadot) gamma + rho sin(phi - theta) - mu N sgn(v_rel).
+
+    Raises
+    ------
+    ParameterError
+        As `normal_force`.
     """
-    p = params
-    sgn = friction_sign(thetadot, p)
-    thdd = contact_law.sliding_accel(float(theta), float(thetadot), sgn, p.gamma, p.omega, p.rho, p.mu, p.phi)
+    theta, thetadot, p = _contact_args(theta, thetadot, params)
+    sgn = _friction_sign(thetadot, p)
+    thdd = contact_law.sliding_accel(theta, thetadot, sgn, p.gamma, p.omega, p.rho, p.mu, p.phi)
     return np.array([thetadot, thdd])
 
 
 def contact_jacobian(theta: float, thetadot: float, params: Parameters) -> np.ndarray:
-    """2x2 Jacobian of `contact_field` in (theta, thetadot), sgn(v_rel) held at its value there."""
-    p = params
-    sgn = friction_sign(thetadot, p)
-    return contact_law.sliding_field_jacobian(float(theta), float(thetadot), sgn, p.gamma, p.rho, p.mu, p.phi)
+    """2x2 Jacobian of `contact_field` in (theta, thetadot), sgn(v_rel) held at its value there.
+
+    Raises
+    ------
+    ParameterError
+        As `normal_force`.
+    """
+    return _contact_jacobian(*_contact_args(theta, thetadot, params))
+
+
+def _contact_jacobian(theta: float, thetadot: float, p: Parameters) -> np.ndarray:
+    sgn = _friction_sign(thetadot, p)
+    return contact_law.sliding_field_jacobian(theta, thetadot, sgn, p.gamma, p.rho, p.mu, p.phi)
 
 
 def system_matrix(params: Parameters) -> np.ndarray:
-    """The complex 2x2 matrix A of the free flight w' = A w + b (MODEL.md §3)."""
+    """The complex 2x2 matrix A of the free flight w' = A w + b (MODEL.md §3).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``params`` are `Parameters`.
+    """
+    check_params(params)
     a, b = flight_coefficients(params.gamma, params.omega)
     return np.array([[0.0, 1.0], [b, -2.0 * a]], dtype=complex)
+
+
+def _by_name(items: Sequence[Any], name: Any) -> Any:
+    """The item of ``items`` (pseudo-equilibria or their branches) named ``name``, one of `PSEUDO_NAMES`."""
+    check_choice("name", name, PSEUDO_NAMES)
+    return next(item for item in items if item.name == name)
 
 
 def _sorted_eigenvalues(values: Iterable[complex]) -> tuple[complex, ...]:
@@ -431,11 +527,14 @@ class Equilibria:
     boundary: BoundaryEquilibrium
 
     def pseudo_by_name(self, name: str) -> PseudoEquilibrium:
-        """The pseudo-equilibrium named ``name`` (``"P1"`` or ``"P2"``)."""
-        for pe in self.pseudo:
-            if pe.name == name:
-                return pe
-        raise ParameterError(f"pseudo-equilibrium {name!r} is unknown; allowed: {', '.join(PSEUDO_NAMES)}")
+        """The pseudo-equilibrium named ``name`` (``"P1"`` or ``"P2"``).
+
+        Raises
+        ------
+        ParameterError
+            Unless ``name`` is one of `PSEUDO_NAMES`.
+        """
+        return _by_name(self.pseudo, name)
 
     def to_dict(self) -> dict[str, Any]:
         """The ``equilibria --json`` contract: ``regular``, ``pseudo``, ``boundary`` (plus ``parameters``)."""
@@ -559,8 +658,8 @@ def pseudo_equilibria(params: Parameters) -> tuple[PseudoEquilibrium, PseudoEqui
     for name, sign in zip(PSEUDO_NAMES, (1.0, -1.0)):
         psi = 0.5 * math.pi + beta + sign * alpha
         theta = wrap_angle(p.phi - psi)
-        n = normal_force(theta, 0.0, p)
-        eig = _sorted_eigenvalues(np.linalg.eigvals(contact_jacobian(theta, 0.0, p)))
+        n = _normal_force(theta, 0.0, p)
+        eig = _sorted_eigenvalues(np.linalg.eigvals(_contact_jacobian(theta, 0.0, p)))
         out.append(
             PseudoEquilibrium(
                 name=name,
@@ -732,8 +831,15 @@ class BEBOmegaRanges:
         return (max(low, self.omega_min or 0.0), self.omega_max)
 
     def kind(self, omega: float) -> BEBKind | None:
-        """The bifurcation type at ``omega`` (None outside both open ranges or at their borders)."""
-        omega = check_finite("omega", omega)
+        """The bifurcation type at ``omega`` (None outside both open ranges or at their borders).
+
+        Raises
+        ------
+        ParameterError
+            Unless ``omega`` is a finite number in (0, `rotorcontact.model.params.MAX_MAGNITUDE`], the range
+            of the parameter omega.
+        """
+        omega = _check_group("omega", omega, low_open=True)
         if self.rho <= 0.0 or omega <= 0.0:
             return None
         lo, switch, hi = self._limits_sq()
@@ -747,18 +853,33 @@ class BEBOmegaRanges:
         return None
 
     def partner(self, omega: float) -> str | None:
-        """x_R's partner at ``omega``: P1 for the non-smooth fold, P2 for persistence."""
+        """x_R's partner at ``omega``: P1 for the non-smooth fold, P2 for persistence.
+
+        Raises
+        ------
+        ParameterError
+            As `kind`.
+        """
         return {"nonsmooth-fold": "P1", "persistence": "P2"}.get(self.kind(omega))  # type: ignore[arg-type]
 
 
+def _check_group(name: str, value: Any, low_open: bool = False) -> float:
+    """A dimensionless group rho, mu or omega: a finite number from 0 (excluded where ``low_open``) to
+    `rotorcontact.model.params.MAX_MAGNITUDE`, its range in `Parameters`."""
+    return check_float(name, value, 0.0, MAX_MAGNITUDE, low_open=low_open)
+
+
 def beb_omega_ranges(rho: float, mu: float) -> BEBOmegaRanges:
-    """The analytic omega-ranges of non-smooth fold and persistence (see `BEBOmegaRanges`)."""
-    rho = check_finite("rho", rho)
-    mu = check_finite("mu", mu)
-    if rho < 0.0:
-        raise ParameterError(f"rho = {rho!r} is out of range; allowed: [0, inf)")
-    if mu < 0.0:
-        raise ParameterError(f"mu = {mu!r} is out of range; allowed: [0, inf)")
+    """The analytic omega-ranges of non-smooth fold and persistence (see `BEBOmegaRanges`).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``rho`` and ``mu`` are finite numbers in [0, `rotorcontact.model.params.MAX_MAGNITUDE`], their
+        ranges in `Parameters`.
+    """
+    rho = _check_group("rho", rho)
+    mu = _check_group("mu", mu)
     if rho == 0.0:
         return BEBOmegaRanges(rho=rho, mu=mu, omega_min=None, omega_switch=None, omega_max=None)
     ranges = BEBOmegaRanges(rho=rho, mu=mu, omega_min=None, omega_switch=None, omega_max=None)
@@ -902,7 +1023,16 @@ class EquilibriumBranches:
         return self.base.replace(**{self.param: value})
 
     def select(self, branch: str | None = None, kind: str | None = None) -> tuple[EquilibriumEvent, ...]:
-        """The events of one branch and/or one kind."""
+        """The events of one branch and/or one kind (None: all).
+
+        Raises
+        ------
+        ParameterError
+            Unless ``branch`` is ``"x_R"``, ``"P1"``, ``"P2"`` or None and ``kind`` one of ``"admissibility"``,
+            ``"stability"``, ``"existence"`` or None.
+        """
+        _optional_choice("branch", branch, _EVENT_BRANCHES)
+        _optional_choice("kind", kind, tuple(_LABELS))
         return tuple(
             e for e in self.events if (branch is None or e.branch == branch) and (kind is None or e.kind == kind)
         )
@@ -918,11 +1048,14 @@ class EquilibriumBranches:
         return tuple(sorted({e.partner for e in self.boundary_points if e.partner is not None}))
 
     def pseudo_by_name(self, name: str) -> PseudoBranch:
-        """The branch of the pseudo-equilibrium named ``name``."""
-        for pb in self.pseudo:
-            if pb.name == name:
-                return pb
-        raise ParameterError(f"pseudo-equilibrium {name!r} is unknown; allowed: {', '.join(PSEUDO_NAMES)}")
+        """The branch of the pseudo-equilibrium named ``name``.
+
+        Raises
+        ------
+        ParameterError
+            Unless ``name`` is one of `PSEUDO_NAMES`.
+        """
+        return _by_name(self.pseudo, name)
 
 
 _LABELS = {
@@ -930,6 +1063,15 @@ _LABELS = {
     "stability": ("stable", "unstable"),
     "existence": ("exists", "absent"),
 }
+
+#: The branches whose events `equilibrium_branches` locates.
+_EVENT_BRANCHES = ("x_R",) + PSEUDO_NAMES
+
+
+def _optional_choice(name: str, value: Any, allowed: Sequence[str]) -> None:
+    """Refuse ``value`` unless it is None or one of ``allowed``."""
+    if value is not None and (not isinstance(value, str) or value not in allowed):
+        raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {', '.join(map(repr, allowed))} or None")
 
 
 def _regular_events(p: Parameters) -> dict[str, float | None]:

@@ -64,8 +64,8 @@ from ..errors import ParameterError
 from ..maps.impact_map import (F1Zero, check_growth, label_f1_zeros, one_impact_orbits, root_branches,
                                stable_quadratic_roots)
 from ..model.impact_law import impact_q
-from ..model.validation import check_params, complex_value, real_array
-from ..model.params import Parameters, check_finite, check_range
+from ..model.validation import check_choice, check_params, complex_array, complex_value, quoted, real_array
+from ..model.params import MAX_MAGNITUDE, Parameters, check_finite, check_range
 
 __all__ = [
     "LinearImpactingSystem",
@@ -95,12 +95,64 @@ def _check_eps(eps: Any) -> float:
     return check_finite("eps", eps)
 
 
+#: The quantities whose errors `ComparisonRow.error` gives.
+QUANTITIES = ("T", "theta", "rdot", "thetadot")
+#: Largest modulus of a coefficient of `LinearImpactingSystem`: ten times
+#: `rotorcontact.model.params.MAX_MAGNITUDE`, room for those of every rotor (`LinearImpactingSystem.from_parameters`:
+#: |alpha0| = |gamma* + 2i|, |beta0| = |Gamma0| = rho, each at most about MAX_MAGNITUDE).
+MAX_COEFFICIENT = 10.0 * MAX_MAGNITUDE
+_WHY = "the coefficients of a rotor are of order one; larger magnitudes are beyond the numerics of e^{-AT}"
+
+
+def _check_coefficient(name: str, value: Any) -> complex:
+    """A coefficient of `LinearImpactingSystem`: a finite complex number (or RE, IM) of modulus at most
+    `MAX_COEFFICIENT`."""
+    z = complex_value(name, value)
+    if not abs(z) <= MAX_COEFFICIENT:
+        raise ParameterError(f"{name} = {z!r} is invalid; allowed: a complex number with |{name}| <= "
+                             f"{MAX_COEFFICIENT:g} ({_WHY})")
+    return z
+
+
+def _check_sigma(value: Any) -> float:
+    """The radius sigma of the boundary, in (0, `rotorcontact.model.params.MAX_MAGNITUDE`]."""
+    return check_range("sigma", value, low=0.0, high=MAX_MAGNITUDE, low_open=True, why=_WHY)
+
+
+def _check_label(name: str, label: Any, known: Sequence[str], given: Any = None) -> str:
+    """``label`` if it is one of the orbit labels ``known``, else a `ParameterError` naming ``name`` and the
+    value ``given`` (``label`` itself, or the list of labels it is taken from)."""
+    if isinstance(label, str) and label in known:
+        return label
+    shown, why = (label, "no local orbit has this label") if given is None else (given, f"no local orbit {label!r}")
+    raise ParameterError(f"{name} = {quoted(shown)} is invalid ({why}); allowed: "
+                         f"{', '.join(map(repr, known)) or 'none (there is no local orbit)'}")
+
+
 def expm2(m: np.ndarray) -> np.ndarray:
     """e^M for complex 2x2 matrices M (shape (..., 2, 2)), exactly by Cayley-Hamilton.
 
     With mu = tr(M)/2 and h^2 = mu^2 - det(M), e^M = e^mu (cosh(h) I + sinh(h)/h (M - mu I)),
     sinh(h)/h from its Taylor series for small |h| (so a double eigenvalue is no special case).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``m`` holds finite (complex) numbers in an array of shape (..., 2, 2) and e^M, as evaluated
+        here, is finite (it overflows where |Re mu| or |Re h| exceeds about 700).
     """
+    arr = complex_array(m)
+    allowed = "allowed: finite (complex) 2x2 matrices, an array of shape (..., 2, 2)"
+    if arr is None or arr.ndim < 2 or arr.shape[-2:] != (2, 2) or not np.all(np.isfinite(arr)):
+        raise ParameterError(f"m = {quoted(m)} is invalid; {allowed}")
+    with np.errstate(all="ignore"):
+        out = _expm2(arr)
+    if not np.all(np.isfinite(out)):
+        raise ParameterError(f"m = {quoted(m)} is invalid: e^m overflows; {allowed} whose exponential is finite")
+    return out
+
+
+def _expm2(m: np.ndarray) -> np.ndarray:
     m = np.asarray(m, dtype=complex)
     tr2 = 0.5 * (m[..., 0, 0] + m[..., 1, 1])
     det = m[..., 0, 0] * m[..., 1, 1] - m[..., 0, 1] * m[..., 1, 0]
@@ -152,8 +204,9 @@ class LinearImpactingSystem:
     Raises
     ------
     ParameterError
-        Non-finite coefficients, ``beta0 = 0``, the equilibrium off the boundary,
-        or an equilibrium that is not asymptotically stable.
+        Non-finite coefficients or coefficients beyond `MAX_COEFFICIENT` in modulus, mu or sigma beyond
+        `rotorcontact.model.params.MAX_MAGNITUDE`, ``beta0 = 0``, the equilibrium off the boundary, or an
+        equilibrium that is not asymptotically stable.
     """
 
     alpha0: complex
@@ -168,24 +221,25 @@ class LinearImpactingSystem:
 
     def __post_init__(self) -> None:
         for name in ("alpha0", "beta0", "Gamma0", "alpha1", "beta1", "Gamma1"):
-            object.__setattr__(self, name, complex_value(name, getattr(self, name)))
-        object.__setattr__(self, "mu", check_range("mu", self.mu, low=0.0))
+            object.__setattr__(self, name, _check_coefficient(name, getattr(self, name)))
+        object.__setattr__(self, "mu", check_range("mu", self.mu, low=0.0, high=MAX_MAGNITUDE, why=_WHY))
         object.__setattr__(self, "d", check_range("d", self.d, low=0.0, high=1.0))
-        object.__setattr__(self, "sigma", check_range("sigma", self.sigma, low=0.0, low_open=True))
+        object.__setattr__(self, "sigma", _check_sigma(self.sigma))
         if self.beta0 == 0:
             raise ParameterError("beta0 = 0 gives no isolated equilibrium; allowed: beta0 != 0")
         r0 = abs(self.Gamma0 / self.beta0)
         if abs(r0 - self.sigma) > BOUNDARY_RTOL * self.sigma:
             raise ParameterError(
-                f"|Gamma0 / beta0| = {r0!r} is not sigma = {self.sigma!r}: the equilibrium is not on the "
-                f"boundary; allowed: |Gamma0 / beta0| = sigma (relative tolerance {BOUNDARY_RTOL:g}); "
-                "LinearImpactingSystem.on_boundary builds Gamma0 from the equilibrium's angle"
+                f"Gamma0 = {self.Gamma0!r} is invalid: |Gamma0 / beta0| = {r0!r} is not sigma = {self.sigma!r}, "
+                f"the equilibrium is not on the boundary; allowed: |Gamma0 / beta0| = sigma (relative tolerance "
+                f"{BOUNDARY_RTOL:g}); LinearImpactingSystem.on_boundary builds Gamma0 from the equilibrium's angle"
             )
         lam = self.eigenvalues()
         if not np.all(lam.real < 0.0):
             raise ParameterError(
-                f"the boundary equilibrium is not stable: A0 has eigenvalues {lam[0]:.6g}, {lam[1]:.6g}; "
-                "allowed: both with negative real part"
+                f"alpha0 = {self.alpha0!r} is invalid with beta0 = {self.beta0!r}: A0 has eigenvalues "
+                f"{lam[0]:.6g}, {lam[1]:.6g}, so the boundary equilibrium is not stable; allowed: alpha0 and beta0 "
+                "giving both eigenvalues a negative real part"
             )
 
     # -- constructors ---------------------------------------------------------
@@ -206,8 +260,8 @@ class LinearImpactingSystem:
     ) -> "LinearImpactingSystem":
         """The system whose equilibrium at eps = 0 is ``z0 = sigma e^{i psi}`` (``Gamma0 = beta0 z0``)."""
         psi = check_finite("psi", psi)
-        sigma = check_range("sigma", sigma, low=0.0, low_open=True)
-        beta0 = complex_value("beta0", beta0)
+        sigma = _check_sigma(sigma)
+        beta0 = _check_coefficient("beta0", beta0)
         return cls(alpha0, beta0, beta0 * sigma * cmath.exp(1j * psi), mu=mu, d=d, sigma=sigma,
                    alpha1=alpha1, beta1=beta1, Gamma1=Gamma1)
 
@@ -303,13 +357,23 @@ class LinearImpactingSystem:
         check_growth(name, T, float(np.max(np.abs(self.eigenvalues(eps).real))), f"eps = {eps!r}")
 
     def a_matrix(self, T, eps: float = 0.0) -> np.ndarray:
-        """[a_ij(T)] = (e^{-AT} - I)^{-1} at ``eps``; T a float (2x2) or an array (..., 2, 2)."""
+        """[a_ij(T)] = (e^{-AT} - I)^{-1} at ``eps``; T a float (2x2) or an array (..., 2, 2).
+
+        An empty array of T gives an empty result (no periods, no matrices).
+
+        Raises
+        ------
+        ParameterError
+            Unless ``T`` holds finite numbers > 0 below the limit of `rotorcontact.maps.impact_map.check_growth`
+            and ``eps`` is finite.
+        """
         t = real_array(T)
-        if t is None or t.size == 0 or not np.all(np.isfinite(t)) or np.any(t <= 0.0):
+        if t is None or not np.all(np.isfinite(t)) or np.any(t <= 0.0):
             raise ParameterError(f"T = {T!r} is invalid; allowed: a finite number > 0, or an array of them")
-        self._check_period("T" if t.ndim == 0 else "max(T)", float(t.max()), eps)
+        if t.size:
+            self._check_period("T" if t.ndim == 0 else "max(T)", float(t.max()), eps)
         a = self.matrix(eps)
-        e = expm2(-t[..., None, None] * a) - np.eye(2)
+        e = _expm2(-t[..., None, None] * a) - np.eye(2)
         # 2x2 inverse in closed form (vectorised)
         det = e[..., 0, 0] * e[..., 1, 1] - e[..., 0, 1] * e[..., 1, 0]
         inv = np.empty(e.shape, dtype=complex)
@@ -320,7 +384,13 @@ class LinearImpactingSystem:
         return inv
 
     def f1(self, T, eps: float = 0.0):
-        """F1(T) = 1 + Re(q a22(T)) at ``eps``, for a float or an array of T > 0."""
+        """F1(T) = 1 + Re(q a22(T)) at ``eps``, for a float or an array of T > 0 (empty: an empty array).
+
+        Raises
+        ------
+        ParameterError
+            As `a_matrix`.
+        """
         a = self.a_matrix(T, eps)
         val = 1.0 + (self.q * a[..., 1, 1]).real
         return float(val) if np.ndim(T) == 0 else val
@@ -354,7 +424,7 @@ class LinearImpactingSystem:
     def _f1_dt(self, T: float, eps: float) -> float:
         """dF1/dT = Re(q (a A e^{-AT} a)_22) at (T, eps)."""
         a_mat = self.matrix(eps)
-        e = expm2(-T * a_mat)
+        e = _expm2(-T * a_mat)
         a = self.a_matrix(T, eps)
         return float((self.q * (a @ a_mat @ e @ a)[1, 1]).real)
 
@@ -645,11 +715,15 @@ class LocalAnalysis:
         return self.radial_shift != 0.0
 
     def orbit(self, label: str) -> LocalOrbit:
-        """The orbit with this label."""
-        for o in self.orbits:
-            if o.label == label:
-                return o
-        raise ParameterError(f"no local orbit {label!r}; allowed: {', '.join(o.label for o in self.orbits)}")
+        """The orbit with this label.
+
+        Raises
+        ------
+        ParameterError
+            Unless ``label`` is the label of one of `orbits`.
+        """
+        _check_label("label", label, [o.label for o in self.orbits])
+        return next(o for o in self.orbits if o.label == label)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data: the shifts and the orbits (slopes)."""
@@ -810,9 +884,14 @@ class ComparisonRow:
     thetadot_global: float | None
 
     def error(self, quantity: str) -> float | None:
-        """|local - global| of ``"T"``, ``"theta"`` (angle difference), ``"rdot"`` or ``"thetadot"``."""
-        if quantity not in ("T", "theta", "rdot", "thetadot"):
-            raise ParameterError(f"quantity = {quantity!r} is invalid; allowed: T, theta, rdot, thetadot")
+        """|local - global| of ``"T"``, ``"theta"`` (angle difference), ``"rdot"`` or ``"thetadot"``.
+
+        Raises
+        ------
+        ParameterError
+            Unless ``quantity`` is one of `QUANTITIES`.
+        """
+        check_choice("quantity", quantity, QUANTITIES)
         loc = getattr(self, f"{quantity}_local")
         glo = getattr(self, f"{quantity}_global")
         if loc is None or glo is None:
@@ -824,7 +903,7 @@ class ComparisonRow:
     def to_dict(self) -> dict[str, Any]:
         """Plain data with the errors."""
         out = {k: getattr(self, k) for k in self.__dataclass_fields__}
-        out.update({f"{k}_error": self.error(k) for k in ("T", "theta", "rdot", "thetadot")})
+        out.update({f"{k}_error": self.error(k) for k in QUANTITIES})
         return out
 
 
@@ -846,7 +925,14 @@ class LocalComparison:
     offset: float
 
     def select(self, label: str) -> tuple[ComparisonRow, ...]:
-        """The rows of one orbit."""
+        """The rows of one orbit.
+
+        Raises
+        ------
+        ParameterError
+            Unless ``label`` is the label of an orbit in the table.
+        """
+        _check_label("label", label, list(dict.fromkeys(r.label for r in self.rows)))
         return tuple(r for r in self.rows if r.label == label)
 
     def error_order(self, label: str, quantity: str) -> float:
@@ -855,7 +941,8 @@ class LocalComparison:
         Raises
         ------
         ParameterError
-            Fewer than two rows with a positive error.
+            Unless ``label`` is the label of an orbit in the table and ``quantity`` one of `QUANTITIES`; with
+            fewer than two rows with a positive error.
         """
         pts = [(abs(r.eps), r.error(quantity)) for r in self.select(label)]
         pts = [(e, err) for e, err in pts if err is not None and err > 0.0 and e > 0.0]
@@ -927,8 +1014,7 @@ def compare_local_global(
         raise ParameterError(f"labels = {labels!r} is invalid; allowed: a list of orbit labels such as ['B1,a'], "
                              "or None")
     for lab in labels:
-        if lab not in local:
-            raise ParameterError(f"no local orbit {lab!r}; allowed: {', '.join(local) or 'none'}")
+        _check_label("labels", lab, list(local), given=labels)
     glob = {e: {o.label: o for o in global_fixed_points(model, e, t_max)} for e in eps_list}
     rows = []
     for lab in labels:

@@ -112,7 +112,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -120,13 +120,15 @@ from scipy.integrate import solve_ivp
 from ..simulation.contact import ACCUMULATION, ROLLING, SLIDE_FORWARD
 from ..errors import ParameterError
 from ..model import contact_law
-from ..model.flow import flight_accel, propagate
+from ..maps.impact_map import MAX_GROWTH
+from ..model.flow import flight_accel, half_discriminant, propagate
 from ..model.impact_law import ideal_reset, impact_q, relative_velocity, reset_jacobian, slip_bound
 from ..model.params import Parameters, check_range
-from ..model.validation import check_bool, check_params, check_type
+from ..model.validation import check_bool, check_float, check_params, check_type, complex_array, quoted, real_array
 from ..simulation.simulator import simulate
 from ..simulation.trajectory import Trajectory
-from .regime_change import SUBWINDOWS, final_regime, spread, subwindow_rates
+from .equilibria import MAX_STATE, _contact_args
+from .regime_change import SUBWINDOWS, _spread, _subwindow_rates, final_regime
 
 __all__ = [
     "COORDINATES",
@@ -148,6 +150,73 @@ COORDINATES = ("Re U", "Im U", "Re U'", "Im U'")
 DIM = 4
 CONTACT_RTOL = 1e-11
 CONTACT_ATOL = 1e-13
+#: Largest distance | |U| - 1 | of a point given as a point of the stator (an impact, a lift-off).
+ON_STATOR_TOL = 1e-6
+
+
+# ---------------------------------------------------------------------------
+# Checks of the arguments of the public maps
+# ---------------------------------------------------------------------------
+
+
+def _complex_number(name: str, value: Any, allowed: str, ok: Callable[[complex], bool]) -> complex:
+    """``value`` as a complex number if it is one number (int, float, complex, numpy's or a 0-d array), finite
+    and ``ok``; else a `ParameterError` naming ``name``, the value and ``allowed``."""
+    z = complex_array(value)
+    if z is not None and z.ndim == 0 and np.isfinite(z):
+        z = complex(z)
+        if ok(z):
+            return z
+    raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {allowed}")
+
+
+def _stator_point(name: str, value: Any) -> complex:
+    """A point U of the stator: a finite complex number with | |U| - 1 | <= `ON_STATOR_TOL`."""
+    return _complex_number(name, value, f"a complex number on the stator, | |{name}| - 1 | <= {ON_STATOR_TOL:g}",
+                           lambda z: abs(abs(z) - 1.0) <= ON_STATOR_TOL)
+
+
+def _velocity(name: str, value: Any) -> complex:
+    """A velocity U': a finite complex number with |U'| <= `rotorcontact.analysis.equilibria.MAX_STATE`."""
+    return _complex_number(name, value, f"a finite complex number with |{name}| <= {MAX_STATE:g}",
+                           lambda z: abs(z) <= MAX_STATE)
+
+
+def _impact_args(params: Any, u: Any, du_minus: Any) -> tuple[complex, complex]:
+    """(u, du_minus) of an impact, checked: `Parameters`, a point of the stator and a velocity approaching it."""
+    check_params(params)
+    u = _stator_point("u", u)
+    du_minus = _velocity("du_minus", du_minus)
+    _check_approach(u, du_minus)
+    return u, du_minus
+
+
+def _check_approach(u: complex, du_minus: complex) -> float:
+    """Re(conj(u) du_minus), or a `ParameterError` where it is not > 0 (the velocity does not approach)."""
+    hdot = (u.conjugate() * du_minus).real
+    if not hdot > 0.0:
+        raise ParameterError(
+            f"du_minus = {du_minus!r} does not approach the stator at u = {u!r} "
+            f"(Re(conj(u) du) = {hdot!r}); allowed: an approaching velocity"
+        )
+    return hdot
+
+
+def _contact_vector(value: Any) -> np.ndarray:
+    """The argument ``contact_field``: (thetadot, theta'') as an array of 2 finite real numbers."""
+    g = real_array(value)
+    if g is None or g.shape != (2,) or not np.all(np.isfinite(g)):
+        raise ParameterError(f"contact_field = {quoted(value)} is invalid; allowed: (thetadot, theta''), "
+                             "2 finite real numbers")
+    return g
+
+
+def _finite_map(m: np.ndarray | None, name: str, value: Any, why: str) -> np.ndarray:
+    """``m`` if it is finite, else a `ParameterError` naming the argument ``name`` = ``value`` and ``why``."""
+    if m is None or not np.all(np.isfinite(m)):
+        raise ParameterError(f"{name} = {quoted(value)} is invalid: {why}, so the tangent map is not finite; "
+                             "allowed: a transversal crossing")
+    return m
 
 
 # ---------------------------------------------------------------------------
@@ -189,13 +258,26 @@ def _normal_gradient(params: Parameters, theta: float, thetadot: float) -> np.nd
     return np.array(contact_law.normal_force_gradient(float(theta), float(thetadot), params.rho, params.phi))
 
 
+def _contact_jacobian(params: Parameters, theta: float, thetadot: float, sgn: float) -> np.ndarray:
+    p = params
+    return contact_law.sliding_field_jacobian(float(theta), float(thetadot), float(sgn), p.gamma, p.rho, p.mu, p.phi)
+
+
 def contact_variational_matrix(params: Parameters, theta: float, thetadot: float, sgn: float) -> np.ndarray:
     """2x2 Jacobian of the sliding contact field (thetadot, theta'') in (theta, thetadot).
 
     ``sgn`` is the sign of v_rel of the sliding phase (held fixed).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``params`` are `Parameters`, ``theta`` is a finite real number, ``thetadot`` one with
+        |thetadot| <= `rotorcontact.analysis.equilibria.MAX_STATE` and ``sgn`` is -1, 0 or 1.
     """
-    p = params
-    return contact_law.sliding_field_jacobian(float(theta), float(thetadot), float(sgn), p.gamma, p.rho, p.mu, p.phi)
+    theta, thetadot, params = _contact_args(theta, thetadot, params)
+    if check_float("sgn", sgn) not in (-1.0, 0.0, 1.0):
+        raise ParameterError(f"sgn = {sgn!r} is invalid; allowed: -1, 0 or 1 (the sign of v_rel)")
+    return _contact_jacobian(params, theta, thetadot, sgn)
 
 
 # ---------------------------------------------------------------------------
@@ -208,7 +290,27 @@ def flight_tangent(params: Parameters, s: float) -> np.ndarray:
 
     The homogeneous flow is linear, so the columns are the flows of the basis
     vectors of (dU, dU') (`rotorcontact.model.flow.propagate`).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``params`` are `Parameters` and ``s`` is a finite real number over which the map grows at most
+        like e^MAX_GROWTH (`rotorcontact.maps.impact_map.MAX_GROWTH`; backwards too, s < 0).
     """
+    check_params(params)
+    s = check_float("s", s)
+    g, w = params.gamma, params.omega
+    h2 = half_discriminant.py_func(g, w)
+    rate = math.sqrt(max(h2, 0.0)) + (0.5 * g if s < 0.0 else -0.5 * g)  # of the fastest mode over the flight
+    if rate * abs(s) > MAX_GROWTH:
+        raise ParameterError(
+            f"s = {s!r} is invalid: the flight grows like e^({rate:.3g} |s|) at gamma = {g:g}, omega = {w:g}; "
+            f"allowed: |s| <= {MAX_GROWTH / rate:.6g}"
+        )
+    return _flight_tangent(params, s)
+
+
+def _flight_tangent(params: Parameters, s: float) -> np.ndarray:
     g, w = params.gamma, params.omega
     phi11, phi21 = propagate(1.0 + 0j, 0j, float(s), g, w)
     phi12, phi22 = propagate(0j, 1.0 + 0j, float(s), g, w)
@@ -269,15 +371,25 @@ def impact_saltation(params: Parameters, u: complex, du_minus: complex) -> tuple
         Velocity just after the impact.
     sticking : bool
         True when the friction impulse is capped at v_rel = 0 (S has rank 3).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``params`` are `Parameters`, ``u`` a point of the stator (| |u| - 1 | <= `ON_STATOR_TOL`) and
+        ``du_minus`` a finite velocity (|du_minus| <= `rotorcontact.analysis.equilibria.MAX_STATE`) that
+        approaches it, not so nearly grazing that S is not finite.
     """
+    u, du_minus = _impact_args(params, u, du_minus)
+    with np.errstate(all="ignore"):
+        out = _impact_saltation(params, u, du_minus)
+    _finite_map(out[0], "du_minus", du_minus, f"it grazes the stator at u = {u!r}")
+    return out
+
+
+def _impact_saltation(params: Parameters, u: complex, du_minus: complex) -> tuple[np.ndarray, complex, bool]:
     u = complex(u)
     du_minus = complex(du_minus)
-    hdot = (u.conjugate() * du_minus).real
-    if not hdot > 0.0:
-        raise ParameterError(
-            f"du_minus = {du_minus!r} does not approach the stator at u = {u!r} "
-            f"(Re(conj(u) du) = {hdot!r}); allowed: an approaching velocity"
-        )
+    hdot = _check_approach(u, du_minus)
     du_plus, dr, sticking = _reset_linearisation(params, u, du_minus)
     f_minus = _vec(du_minus, _accel(params, u, du_minus))
     f_plus = _vec(du_plus, _accel(params, u, du_plus))
@@ -372,7 +484,27 @@ def accumulation_saltation(
     numpy.ndarray
         d(theta, thetadot) at the (nominal) accumulation time as a function of
         the 4-dimensional variation just before the impact; rank 2.
+
+    Raises
+    ------
+    ParameterError
+        As `impact_saltation` for ``params``, ``u`` and ``du_minus``; unless ``contact_field`` is 2 finite real
+        numbers; where the map is not finite (a grazing impact, no normal force after it).
     """
+    u, du_minus = _impact_args(params, u, du_minus)
+    g = _contact_vector(contact_field)
+    try:
+        with np.errstate(all="ignore"):
+            out = _accumulation_saltation(params, u, du_minus, g)
+    except ZeroDivisionError:
+        out = None
+    return _finite_map(out, "du_minus", du_minus, f"the accumulation it starts at u = {u!r} is singular "
+                       "(a grazing impact, or no normal force after it)")
+
+
+def _accumulation_saltation(
+    params: Parameters, u: complex, du_minus: complex, contact_field: np.ndarray
+) -> np.ndarray:
     e = u / abs(u)
     w = e.conjugate() * du_minus
     theta = math.atan2(e.imag, e.real)
@@ -387,7 +519,17 @@ def contact_projection(u: complex, du: complex) -> np.ndarray:
 
     dtheta = Im(conj(e) dU) and dthetadot = Im(dw) - 2 thetadot dr with
     w = conj(U) U' = r rdot + i r^2 thetadot; the normal variations are dropped.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``u`` is a point of the stator (| |u| - 1 | <= `ON_STATOR_TOL`) and ``du`` a finite velocity
+        (|du| <= `rotorcontact.analysis.equilibria.MAX_STATE`).
     """
+    return _contact_projection(_stator_point("u", u), _velocity("du", du))
+
+
+def _contact_projection(u: complex, du: complex) -> np.ndarray:
     e = u / abs(u)
     thetadot = (e.conjugate() * du).imag
     out = np.empty((2, 4))
@@ -405,7 +547,22 @@ def liftoff_saltation(params: Parameters, theta: float, thetadot: float, contact
     and f_free the free-flight field at the lift-off point. Where N is not
     decreasing along g (a lift-off at the start of a contact attempt), the
     plain embedding is returned.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``params`` are `Parameters`, ``theta`` is a finite real number, ``thetadot`` one with
+        |thetadot| <= `rotorcontact.analysis.equilibria.MAX_STATE` and ``contact_field`` 2 finite real numbers;
+        where the lift-off is so nearly tangent (grad N . g -> 0-) that S is not finite.
     """
+    theta, thetadot, params = _contact_args(theta, thetadot, params)
+    g = _contact_vector(contact_field)
+    with np.errstate(all="ignore"):
+        out = _liftoff_saltation(params, theta, thetadot, g)
+    return _finite_map(out, "contact_field", contact_field, "N = 0 is reached tangentially along it")
+
+
+def _liftoff_saltation(params: Parameters, theta: float, thetadot: float, contact_field: np.ndarray) -> np.ndarray:
     e = complex(math.cos(theta), math.sin(theta))
     emb = np.column_stack([_vec(1j * e, -thetadot * e), _vec(0j, 1j * e)])
     g = np.asarray(contact_field, dtype=float)
@@ -622,7 +779,7 @@ class _Walker:
 
     def _flight(self, t0: float, t1: float) -> None:
         self._maybe_start(t0)
-        self._advance_time(t0, t1, lambda a, b: self.tan.apply(flight_tangent(self.p, b - a)))
+        self._advance_time(t0, t1, lambda a, b: self.tan.apply(_flight_tangent(self.p, b - a)))
 
     def _impact(self, row: np.ndarray) -> tuple[complex, complex]:
         t = float(row[0])
@@ -644,7 +801,7 @@ class _Walker:
 
         def rhs(_t, z):
             th, thd = z[0], z[1]
-            jac = contact_variational_matrix(p, th, thd, sgn)
+            jac = _contact_jacobian(p, th, thd, sgn)
             phi = z[2:].reshape(2, 2)
             return np.concatenate([[thd, _contact_accel(p, th, thd, sgn)], (jac @ phi).ravel()])
 
@@ -694,11 +851,11 @@ class _Walker:
                         t_c = float(ct[ic, 1])
                         ic += 1
                     g = self._first_contact_field(ic, t_c, u, du_minus)
-                    self.tan.apply(accumulation_saltation(p, u, du_minus, g))
+                    self.tan.apply(_accumulation_saltation(p, u, du_minus, g))
                     self._mark(t_c)
                     jf, ic = self._contact(nxt + 1, ic, t_c)
                     continue
-                s, _du_plus, sticking = impact_saltation(p, u, du_minus)
+                s, _du_plus, sticking = _impact_saltation(p, u, du_minus)
                 self.tan.apply(s, rank=3 if sticking else None)
                 self._mark(t_i)
                 jf = nxt
@@ -708,7 +865,7 @@ class _Walker:
                 u = complex(fl[jf, 1], fl[jf, 2])
                 du = complex(fl[jf, 3], fl[jf, 4])
                 self._maybe_start(t0)
-                self.tan.apply(contact_projection(u, du))
+                self.tan.apply(_contact_projection(u, du))
                 self._mark(t0)
                 jf, ic = self._contact(nxt, ic, t0)
                 continue
@@ -785,7 +942,7 @@ class _Walker:
                 else:
                     g = self._contact_field(prev_kind, prev_row)
                 self._maybe_start(t)
-                self.tan.apply(liftoff_saltation(p, theta, thetadot, g))
+                self.tan.apply(_liftoff_saltation(p, theta, thetadot, g))
                 self._mark(t)
                 return next_flight, ic
             # the run ends in contact
@@ -842,7 +999,7 @@ class _Walker:
     def _spectrum(means: np.ndarray, rates: np.ndarray | None, alive: int):
         """Exponents largest first (-inf for annihilated directions) and their errors in the same order."""
         order = np.argsort(-means, kind="stable")
-        err = spread(rates[:, :alive]) if rates is not None else np.full(alive, math.inf)
+        err = _spread(rates[:, :alive]) if rates is not None else np.full(alive, math.inf)
         exps = tuple([float(means[i]) for i in order] + [-math.inf] * (DIM - alive))
         errors = tuple([float(err[i]) for i in order] + [0.0] * (DIM - alive))
         return exps, errors
@@ -872,7 +1029,7 @@ class _Walker:
             return None
         times = np.array([m[0] for m in self.marks])
         sums = np.array([m[1] for m in self.marks])
-        rates = subwindow_rates(times, sums, edges)
+        rates = _subwindow_rates(times, sums, edges)
         if after:
             # the first sub-window starts after the maps at t_a (entering a contact phase)
             first = (self._sums_at(edges[1], False) - self._sums_at(t_a, True)) / (edges[1] - t_a)

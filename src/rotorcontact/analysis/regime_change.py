@@ -25,10 +25,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from ..model.validation import check_float, check_type
+from ..errors import ParameterError
+from ..model.validation import check_float, check_type, quoted, real_array
 from ..simulation.motion import MAX_PERIOD_IMPACTS, REPEAT_TOL
 from ..simulation.trajectory import Trajectory
 
@@ -116,6 +118,15 @@ def final_regime(traj: Trajectory, tol: float = REPEAT_TOL) -> FinalRegime | Non
     return FinalRegime("periodic", float(np.asarray(imp.t)[later][start]), p)
 
 
+def _finite_array(name: str, value: Any, ndims: tuple[int, ...], allowed: str) -> np.ndarray:
+    """``value`` as an array of floats if it holds finite real numbers only, with one of ``ndims`` dimensions
+    and at least one row; else a `ParameterError` naming ``name``."""
+    arr = real_array(value)
+    if arr is None or arr.ndim not in ndims or arr.shape[0] < 1 or not np.all(np.isfinite(arr)):
+        raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {allowed}")
+    return arr
+
+
 def subwindow_rates(times: np.ndarray, sums: np.ndarray, edges: np.ndarray) -> np.ndarray:
     """Average rates of running sums over the sub-windows between ``edges``.
 
@@ -123,7 +134,29 @@ def subwindow_rates(times: np.ndarray, sums: np.ndarray, edges: np.ndarray) -> n
     non-decreasing; at a repeated time the first value is taken); values
     between marks are interpolated linearly. Returns an array
     (len(edges) - 1, n_sums).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``times`` are finite and non-decreasing, ``sums`` finite of shape (len(times), n_sums) and
+        ``edges`` at least two finite, increasing times.
     """
+    t = _finite_array("times", times, (1,), "a list of finite, non-decreasing times")
+    if np.any(np.diff(t) < 0.0):
+        raise ParameterError(f"times = {quoted(times)} is invalid (they decrease); allowed: a list of finite, "
+                             "non-decreasing times")
+    one_row_per_time = f"finite running sums, an array of shape ({t.size}, n_sums): one row per time"
+    s = _finite_array("sums", sums, (2,), one_row_per_time)
+    if s.shape[0] != t.size:
+        raise ParameterError(f"sums = {quoted(sums)} is invalid (shape {s.shape} for {t.size} times); allowed: "
+                             f"{one_row_per_time}")
+    e = _finite_array("edges", edges, (1,), "at least two finite, increasing times")
+    if e.size < 2 or not np.all(np.diff(e) > 0.0):
+        raise ParameterError(f"edges = {quoted(edges)} is invalid; allowed: at least two finite, increasing times")
+    return _subwindow_rates(t, s, e)
+
+
+def _subwindow_rates(times: np.ndarray, sums: np.ndarray, edges: np.ndarray) -> np.ndarray:
     times = np.asarray(times, dtype=float)
     sums = np.asarray(sums, dtype=float)
     uniq, first = np.unique(times, return_index=True)
@@ -132,9 +165,22 @@ def subwindow_rates(times: np.ndarray, sums: np.ndarray, edges: np.ndarray) -> n
 
 
 def spread(rates: np.ndarray) -> np.ndarray:
-    """Standard error of the mean of sub-window rates (``inf`` with fewer than two sub-windows)."""
+    """Standard error of the mean of sub-window rates (``inf`` with fewer than two sub-windows).
+
+    ``rates`` holds one row per sub-window: an array (k, n_rates), or (k,) for a single rate.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``rates`` are finite real numbers in an array of shape (k,) or (k, n_rates), k >= 1.
+    """
+    return _spread(_finite_array("rates", rates, (1, 2), "finite real numbers, one row per sub-window: an array "
+                                 "of shape (k,) or (k, n_rates) with k >= 1"))
+
+
+def _spread(rates: np.ndarray) -> np.ndarray:
     rates = np.asarray(rates, dtype=float)
     k = rates.shape[0]
     if k < 2:
-        return np.full(rates.shape[1], math.inf)
+        return np.full(rates.shape[1:], math.inf)
     return np.std(rates, axis=0, ddof=1) / math.sqrt(k)
