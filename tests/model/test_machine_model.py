@@ -218,6 +218,7 @@ def test_the_compliant_laws_functions_refuse_what_has_no_impact():
                        ((0.5, 1.5, 0.0), "rtol")):
         with pytest.raises(ParameterError, match=rf"^{name} = .* is invalid; allowed: a finite number"):
             hertz_rebound(*args)
+    assert restitution_damping(MIN_COMPLIANT_RESTITUTION, 1.5) <= MAX_CHI  # the smallest restitution is taken
     for args, name in (((0.0, 1.5), "restitution"), ((MIN_COMPLIANT_RESTITUTION / 2, 1.5), "restitution"),
                        ((1.5, 1.5), "restitution"), ((0.5, -1.0), "exponent")):
         with pytest.raises(ParameterError, match=rf"^{name} = "):

@@ -392,5 +392,5 @@ def restitution_damping(restitution: float, exponent: float) -> float:
     exponent = _exponent(exponent)
     if restitution == 1.0:
         return 0.0
-    return float(brentq(lambda chi: hertz_rebound(chi, exponent) - restitution, 0.0, 2.0 / restitution + 2.0,
-                        xtol=1e-13, rtol=1e-13))
+    top = min(2.0 / restitution + 2.0, MAX_CHI)  # equal at the smallest restitution, but for rounding
+    return float(brentq(lambda chi: hertz_rebound(chi, exponent) - restitution, 0.0, top, xtol=1e-13, rtol=1e-13))
