@@ -744,3 +744,15 @@ def test_labels_and_stability_refuse_what_they_cannot_read():
             im.orbit_stability(bad, True)
     with pytest.raises(ParameterError, match=r"^slipping = 'x' is invalid"):
         im.orbit_stability([0.5], "x")
+
+
+@pytest.mark.parametrize("gamma, omega", [(0.1, 0.5), (-0.1, 0.5), (-2.0, 0.1), (3.0, 0.4)])
+def test_the_growth_forwards_and_backwards_is_that_of_the_flights_eigenvalues(gamma, omega):
+    from rotorcontact.model.flow import half_discriminant
+
+    p = REF.replace(gamma=gamma, omega=omega)
+    real = np.linalg.eigvals(A_of(p)).real
+    h2 = half_discriminant.py_func(gamma, omega)
+    assert im.growth_rate(gamma, h2, 1) == pytest.approx(np.max(real), rel=1e-12, abs=1e-15)
+    assert im.growth_rate(gamma, h2, -1) == pytest.approx(np.max(-real), rel=1e-12, abs=1e-15)
+    assert im.growth_rate(gamma, h2) == im.flight_growth(p)

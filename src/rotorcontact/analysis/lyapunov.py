@@ -120,7 +120,7 @@ from scipy.integrate import solve_ivp
 from ..simulation.contact import ACCUMULATION, ROLLING, SLIDE_FORWARD
 from ..errors import ParameterError
 from ..model import contact_law
-from ..maps.impact_map import MAX_GROWTH
+from ..maps.impact_map import MAX_GROWTH, growth_rate
 from ..model.flow import flight_accel, half_discriminant, propagate
 from ..model.impact_law import ideal_reset, impact_q, relative_velocity, reset_jacobian, slip_bound
 from ..model.params import Parameters, check_range
@@ -300,8 +300,7 @@ def flight_tangent(params: Parameters, s: float) -> np.ndarray:
     check_params(params)
     s = check_float("s", s)
     g, w = params.gamma, params.omega
-    h2 = half_discriminant.py_func(g, w)
-    rate = math.sqrt(max(h2, 0.0)) + (0.5 * g if s < 0.0 else -0.5 * g)  # of the fastest mode over the flight
+    rate = growth_rate(g, half_discriminant.py_func(g, w), -1 if s < 0.0 else 1)  # the fastest mode over the flight
     if rate * abs(s) > MAX_GROWTH:
         raise ParameterError(
             f"s = {s!r} is invalid: the flight grows like e^({rate:.3g} |s|) at gamma = {g:g}, omega = {w:g}; "

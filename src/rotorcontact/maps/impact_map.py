@@ -936,10 +936,14 @@ def flight_growth(params: Parameters) -> float:
     return growth_rate(params.gamma, half_discriminant.py_func(params.gamma, params.omega))
 
 
-def growth_rate(gamma: float, h2: float) -> float:
-    """|gamma| / 2 + sqrt(max(h2, 0)) with h2 = gamma^2/4 - omega^2 (`half_discriminant`): `flight_growth`
-    from the damping and the half discriminant."""
-    return abs(gamma) / 2.0 + (math.sqrt(h2) if h2 > 0 else 0.0)
+def growth_rate(gamma: float, h2: float, direction: int = 0) -> float:
+    """The fastest growth of a flight from the damping and the half discriminant h2 = gamma^2/4 - omega^2
+    (`half_discriminant`): -gamma/2 + sqrt(max(h2, 0)) forwards in time (``direction`` > 0), gamma/2 + ...
+    backwards (< 0), and |gamma|/2 + ... either way (0: `flight_growth`)."""
+    h = math.sqrt(h2) if h2 > 0 else 0.0
+    if direction == 0:
+        return abs(gamma) / 2.0 + h
+    return h + (-0.5 * gamma if direction > 0 else 0.5 * gamma)
 
 
 def period_limit(params: Parameters) -> float:
