@@ -453,3 +453,14 @@ def test_the_count_of_simulations_is_a_whole_number():
         with pytest.raises(ParameterError, match=r"^simulations = .* is invalid; allowed: an integer >= 1$"):
             check_batch_settings(BatchSettings(), bad)
 
+
+
+def test_the_final_state_needs_a_trajectory():
+    from rotorcontact.studies.batch import final_state
+
+    traj = simulate(REF, 0.5, 0.0, 20.0)
+    u, du, kind = final_state(traj)
+    assert isinstance(u, complex) and isinstance(kind, str)
+    for bad in (None, REF):
+        with pytest.raises(ParameterError, match=r"^traj = .* is not a Trajectory object"):
+            final_state(bad)

@@ -298,3 +298,12 @@ def test_speed_conversions_and_recovery_inputs_are_checked():
     for bad in (None, reference_machine(), []):
         with pytest.raises(ParameterError, match=r"^machines = .* is invalid; allowed: a non-empty list of Machine$"):
             recovery_probabilities(bad, 0.1)
+
+
+def test_a_speed_beyond_the_machines_bound_is_refused_in_rpm():
+    from rotorcontact import ParameterError, reference_machine
+    from rotorcontact.studies.design_map import speed_map
+
+    with pytest.raises(ParameterError, match=r"^speeds_rpm = \[3000.0, 1e\+300\] holds 1e\+300 rpm; allowed: speeds up "
+                                             r"to 9.5493e\+06 rpm"):
+        speed_map(reference_machine(), [3000.0, 1e300])

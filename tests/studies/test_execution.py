@@ -474,3 +474,13 @@ def test_worker_counts_and_chunk_keys_are_checked(tmp_path):
         with pytest.raises(ParameterError, match=r"^key = .* is invalid; allowed: a chunk name"):
             store.save(key, {"x": np.zeros(1)})
     store.remove()
+
+
+def test_a_task_is_a_chunk_task_or_computes_itself():
+    from rotorcontact.studies.execution import run_task
+
+    for bad in (None, "x", {"compute": 1}):
+        with pytest.raises(ParameterError, match=r"^task = .* is invalid; allowed: a ChunkTask, or a task with a"):
+            run_task(bad)
+    with pytest.raises(ParameterError, match=r"^parallel = 'x' is invalid"):
+        run_task(None, parallel="x")

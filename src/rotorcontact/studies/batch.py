@@ -82,7 +82,7 @@ from ..simulation.motion import (
     WINDOW,
 )
 from ..model.params import MAX_T_END, MAX_VELOCITY, Parameters, check_range, check_velocity
-from ..model.validation import check_bool, check_int, complex_array, settings_or_default
+from ..model.validation import check_bool, check_int, check_type, complex_array, settings_or_default
 from ..simulation.simulator import (
     BOUNDARY_TOL,
     CHATTER_DEFAULTS,
@@ -840,7 +840,15 @@ def final_state(traj) -> tuple[complex, complex, str]:
     u, du : complex
     kind : str
         ``"flight"`` or a contact kind (`FINAL_KIND_NAMES`).
+
+    Raises
+    ------
+    ParameterError
+        If ``traj`` is not a `rotorcontact.Trajectory`.
     """
+    from ..simulation.trajectory import Trajectory
+
+    check_type("traj", traj, Trajectory, "a Trajectory (rotorcontact.simulate)")
     p = traj.params
     fl = traj.flights if traj.flights.size else np.empty((0, 5))
     u, du, kind = _final_state(

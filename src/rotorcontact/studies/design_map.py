@@ -557,6 +557,10 @@ def speed_map(machine: Machine, speeds_rpm: Sequence[float], *, shock: float | N
     """
     check_machine(machine, optional=False)
     speeds = _check_grid("speeds_rpm", speeds_rpm)
+    fastest = rad_s_to_rpm(MAX_SPEED)
+    if np.any(speeds > fastest):
+        raise ParameterError(f"speeds_rpm = {quoted(speeds_rpm)} holds {float(np.max(speeds)):g} rpm; allowed: speeds "
+                             f"up to {fastest:.6g} rpm (the Machine's bound, {MAX_SPEED:g} rad/s)")
     machines = [machine.with_speed(rpm_to_rad_s(s)) for s in speeds]
     points = _classify_all(machines, shock, t_max, progress, n_jobs=n_jobs, scheduler=scheduler, processes=processes)
     return DesignMap(machine, ("speed_rpm",), (speeds,), points, shock)

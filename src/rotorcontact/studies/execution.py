@@ -140,8 +140,18 @@ def run_task(task: ChunkTask, parallel: bool = False) -> dict[str, np.ndarray]:
     A task of another kind (not a `ChunkTask`: a ``key``, ``n_items`` and a ``compute(parallel)`` method
     returning its arrays, such as the drop map's or the Lyapunov scan's) computes itself; every executor
     runs it the same way.
+
+    Raises
+    ------
+    ParameterError
+        For a task that is neither a `ChunkTask` nor has a ``compute`` method, or a ``parallel`` that is
+        not True or False.
     """
+    parallel = check_bool("parallel", parallel)
     if not isinstance(task, ChunkTask):
+        if not callable(getattr(task, "compute", None)):
+            raise ParameterError(f"task = {task!r} is invalid; allowed: a ChunkTask, or a task with a "
+                                 "compute(parallel) method")
         return task.compute(parallel)
     sections, summary = run_lanes(task.params, task.u0, task.du0, task.settings, carry=task.carry,
                                   parallel=parallel)
