@@ -274,9 +274,11 @@ def test_searches_and_doublings_check_their_options(pd, orbit):
         with pytest.raises(ParameterError, match=rf"^{name} = "):
             orbits_from_grid(p, 2, **kw)
     for starts, name in (("x", "starts"), ([1], r"starts\[0\]"), ([(0.1,)], r"starts\[0\]"),
-                         ([(0.1, "x")], r"starts\[0\]\[1\]"), ([], "starts")):
+                         ([(0.1, "x")], r"starts\[0\] = \(0.1, 'x'\) is invalid; allowed: .* \(du0"),
+                         ([(2.0, 0.0)], r"starts\[0\] = \(2.0, 0.0\) is invalid; allowed: .* \(u0")):
         with pytest.raises(ParameterError, match=rf"^{name} = "):
             orbits_from_simulation(p, 2, starts=starts)
+    assert orbits_from_simulation(p, 2, starts=[]) == ()  # no starts: no simulation, as multi_impact_orbits uses
     assert orbit.initial_condition(np.int64(1)) == orbit.initial_condition(1)
     for bad in (2, -1, None, True, 0.5):
         with pytest.raises(ParameterError, match=r"^index = .* is invalid; allowed: an integer from 0 to 1$"):

@@ -39,6 +39,7 @@ from ..maps.impact_map import SLIP_BOUNDED, ImpactOrbit, _check_t_max, flight_ex
 from ..maps.multi_impact import (
     MAX_GRID_POINTS,
     MAX_ORBIT_IMPACTS,
+    MAX_STARTS,
     NEWTON_TOL,
     MultiImpactOrbit,
     NewtonFailure,
@@ -50,6 +51,7 @@ from ..maps.multi_impact import (
     _newton,
     _relabel,
     _same_orbit,
+    check_starts,
     find_period_doubling,
     multipliers_at,
     orbits_from_grid,
@@ -59,8 +61,7 @@ from ..maps.multi_impact import (
     solve_multi_impact,
 )
 from ..model.params import Parameters, check_range
-from ..model.validation import check_bool, check_float, check_int, check_params, check_type, is_pair, quoted
-from ..simulation.simulator import check_start
+from ..model.validation import check_bool, check_float, check_int, check_params, check_type, quoted
 from .engine import (
     ContinuationSettings,
     CorrectionError,
@@ -97,9 +98,6 @@ MIN_STEP = 1e-9
 #: radians, velocities in clearances per unit time) and the parameter weighted by `PARAMETER_WEIGHT`, so a
 #: step of 1 already moves a state by a radian or the parameter by 0.01, beyond where the predictor holds.
 MAX_STEP = 1.0
-#: Most starts of the simulations of `multi_impact_orbits`: each is a simulation over 1800 time units (a
-#: quarter of a second or more), so a thousand take minutes.
-MAX_STARTS = 1000
 #: Widest gamma window of `multi_impact_orbits` in which a period doubling is looked for: gamma of a
 #: rotor is of order 0.1 (`rotorcontact.continuation.branches.DEFAULT_RANGES`), and the doubled branch is
 #: continued across the window.
@@ -589,7 +587,7 @@ def multi_impact_orbits(
     """
     check_params(params)
     p = check_int("impacts", impacts, 2, MAX_ORBIT_IMPACTS)
-    starts = _check_starts(starts)
+    starts = check_starts(starts)
     period_doubling = check_bool("period_doubling", period_doubling)
     scan_width = check_float("scan_width", scan_width, 0.0, MAX_SCAN_WIDTH, low_open=True)
     t_max = _check_t_max(params, t_max)
@@ -615,27 +613,6 @@ def multi_impact_orbits(
         n += 1
         out.append(_relabel(o, f"M{p}-{n}"))
     return tuple(out)
-
-
-def _check_starts(starts) -> list[tuple[complex, complex]] | None:
-    """``starts`` as a list of checked initial states (u0, du0), or None."""
-    if starts is None:
-        return None
-    listed = isinstance(starts, (list, tuple)) or (isinstance(starts, np.ndarray) and starts.ndim >= 1)
-    if not listed or len(starts) > MAX_STARTS:
-        raise ParameterError(f"starts = {quoted(starts)} is invalid; allowed: a list of at most {MAX_STARTS} initial "
-                             "states (u0, du0), or None")
-    out = []
-    for i, start in enumerate(starts):
-        if not is_pair(start):
-            raise ParameterError(f"starts[{i}] = {quoted(start)} is invalid; allowed: an initial state (u0, du0), two "
-                                 "complex numbers")
-        try:
-            out.append(check_start(*start))
-        except ParameterError as exc:
-            raise ParameterError(f"starts[{i}] = {quoted(start)} is invalid; allowed: an initial state (u0, du0) "
-                                 f"that rotorcontact.simulate takes ({exc})") from None
-    return out
 
 
 def _pd_branch_orbit(params: Parameters, parent: ImpactOrbit, width: float, t_max: float) -> MultiImpactOrbit | None:

@@ -80,8 +80,8 @@ from .impact_map import (
 from ..simulation.motion import detect_period
 from ..model.params import BRANCH_PARAMETERS, MAX_VELOCITY, Parameters, check_finite, check_range
 from ..model.validation import (check_bool, check_choice, check_float, check_int, check_length, check_params,
-                                check_type, complex_value, is_pair, quoted, real_array)
-from ..simulation.simulator import simulate
+                                check_type, is_pair, quoted, real_array)
+from ..simulation.simulator import check_start, simulate
 
 __all__ = [
     "CONTINUATION_PARAMETERS",
@@ -94,6 +94,8 @@ __all__ = [
     "periodic_residual",
     "solve_multi_impact",
     "orbits_from_simulation",
+    "check_starts",
+    "MAX_STARTS",
     "orbits_from_grid",
     "find_period_doubling",
     "period_doubling_at",
@@ -545,7 +547,8 @@ def orbits_from_simulation(
     t_transient = check_range("t_transient", t_transient, low=0.0)
     t_record = check_range("t_record", t_record, low=0.0, low_open=True)
     found: list[MultiImpactOrbit] = []
-    for u0, du0 in _default_starts() if starts is None else _check_starts(starts):
+    starts = check_starts(starts)
+    for u0, du0 in _default_starts() if starts is None else starts:
         traj = simulate(params, u0, du0, t_transient + t_record)
         imp = traj.impacts
         if len(imp) == 0:
@@ -581,20 +584,36 @@ MAX_GRID_POINTS = 20000
 MIN_FLIGHT = 1e-3
 
 
-#: Most starts of `orbits_from_simulation`: each is a whole simulation.
+#: Most starts of `orbits_from_simulation`: each is a simulation over 1800 time units (a quarter of a
+#: second or more), so a thousand take minutes.
 MAX_STARTS = 1000
 
 
-def _check_starts(starts) -> list[tuple[complex, complex]]:
-    """``starts`` as a list of (u0, du0) pairs of complex numbers, at most `MAX_STARTS`."""
-    if not isinstance(starts, (list, tuple)) or not starts:
-        raise ParameterError(f"starts = {quoted(starts)} is invalid; allowed: a non-empty list of (u0, du0) pairs")
-    check_length("starts", starts, MAX_STARTS)
+def check_starts(starts) -> list[tuple[complex, complex]] | None:
+    """``starts`` as a list of initial states (u0, du0) checked as `rotorcontact.simulate` checks them, at
+    most `MAX_STARTS` (none: no simulation); None stays None (the default starts).
+
+    Raises
+    ------
+    ParameterError
+        Naming ``starts``, or ``starts[i]`` for the first state that is not a pair `simulate` takes.
+    """
+    if starts is None:
+        return None
+    listed = isinstance(starts, (list, tuple)) or (isinstance(starts, np.ndarray) and starts.ndim >= 1)
+    if not listed or len(starts) > MAX_STARTS:
+        raise ParameterError(f"starts = {quoted(starts)} is invalid; allowed: a list of at most {MAX_STARTS} initial "
+                             "states (u0, du0), or None")
     out = []
     for i, start in enumerate(starts):
         if not is_pair(start):
-            raise ParameterError(f"starts[{i}] = {start!r} is invalid; allowed: (u0, du0), two complex numbers")
-        out.append((complex_value(f"starts[{i}][0]", start[0]), complex_value(f"starts[{i}][1]", start[1])))
+            raise ParameterError(f"starts[{i}] = {quoted(start)} is invalid; allowed: an initial state (u0, du0), two "
+                                 "complex numbers")
+        try:
+            out.append(check_start(*start))
+        except ParameterError as exc:
+            raise ParameterError(f"starts[{i}] = {quoted(start)} is invalid; allowed: an initial state (u0, du0) "
+                                 f"that rotorcontact.simulate takes ({exc})") from None
     return out
 
 
