@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from rotorcontact import ParameterError
@@ -118,3 +120,14 @@ def test_0d_arrays_are_their_value():
         check_float("x", np.array([0.5]))
     with pytest.raises(ParameterError, match=r"^f = .* is invalid; allowed: True or False$"):
         check_bool("f", np.array("True"))
+
+
+def test_finite_array_reads_finite_reals_of_a_shape():
+    from rotorcontact.model.validation import finite_array
+
+    assert finite_array("v", [1, 2.5], "numbers").tolist() == [1.0, 2.5]
+    assert finite_array("m", [[1.0], [2.0]], "rows", ndims=(2,), rows=2).shape == (2, 1)
+    for value, kw in (([], {}), ([1.0, math.nan], {}), ([[1.0]], {}), ("x", {}), ([1.0], dict(min_rows=2)),
+                      ([1.0, 2.0], dict(rows=3)), ([1.0, True], {})):
+        with pytest.raises(ParameterError, match=r"^v = .* is invalid; allowed: what v may be$"):
+            finite_array("v", value, "what v may be", **kw)

@@ -25,12 +25,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from ..errors import ParameterError
-from ..model.validation import check_float, check_type, quoted, real_array
+from ..model.validation import check_float, check_type, finite_array, quoted
 from ..simulation.motion import MAX_PERIOD_IMPACTS, REPEAT_TOL
 from ..simulation.trajectory import Trajectory
 
@@ -118,15 +117,6 @@ def final_regime(traj: Trajectory, tol: float = REPEAT_TOL) -> FinalRegime | Non
     return FinalRegime("periodic", float(np.asarray(imp.t)[later][start]), p)
 
 
-def _finite_array(name: str, value: Any, ndims: tuple[int, ...], allowed: str) -> np.ndarray:
-    """``value`` as an array of floats if it holds finite real numbers only, with one of ``ndims`` dimensions
-    and at least one row; else a `ParameterError` naming ``name``."""
-    arr = real_array(value)
-    if arr is None or arr.ndim not in ndims or arr.shape[0] < 1 or not np.all(np.isfinite(arr)):
-        raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {allowed}")
-    return arr
-
-
 def subwindow_rates(times: np.ndarray, sums: np.ndarray, edges: np.ndarray) -> np.ndarray:
     """Average rates of running sums over the sub-windows between ``edges``.
 
@@ -141,16 +131,16 @@ def subwindow_rates(times: np.ndarray, sums: np.ndarray, edges: np.ndarray) -> n
         Unless ``times`` are finite and non-decreasing, ``sums`` finite of shape (len(times), n_sums) and
         ``edges`` at least two finite, increasing times.
     """
-    t = _finite_array("times", times, (1,), "a list of finite, non-decreasing times")
+    t = finite_array("times", times, "a list of finite, non-decreasing times")
     if np.any(np.diff(t) < 0.0):
         raise ParameterError(f"times = {quoted(times)} is invalid (they decrease); allowed: a list of finite, "
                              "non-decreasing times")
     one_row_per_time = f"finite running sums, an array of shape ({t.size}, n_sums): one row per time"
-    s = _finite_array("sums", sums, (2,), one_row_per_time)
+    s = finite_array("sums", sums, one_row_per_time, ndims=(2,))
     if s.shape[0] != t.size:
         raise ParameterError(f"sums = {quoted(sums)} is invalid (shape {s.shape} for {t.size} times); allowed: "
                              f"{one_row_per_time}")
-    e = _finite_array("edges", edges, (1,), "at least two finite, increasing times")
+    e = finite_array("edges", edges, "at least two finite, increasing times")
     if e.size < 2 or not np.all(np.diff(e) > 0.0):
         raise ParameterError(f"edges = {quoted(edges)} is invalid; allowed: at least two finite, increasing times")
     return _subwindow_rates(t, s, e)
@@ -174,8 +164,8 @@ def spread(rates: np.ndarray) -> np.ndarray:
     ParameterError
         Unless ``rates`` are finite real numbers in an array of shape (k,) or (k, n_rates), k >= 1.
     """
-    return _spread(_finite_array("rates", rates, (1, 2), "finite real numbers, one row per sub-window: an array "
-                                 "of shape (k,) or (k, n_rates) with k >= 1"))
+    return _spread(finite_array("rates", rates, "finite real numbers, one row per sub-window: an array of shape "
+                                "(k,) or (k, n_rates) with k >= 1", ndims=(1, 2)))
 
 
 def _spread(rates: np.ndarray) -> np.ndarray:

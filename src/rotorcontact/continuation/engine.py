@@ -66,6 +66,7 @@ from ..model.validation import (
     check_float,
     check_int,
     check_type,
+    finite_array,
     quoted,
     real_array,
     settings_or_default,
@@ -131,12 +132,8 @@ def check_max_points(value, name: str = "max_points") -> int:
 def _vector(name: str, value, length: int | None = None, min_length: int = 1) -> np.ndarray:
     """``value`` as a 1-d array of finite floats (of ``length``, or at least ``min_length``), else a
     `ParameterError` naming ``name``."""
-    v = real_array(value)
-    if (v is None or v.ndim != 1 or len(v) < min_length or (length is not None and len(v) != length)
-            or not np.all(np.isfinite(v))):
-        size = f"{length}" if length is not None else f"at least {min_length}"
-        raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: a vector of {size} finite numbers")
-    return v
+    size = f"{length}" if length is not None else f"at least {min_length}"
+    return finite_array(name, value, f"a vector of {size} finite numbers", min_rows=min_length, rows=length)
 
 
 def _check_index(name: str, value, n: int) -> int:

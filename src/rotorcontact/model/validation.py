@@ -18,8 +18,8 @@ from ..errors import ParameterError
 from .params import Parameters, check_finite, refuse_bool_or_text
 
 __all__ = ["MAX_COUNT", "check_params", "check_machine", "check_machine_params", "check_type", "check_fields",
-           "check_broadcast", "quoted", "check_int", "check_float", "check_choice", "real_array", "complex_array",
-           "check_bool", "check_path", "check_length", "is_pair", "settings_or_default"]
+           "check_broadcast", "finite_array", "quoted", "check_int", "check_float", "check_choice", "real_array",
+           "complex_array", "check_bool", "check_path", "check_length", "is_pair", "settings_or_default"]
 
 
 #: Longest repr of a value quoted in a message; longer ones (a dataset, a long list) are cut.
@@ -125,6 +125,18 @@ def complex_array(value: Any) -> np.ndarray | None:
     """``value`` as an array of complex numbers if it holds integers, reals or complex numbers only; None
     for text, bools, ragged lists or other objects (`real_array`'s rule, complex numbers allowed)."""
     return _numbers(value, "iufc", complex)
+
+
+def finite_array(name: str, value: Any, allowed: str, *, ndims: tuple[int, ...] = (1,), min_rows: int = 1,
+                 rows: int | None = None) -> np.ndarray:
+    """``value`` as an array of floats if it holds finite real numbers only (`real_array`), with one of
+    ``ndims`` dimensions and at least ``min_rows`` rows (exactly ``rows`` if given); else a `ParameterError`
+    naming ``name``, the value and ``allowed``."""
+    arr = real_array(value)
+    if (arr is None or arr.ndim not in ndims or (arr.ndim and arr.shape[0] < min_rows)
+            or (rows is not None and (arr.ndim == 0 or arr.shape[0] != rows)) or not np.all(np.isfinite(arr))):
+        raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {allowed}")
+    return arr
 
 
 def check_length(name: str, values: Any, most: int) -> None:
