@@ -249,3 +249,55 @@ def test_no_crossing_at_the_regular_equilibrium_over_a_long_horizon():
     p = REF.replace(gamma=0.3)
     k = k_of(p)
     assert next_crossing(0j, 0j, k, p.gamma, p.omega, 1e6, False) == (NO_CROSSING, 1e6)
+
+
+def f_derivative(d, n):
+    """The n-th derivative of f = |U|^2 - 1 from [U, U', ..., U^(n)] (Leibniz)."""
+    return sum(math.comb(n, j) * (mp.conj(d[j]) * d[n - j]).real for j in range(n + 1))
+
+
+@pytest.mark.parametrize("gamma", [0.0, 0.1, 0.6])
+@pytest.mark.parametrize("start", [(0.3 + 0.2j, 0.4 - 0.1j), (-0.5j, 0.9 + 0.3j), (0.7, 0j)])
+def test_whirl_moments_bound_the_flight_and_every_derivative_of_f_ahead(ref, gamma, start):
+    """(|A| + |B|) e^{-gamma s/2} >= |W(s)| and slow_n e^{-gamma s/2} + fast_n e^{-gamma s} >= |f^(n)(s)|
+    (n = 2..5) at every time of the flight, f and its derivatives from mpmath's closed form."""
+    from rotorcontact.simulation.roots import _whirl_moments
+
+    p = REF.replace(gamma=gamma)
+    k = k_of(p)
+    u0, du0 = start
+    h2 = 0.25 * gamma * gamma - p.omega * p.omega
+    m = _whirl_moments(k, u0 - k, du0 + 1j * (u0 - k), gamma, h2)  # W, W' = V, V' + iV at s = 0
+    fl = ref.MPFlight(p.gamma, p.omega, p.rho, p.phi, u0, du0)
+    with mp.workdps(30):
+        for s in np.linspace(0.0, 12.0, 97):
+            d = fl.derivs(s, 5)
+            decay = math.exp(-0.5 * gamma * s)
+            assert float(abs(d[0] - fl.k)) <= m[0] * decay * (1 + 1e-13)
+            for n in range(2, 6):
+                bound = m[2 * n - 3] * decay + m[2 * n - 2] * decay * decay
+                assert abs(float(f_derivative(d, n))) <= bound * (1 + 1e-13)
+
+
+@pytest.mark.parametrize("gamma", [0.0, 0.1])
+def test_whirl_moments_are_exact_for_a_circular_whirl(ref, gamma):
+    """With B = 0 (W = A e^{mu_+ s}) the bound on |W| is |W| itself, and over a beat period the bounds on
+    f''' and f'''' are reached to within the decay of the terms over it."""
+    from rotorcontact.simulation.roots import _whirl_moments
+
+    p = REF.replace(gamma=gamma)
+    k = k_of(p)
+    h2 = 0.25 * gamma * gamma - p.omega * p.omega
+    mu_plus = complex(-0.5 * gamma, math.sqrt(-h2))
+    a = 0.4 + 0.1j
+    m = _whirl_moments(k, a, mu_plus * a, gamma, h2)
+    assert m[0] == pytest.approx(abs(a), rel=1e-14)
+    u0, du0 = k + a, (mu_plus - 1j) * a  # co-rotating: V = W e^{-is}
+    fl = ref.MPFlight(p.gamma, p.omega, p.rho, p.phi, u0, du0)
+    beat = 2 * math.pi / (1 - math.sqrt(-h2))
+    with mp.workdps(30):
+        for n in (3, 4):
+            ratio = max(abs(float(f_derivative(fl.derivs(s, n), n)))
+                        / (m[2 * n - 3] * math.exp(-0.5 * gamma * s) + m[2 * n - 2] * math.exp(-gamma * s))
+                        for s in np.linspace(0.0, beat, 400))
+            assert math.exp(-0.5 * gamma * beat) * 0.99 <= ratio <= 1 + 1e-13

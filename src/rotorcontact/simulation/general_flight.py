@@ -242,6 +242,9 @@ def next_impact(flight, spin, horizon, on_boundary, liftoff, stator):
         speed = abs(complex(dx[0, 1], dy[0, 1]))
         reach = abs(complex(dx[0, 0], dy[0, 0]))
         ftol = 16.0 * EPS * (reach * reach + 1.0)
+        # f' = 2 Re(conj(Z) Z') within its rounding error is no slope: the wall is touched, not hit (as at a
+        # lift-off, where f = O(s^3))
+        slope_tol = 16.0 * EPS * (1.0 + reach) * speed
         if on_boundary and s == 0.0:
             f = 0.0
             if fp > -ftol * (1.0 + speed * window):
@@ -258,7 +261,7 @@ def next_impact(flight, spin, horizon, on_boundary, liftoff, stator):
                     continue
                 fp = min(fp, 0.0)
         elif f >= -ftol:
-            if fp > 0.0:
+            if fp > slope_tol:
                 root = _polish(flight, spin, s, f, fp, fpp, dx, dy, stator, sx, sy)
                 if root >= 0.0:
                     return CROSSING, root
@@ -268,7 +271,7 @@ def next_impact(flight, spin, horizon, on_boundary, liftoff, stator):
         z_b = np.sqrt(bx * bx + by * by)
         h = min(crossing_free_step(f, fp, fpp, f3, f4, z_b[0], z_b[1], z_b[2], z_b[3], z_b[4], z_b[5]), width)
         if s + h == s:
-            if fp > 0.0:
+            if fp > slope_tol:
                 root = _polish(flight, spin, s, f, fp, fpp, dx, dy, stator, sx, sy)
                 if root >= 0.0:
                     return CROSSING, root

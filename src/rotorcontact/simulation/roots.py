@@ -7,16 +7,20 @@ of the flight. At a point with f < 0, Taylor's theorem gives
     f(s + h) <= f + f' h + M2 h^2 / 2                     (M2 >= |f''| ahead)
 
 so no crossing lies before the first positive root of either right-hand side,
-and the step to it is safe. The bounds M2, M3 are rigorous: |U| = |Z| with Z
-the inertial position, and in the flight's own inertial frame
+and the step to it is safe (`_step_from_moments` also uses the exact f''' and
+f'''' with bounds up to M5). The bounds are rigorous. In the flight's own
+inertial frame Z(s) = U(s) e^{is} (|Z| = |U|),
 
-    Z(s) = k e^{i s} + W(s),   W'' + gamma W' + omega^2 W = 0,
+    Z(s) = k e^{i s} + W(s),   W'' + gamma W' + omega^2 W = 0.
 
-so every derivative obeys W^{(n)}(s + h) = e^{-gamma h/2}[C(h) p_n + S(h) q_n]
-(p_n = W^{(n)}(s), q_n = gamma p_n / 2 + p_{n+1}, C and S as in `flow`), which
-gives |W^{(n)}| <= sqrt(|p_n|^2 + |q_n|^2 / nu^2) for all h >= 0 when the flow
-is underdamped with gamma >= 0, and |W^{(n)}| <= Cmax |p_n| + Smax |q_n| on a
-finite window otherwise; then |Z^{(n)}| <= |k| + |W^{(n)}|.
+When the flow is underdamped with gamma >= 0 (a decaying whirl), W = A e^{mu_+ s}
++ B e^{mu_- s}, so f is a constant plus decaying exponentials of known rates and
+|f^{(n)}| ahead is at most the sum of their moduli times their rates to the n
+(`_whirl_moments`). Otherwise every derivative obeys W^{(n)}(s + h) =
+e^{-gamma h/2}[C(h) p_n + S(h) q_n] (p_n = W^{(n)}(s), q_n = gamma p_n / 2 +
+p_{n+1}, C and S as in `flow`), which gives |W^{(n)}| <= Cmax |p_n| + Smax |q_n|
+on a finite window, and |Z^{(n)}| <= |k| + |W^{(n)}| bounds the derivatives of
+f = |Z|^2 - 1 (`_step_from_bounds`).
 
 Stepping never crosses the surface. Near a transversal crossing the steps
 converge to it from below at least quadratically (like Newton); near a tangency
@@ -45,6 +49,8 @@ ITERATION_LIMIT = 3
 
 MAX_STEPS = 200_000
 EPS = 2.220446049250313e-16
+#: f' above this (|U|^2 per unit time) is a transversal crossing, whose sign rounding cannot change
+TRANSVERSAL_SLOPE = 1e-8
 
 
 @njit(cache=True)
@@ -117,32 +123,27 @@ def _dot(a: complex, b: complex) -> float:
 
 
 @njit(cache=True)
-def _step_from_bounds(f, fp, fpp, f3, f4, z0, z1, z2, z3, z4, z5):
-    """Largest crossing-free step given bounds z_n >= |Z^{(n)}| ahead.
+def _step_from_moments(f, fp, fpp, f3, f4, m2, m3, m4, m5):
+    """Largest crossing-free step given bounds m_n >= |f^(n)| ahead (n = 2 to 5).
 
-    With M3 >= |f3| and M4 >= |f4| ahead, for h in [0, S]
+    With those bounds, for h in [0, S]
 
         f(h) <= f + f1 h + c2(S) h^2 / 2,
         c2(S) = min(f2 + M3 S / 3,
                     f2 + max(f3, 0) S / 3 + M4 S^2 / 12,
                     f2 + max(f3, 0) S / 3 + max(f4, 0) S^2 / 12 + M5 S^3 / 60),
 
-    (h^n / n! <= S^(n-2) h^2 / n! on [0, S]; M_n = sum_j C(n, j) z_j z_(n-j)),
-
-    so min(S, first root of that quadratic) is safe for any trial S, and a
-    few trials pick a good one. The second-order bound M2 >= |f2| gives a
-    safe step to start from.
+    (h^n / n! <= S^(n-2) h^2 / n! on [0, S]), so min(S, first root of that
+    quadratic) is safe for any trial S, and a few trials pick a good one. The
+    second-order bound M2 gives a safe step to start from.
     """
-    best = _first_positive_root(f, fp, 2.0 * z1 * z1 + 2.0 * z0 * z2)
-    m3 = 6.0 * z1 * z2 + 2.0 * z0 * z3
-    m4 = 6.0 * z2 * z2 + 8.0 * z1 * z3 + 2.0 * z0 * z4
-    m5 = 2.0 * z0 * z5 + 10.0 * z1 * z4 + 20.0 * z2 * z3
+    best = _first_positive_root(f, fp, m2)
     f3p = max(f3, 0.0)
     f4p = max(f4, 0.0)
     trial = 2.0 * best
     if fpp < 0.0:
         trial = max(trial, -1.5 * fpp / m3)
-    for _ in range(5):
+    for _ in range(3):
         t2 = trial * trial
         c2 = min(
             fpp + m3 * trial / 3.0,
@@ -157,6 +158,19 @@ def _step_from_bounds(f, fp, fpp, f3, f4, z0, z1, z2, z3, z4, z5):
             best = max(best, g)
             trial = 0.5 * (g + trial)
     return best
+
+
+@njit(cache=True)
+def _step_from_bounds(f, fp, fpp, f3, f4, z0, z1, z2, z3, z4, z5):
+    """Largest crossing-free step given bounds z_n >= |Z^(n)| ahead: `_step_from_moments` with the bounds
+    M_n = sum_j C(n, j) z_j z_(n-j) on the derivatives of f = |Z|^2 - 1."""
+    return _step_from_moments(
+        f, fp, fpp, f3, f4,
+        2.0 * z1 * z1 + 2.0 * z0 * z2,
+        6.0 * z1 * z2 + 2.0 * z0 * z3,
+        6.0 * z2 * z2 + 8.0 * z1 * z3 + 2.0 * z0 * z4,
+        2.0 * z0 * z5 + 10.0 * z1 * z4 + 20.0 * z2 * z3,
+    )
 
 
 #: Public name of the crossing-free step from derivative bounds, for other flights (`general_flight`).
@@ -176,16 +190,64 @@ def _derivatives(w: complex, dw: complex, gamma: float, omega: float):
 
 
 @njit(cache=True)
-def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, window):
-    """Largest step from the current point guaranteed free of crossings."""
+def _whirl_moments(k: complex, w: complex, dw: complex, gamma: float, h2: float):
+    """Bounds on |W| and on the derivatives of f ahead of any point of an underdamped flight with gamma >= 0.
+
+    There W = A e^{mu_+ s} + B e^{mu_- s}, mu_+- = -gamma/2 +- i nu, so with
+    Z = k e^{is} + W
+
+        f = |k|^2 - 1 + (|A|^2 + |B|^2) e^{-gamma s} + 2 Re[k conj(A) e^{l1 s}]
+            + 2 Re[k conj(B) e^{l2 s}] + 2 Re[A conj(B) e^{l3 s}],
+
+    l1 = -gamma/2 + i(1 - nu), l2 = -gamma/2 + i(1 + nu), l3 = -gamma + 2i nu. No
+    term grows, so at time s and for every time after it
+
+        |W| <= (|A| + |B|) e^{-gamma s/2},
+        |f^(n)| <= slow_n e^{-gamma s/2} + fast_n e^{-gamma s},
+        slow_n = 2|k|(|A||l1|^n + |B||l2|^n),  fast_n = (|A|^2 + |B|^2) gamma^n + 2|A||B||l3|^n.
+
+    Returns (|A| + |B|, slow_2, fast_2, ..., slow_5, fast_5) for the flight from (w, dw) at s = 0.
+    """
     g2 = 0.5 * gamma
-    w2, w3, w4, w5, w6 = _derivatives(w, dw, gamma, omega)
-    q0 = g2 * w + dw
-    q1 = g2 * dw + w2
-    q2 = g2 * w2 + w3
-    q3 = g2 * w3 + w4
-    q4 = g2 * w4 + w5
-    q5 = g2 * w5 + w6
+    nu = math.sqrt(-h2)
+    a = complex_quotient(g2 * w + dw + 1j * nu * w, 2j * nu)  # (dw - mu_- w) / (mu_+ - mu_-)
+    a_abs = abs(a)
+    b_abs = abs(w - a)
+    k_abs = abs(k)
+    l1 = abs(complex(-g2, 1.0 - nu))
+    l2 = abs(complex(-g2, 1.0 + nu))
+    l3 = abs(complex(-gamma, 2.0 * nu))
+    ka = 2.0 * k_abs * a_abs
+    kb = 2.0 * k_abs * b_abs
+    p = a_abs * a_abs + b_abs * b_abs
+    ab = 2.0 * a_abs * b_abs
+    l1n, l2n, l3n, gn = l1 * l1, l2 * l2, l3 * l3, gamma * gamma
+    s2, f2 = ka * l1n + kb * l2n, p * gn + ab * l3n
+    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
+    s3, f3 = ka * l1n + kb * l2n, p * gn + ab * l3n
+    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
+    s4, f4 = ka * l1n + kb * l2n, p * gn + ab * l3n
+    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
+    s5, f5 = ka * l1n + kb * l2n, p * gn + ab * l3n
+    return a_abs + b_abs, s2, f2, s3, f3, s4, f4, s5, f5
+
+
+#: `_whirl_moments` of a flight that has none (not underdamped, or gamma < 0): its first entry is negative.
+NO_WHIRL = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@njit(cache=True)
+def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, window, whirl, decay):
+    """Largest step from the current point guaranteed free of crossings.
+
+    ``whirl`` holds `_whirl_moments` of the flight (`NO_WHIRL` where it has none), and ``decay`` is
+    e^{-gamma s/2} at the current point.
+    """
+    g2 = 0.5 * gamma
+    om2 = omega * omega
+    w2 = -gamma * dw - om2 * w
+    w3 = -gamma * w2 - om2 * dw
+    w4 = -gamma * w3 - om2 * w2
     kr = z - w  # k e^{is}
     ddz = -kr + w2
     dddz = -1j * kr + w3
@@ -194,29 +256,30 @@ def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, windo
     f4 = 6.0 * _dot(ddz, ddz) + 8.0 * _dot(dz, dddz) + 2.0 * _dot(z, ddddz)
     best = 0.0
     nu = math.sqrt(-h2) if h2 < 0.0 else 0.0
-    if gamma >= 0.0 and h2 < 0.0:
-        best = _step_from_bounds(
+    if whirl[0] >= 0.0:
+        d2 = decay * decay
+        best = _step_from_moments(
             f, fp, fpp, f3, f4,
-            k_abs + _bound(w, q0, 1.0, 1.0, True, nu),
-            k_abs + _bound(dw, q1, 1.0, 1.0, True, nu),
-            k_abs + _bound(w2, q2, 1.0, 1.0, True, nu),
-            k_abs + _bound(w3, q3, 1.0, 1.0, True, nu),
-            k_abs + _bound(w4, q4, 1.0, 1.0, True, nu),
-            k_abs + _bound(w5, q5, 1.0, 1.0, True, nu),
+            whirl[1] * decay + whirl[2] * d2,
+            whirl[3] * decay + whirl[4] * d2,
+            whirl[5] * decay + whirl[6] * d2,
+            whirl[7] * decay + whirl[8] * d2,
         )
     width = min(window, horizon)
     # the finite window helps only where the all-time bound is poor (growth, or nu small)
     if best < width and (gamma < 0.0 or nu < 0.5 * omega):
+        w5 = -gamma * w4 - om2 * w3
+        w6 = -gamma * w5 - om2 * w4
         cmax, smax = window_bounds(gamma, h2, width)
         h = min(
             _step_from_bounds(
                 f, fp, fpp, f3, f4,
-                k_abs + _bound(w, q0, cmax, smax, False, 1.0),
-                k_abs + _bound(dw, q1, cmax, smax, False, 1.0),
-                k_abs + _bound(w2, q2, cmax, smax, False, 1.0),
-                k_abs + _bound(w3, q3, cmax, smax, False, 1.0),
-                k_abs + _bound(w4, q4, cmax, smax, False, 1.0),
-                k_abs + _bound(w5, q5, cmax, smax, False, 1.0),
+                k_abs + _bound(w, g2 * w + dw, cmax, smax, False, 1.0),
+                k_abs + _bound(dw, g2 * dw + w2, cmax, smax, False, 1.0),
+                k_abs + _bound(w2, g2 * w2 + w3, cmax, smax, False, 1.0),
+                k_abs + _bound(w3, g2 * w3 + w4, cmax, smax, False, 1.0),
+                k_abs + _bound(w4, g2 * w4 + w5, cmax, smax, False, 1.0),
+                k_abs + _bound(w5, g2 * w5 + w6, cmax, smax, False, 1.0),
             ),
             width,
         )
@@ -258,23 +321,16 @@ def _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window):
 
 
 @njit(cache=True)
-def _all_time_bound(w: complex, dw: complex, gamma: float, h2: float) -> float:
-    """Bound on |W(s)| for all s >= 0 of the decaying flow (gamma > 0).
+def _no_return_bound(w, dw, gamma, h2, whirl, decay):
+    """Bound on |W| at every time ahead of the current point, for the decaying flow (gamma > 0).
 
-    e^{-gamma s/2} C(s) <= 1 always; e^{-gamma s/2} S(s) <= 1/nu (underdamped,
-    where the two combine as a Euclidean norm), <= 1/(2 kappa) (overdamped,
-    kappa < gamma/2) and <= 2/(e gamma) (critical). Underdamped, W is also the
-    sum of two decaying circular motions A e^{(-gamma/2 + i nu) s} and
-    B e^{(-gamma/2 - i nu) s}, so |W| <= |A| + |B|, which is exact for a
-    circular whirl; the smaller of the two bounds is returned.
+    Underdamped: `_whirl_moments`' (|A| + |B|) e^{-gamma s/2} (``decay`` is e^{-gamma s/2}), exact for a
+    circular whirl. Otherwise, with q = gamma W / 2 + W', e^{-gamma s/2} C(s) <= 1 always and
+    e^{-gamma s/2} S(s) <= 1/(2 kappa) (overdamped, kappa < gamma/2) or <= 2/(e gamma) (critical).
     """
+    if whirl[0] >= 0.0:
+        return whirl[0] * decay
     q = 0.5 * gamma * w + dw
-    if h2 < 0.0:
-        nu = math.sqrt(-h2)
-        w_abs, q_abs = abs(w), abs(q)
-        euclid = math.sqrt(w_abs * w_abs + q_abs * q_abs / (-h2))
-        a = complex_quotient(q + 1j * nu * w, 2j * nu)  # dw - mu_minus w over (mu_plus - mu_minus)
-        return min(euclid, abs(a) + abs(w - a))
     if h2 > 0.0:
         return abs(w) + abs(q) / (2.0 * math.sqrt(h2))
     return abs(w) + abs(q) * 2.0 / (math.e * gamma)
@@ -328,6 +384,9 @@ def _polish(k, w0, dw0, s, f, fp, fpp, gamma, omega):
         s_new = max(s + h, s_safe)
         if s_new == s:
             break
+        if abs(h) <= 4.0 * EPS * (1.0 + s_new) and fp > 2.0 * abs(fpp * h) + TRANSVERSAL_SLOPE:
+            # a move at rounding level across a transversal crossing, where f' keeps its sign
+            return s_new
         s = s_new
         _z, _dz, _w, _dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
         if fp <= 0.0:
@@ -373,11 +432,18 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
     k_abs = abs(k)
     window = 1.0
     s = 0.0
+    if gamma >= 0.0 and h2 < 0.0:
+        whirl = _whirl_moments(k, w0, dw0, gamma, h2)
+    else:
+        whirl = NO_WHIRL
+    decay = 1.0
     for _ in range(MAX_STEPS):
         z, dz, w, dw, f, fp, fpp = _surface(k, w0, dw0, s, gamma, omega)
         reach = k_abs + abs(w)
         scale = reach * reach + 1.0
         ftol = 16.0 * EPS * scale
+        if whirl[0] >= 0.0:
+            decay = math.exp(-0.5 * gamma * s)
         if on_boundary and s == 0.0:
             f = 0.0
             if fp > -ftol * (1.0 + abs(dz)):
@@ -394,7 +460,7 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
                     s = h
                     continue
                 fp = min(fp, 0.0)
-        elif gamma > 0.0 and k_abs + _all_time_bound(w, dw, gamma, h2) < 1.0 - ftol:
+        elif gamma > 0.0 and k_abs + _no_return_bound(w, dw, gamma, h2, whirl, decay) < 1.0 - ftol:
             # |Z| <= |k| + |W| stays below 1 for ever: no impact in any horizon
             return NO_CROSSING, horizon
         elif f >= -ftol:
@@ -404,7 +470,7 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
                     return CROSSING, root
             # a tangency within rounding of the wall that does not reach it: walk past
             f = -ftol
-        h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon - s, window)
+        h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon - s, window, whirl, decay)
         if s + h == s:
             # the step is below the resolution of s: a crossing here, or a tangency to walk past
             if fp > 0.0:
