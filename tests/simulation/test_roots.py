@@ -301,3 +301,44 @@ def test_whirl_moments_are_exact_for_a_circular_whirl(ref, gamma):
                         / (m[2 * n - 3] * math.exp(-0.5 * gamma * s) + m[2 * n - 2] * math.exp(-gamma * s))
                         for s in np.linspace(0.0, beat, 400))
             assert math.exp(-0.5 * gamma * beat) * 0.99 <= ratio <= 1 + 1e-13
+
+
+@pytest.mark.parametrize("start", [(0.3 + 0.2j, 0.4 - 0.1j), (-0.5j, 0.9 + 0.3j), (0.2, 1.2j)])
+def test_model_root_brackets_the_crossing_ahead(ref, start):
+    """Near a transversal crossing, `_model_root`'s (h, e) holds the first crossing (mpmath) in [h - e, h + e];
+    it certifies from 0.1 before it, and within 1e-5 of it e is below the rounding of the crossing time."""
+    from rotorcontact.simulation.roots import _model_root, _whirl_moments
+
+    p = REF.replace(gamma=0.1)
+    k = k_of(p)
+    u0, du0 = start
+    h2 = 0.25 * p.gamma * p.gamma - p.omega * p.omega
+    m = _whirl_moments(k, u0 - k, du0 + 1j * (u0 - k), p.gamma, h2)
+    fl = ref.MPFlight(p.gamma, p.omega, p.rho, p.phi, u0, du0)
+    t_cross = ref.mp_first_crossing(fl, 30.0)
+    with mp.workdps(30):
+        assert fl.fp(t_cross) > 0.1  # transversal
+        for gap in (0.1, 1e-2, 1e-3, 1e-5, 1e-7):
+            s = float(t_cross) - gap
+            d = fl.derivs(s, 3)
+            f, fp, fpp, f3 = (float(f_derivative(d, n)) - (1.0 if n == 0 else 0.0) for n in range(4))
+            decay = math.exp(-0.5 * p.gamma * s)
+            m2 = m[1] * decay + m[2] * decay * decay
+            m4 = m[5] * decay + m[6] * decay * decay
+            h, e = _model_root(f, fp, fpp, f3, m2, m4)
+            assert math.isfinite(h) and 0.0 < e <= 0.25 * h
+            # the bracket, widened by the rounding of s and of f and its derivatives in double
+            assert abs(float(s + h - t_cross)) <= e + 8 * EPS * float(t_cross)
+            if gap <= 1e-5:
+                assert e <= 4 * EPS * (1 + s)
+
+
+def test_model_root_declines_far_from_the_wall_or_at_a_slope_too_small():
+    from rotorcontact.simulation.roots import _model_root
+
+    # |f'| small against the bound on f'' over the distance to the model's root: no certificate
+    h, e = _model_root(-1e-2, 1e-3, 0.0, 0.0, 1.0, 1.0)
+    assert math.isnan(h) and e == math.inf
+    # the quadratic model has no root ahead
+    h, e = _model_root(-1.0, 0.1, -1.0, 0.0, 1.0, 1.0)
+    assert math.isnan(h) and e == math.inf

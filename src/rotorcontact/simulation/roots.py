@@ -143,7 +143,7 @@ def _step_from_moments(f, fp, fpp, f3, f4, m2, m3, m4, m5):
     trial = 2.0 * best
     if fpp < 0.0:
         trial = max(trial, -1.5 * fpp / m3)
-    for _ in range(3):
+    for _ in range(2):
         t2 = trial * trial
         c2 = min(
             fpp + m3 * trial / 3.0,
@@ -234,42 +234,41 @@ def _whirl_moments(k: complex, w: complex, dw: complex, gamma: float, h2: float)
 
 #: `_whirl_moments` of a flight that has none (not underdamped, or gamma < 0): its first entry is negative.
 NO_WHIRL = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: The bounds M2 to M5 of a flight without `_whirl_moments`: none.
+NO_MOMENTS = (-1.0, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
-def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon, window, whirl, decay):
-    """Largest step from the current point guaranteed free of crossings.
-
-    ``whirl`` holds `_whirl_moments` of the flight (`NO_WHIRL` where it has none), and ``decay`` is
-    e^{-gamma s/2} at the current point.
-    """
-    g2 = 0.5 * gamma
-    om2 = omega * omega
-    w2 = -gamma * dw - om2 * w
-    w3 = -gamma * w2 - om2 * dw
-    w4 = -gamma * w3 - om2 * w2
+def _third_fourth(z, dz, w, dw, gamma, omega):
+    """The third and fourth derivatives of f = |Z|^2 - 1 at the current point (Leibniz, with
+    Z^(n) = i^n k e^{is} + W^(n))."""
+    w2, w3, w4, _w5, _w6 = _derivatives(w, dw, gamma, omega)
     kr = z - w  # k e^{is}
     ddz = -kr + w2
     dddz = -1j * kr + w3
     ddddz = kr + w4
     f3 = 6.0 * _dot(dz, ddz) + 2.0 * _dot(z, dddz)
     f4 = 6.0 * _dot(ddz, ddz) + 8.0 * _dot(dz, dddz) + 2.0 * _dot(z, ddddz)
+    return f3, f4
+
+
+@njit(cache=True)
+def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, gamma, omega, h2, horizon, window, moments):
+    """Largest step from the current point guaranteed free of crossings.
+
+    ``f3``, ``f4`` are the third and fourth derivatives of f there (`_third_fourth`); ``moments`` holds
+    the bounds M2 to M5 on the magnitudes of its second to fifth derivatives ahead of a decaying whirl
+    (from `_whirl_moments`), its first entry negative where the flight has none (`NO_MOMENTS`).
+    """
+    g2 = 0.5 * gamma
     best = 0.0
     nu = math.sqrt(-h2) if h2 < 0.0 else 0.0
-    if whirl[0] >= 0.0:
-        d2 = decay * decay
-        best = _step_from_moments(
-            f, fp, fpp, f3, f4,
-            whirl[1] * decay + whirl[2] * d2,
-            whirl[3] * decay + whirl[4] * d2,
-            whirl[5] * decay + whirl[6] * d2,
-            whirl[7] * decay + whirl[8] * d2,
-        )
+    if moments[0] >= 0.0:
+        best = _step_from_moments(f, fp, fpp, f3, f4, moments[0], moments[1], moments[2], moments[3])
     width = min(window, horizon)
     # the finite window helps only where the all-time bound is poor (growth, or nu small)
     if best < width and (gamma < 0.0 or nu < 0.5 * omega):
-        w5 = -gamma * w4 - om2 * w3
-        w6 = -gamma * w5 - om2 * w4
+        w2, w3, w4, w5, w6 = _derivatives(w, dw, gamma, omega)
         cmax, smax = window_bounds(gamma, h2, width)
         h = min(
             _step_from_bounds(
@@ -296,10 +295,7 @@ def _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window):
     """
     g2 = 0.5 * gamma
     w2, w3, w4, w5, _w6 = _derivatives(w, dw, gamma, omega)
-    kr = z - w  # k e^{is}
-    ddz = -kr + w2
-    dddz = -1j * kr + w3
-    f3 = 6.0 * (dz.real * ddz.real + dz.imag * ddz.imag) + 2.0 * (z.real * dddz.real + z.imag * dddz.imag)
+    f3 = _third_fourth(z, dz, w, dw, gamma, omega)[0]
     if f3 >= 0.0:
         return 0.0
     width = min(window, horizon)
@@ -362,6 +358,33 @@ def _nearest_root(f: float, fp: float, fpp: float) -> float:
 
 #: Public name of the quadratic model's nearest root, the polishing step of a crossing.
 nearest_root_step = _nearest_root
+
+
+@njit(cache=True)
+def _model_root(f, fp, fpp, f3, m2, m4):
+    """A crossing ahead located by the cubic Taylor model of f: (h, e) with the first crossing in [h - e, h + e].
+
+    For f < 0 < f' with M2 >= |f''| and M4 >= |f''''| ahead, let P(x) = f + f' x + f'' x^2/2 +
+    f''' x^3/6 and h a root of P (Newton from the quadratic model's root), H = 5h/4. On [0, H], f'
+    >= f' - M2 H > 0, so f rises through at most one crossing there, and |f - P| <= M4 H^4/24, so
+    f(h) lies within |P(h)| + M4 H^4/24 of 0 and the crossing within e = that over (f' - M2 H) of h.
+    When e <= h/4 that crossing lies in [0, H] and is the first. Returns (nan, inf) where the model
+    does not certify one (far from the wall, f' too small, or the model without a root).
+    """
+    h = _nearest_root(f, fp, fpp)
+    if not h > 0.0:
+        return math.nan, math.inf
+    for _ in range(2):
+        h -= (f + h * (fp + h * (0.5 * fpp + h * f3 / 6.0))) / (fp + h * (fpp + 0.5 * h * f3))
+    big = 1.25 * h
+    slope = fp - m2 * big
+    if not (h > 0.0 and slope > 0.0):
+        return math.nan, math.inf
+    residual = abs(f + h * (fp + h * (0.5 * fpp + h * f3 / 6.0)))
+    e = (residual + m4 * big * big * big * big / 24.0) / slope
+    if not e <= 0.25 * h:
+        return math.nan, math.inf
+    return h, e
 
 
 @njit(cache=True)
@@ -444,6 +467,7 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
         ftol = 16.0 * EPS * scale
         if whirl[0] >= 0.0:
             decay = math.exp(-0.5 * gamma * s)
+        inside = True  # f < 0 beyond rounding
         if on_boundary and s == 0.0:
             f = 0.0
             if fp > -ftol * (1.0 + abs(dz)):
@@ -470,7 +494,23 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
                     return CROSSING, root
             # a tangency within rounding of the wall that does not reach it: walk past
             f = -ftol
-        h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, gamma, omega, h2, horizon - s, window, whirl, decay)
+            inside = False
+        f3, f4 = _third_fourth(z, dz, w, dw, gamma, omega)
+        moments = NO_MOMENTS
+        h = -1.0
+        if whirl[0] >= 0.0:
+            d2 = decay * decay
+            moments = (whirl[1] * decay + whirl[2] * d2, whirl[3] * decay + whirl[4] * d2,
+                       whirl[5] * decay + whirl[6] * d2, whirl[7] * decay + whirl[8] * d2)
+            if inside and fp > 0.0:
+                # near a transversal crossing: the cubic model locates it, or steps to just short of it
+                hm, e = _model_root(f, fp, fpp, f3, moments[0], moments[2])
+                if s + hm + e < horizon:
+                    if e <= 4.0 * EPS * (1.0 + s):
+                        return CROSSING, s + hm
+                    h = hm - e
+        if h < 0.0:
+            h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, gamma, omega, h2, horizon - s, window, moments)
         if s + h == s:
             # the step is below the resolution of s: a crossing here, or a tangency to walk past
             if fp > 0.0:
