@@ -49,7 +49,7 @@ from typing import Any, Callable, Iterable, Literal, Sequence
 import numpy as np
 from scipy.optimize import brentq
 
-from ..model.angles import angle_difference, wrap_angle
+from ..model.angles import angle_difference, point_angle, wrap_angle
 from ..errors import ParameterError
 from ..model import contact_law
 from ..model.flow import flight_coefficients, has_regular_equilibrium
@@ -594,7 +594,7 @@ def regular_equilibrium(params: Parameters) -> RegularEquilibrium:
     return RegularEquilibrium(
         exists=True,
         r=r,
-        theta=wrap_angle(math.atan2(k.imag, k.real)),
+        theta=point_angle(k),
         u=k,
         admissible=r < 1.0,
         stable=stable,
@@ -743,7 +743,7 @@ def boundary_equilibrium(params: Parameters) -> BoundaryEquilibrium:
         )
     pb = p.replace(gamma=gs)
     k = pb.k
-    theta_b = wrap_angle(math.atan2(k.imag, k.real))
+    theta_b = point_angle(k)
     xb = np.array([1.0, theta_b, 0.0, 0.0])
     fx = polar_jacobian(xb, pb)
     fg = polar_field_gamma(xb, pb)

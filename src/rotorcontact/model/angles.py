@@ -1,6 +1,7 @@
 """Angles in the package's convention, (-pi, pi].
 
-`wrap_angle` is a compiled kernel for compiled loops: it takes a float unchecked. `angle_difference` is
+`wrap_angle` and `point_angle` are compiled kernels for compiled loops: they take a float or a complex
+number unchecked. `angle_difference` is
 its checked form for Python.
 """
 
@@ -18,10 +19,16 @@ __all__ = ["wrap_angle", "angle_difference"]
 
 
 @njit(cache=True)
+def point_angle(u: complex) -> float:
+    """The polar angle of the point u in (-pi, pi] (atan2's -pi, on the negative real axis, is pi)."""
+    y = math.atan2(u.imag, u.real)
+    return math.pi if y <= -math.pi else y
+
+
+@njit(cache=True)
 def wrap_angle(angle: float) -> float:
     """Return ``angle`` wrapped into (-pi, pi] (usable from Python and from compiled kernels)."""
-    y = math.atan2(math.sin(angle), math.cos(angle))
-    return math.pi if y <= -math.pi else y
+    return point_angle(complex(math.cos(angle), math.sin(angle)))
 
 
 @njit(cache=True)

@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from ..interpreted import complex_quotient
-from ..model.angles import wrap_angle
+from ..model.angles import point_angle
 from ..model.machine_model import (
     effective_mass_factor, impact_dissipation, impact_duration, impact_with_spin, kinetic_energy, race_spin,
     rolling_whirl_rate, surface_velocity,
@@ -433,7 +433,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
             vb_end = complex(y_e[13], y_e[14])
             n_end = complex_quotient(z_end - zb_end, abs(z_end - zb_end))
             row[0] = t0
-            row[1] = wrap_angle(math.atan2(normal.imag, normal.real))
+            row[1] = point_angle(normal)
             row[2] = w.real
             row[3] = y_e[8]
             row[4] = y_e[9]
@@ -484,7 +484,7 @@ def drop_kernel(mass, clearance, ecc, radius, mu, d, kx, ky, cx, cy, fs, g, pola
                                   effective_mass_factor(mass, radius, inv_p, race_radius, inv_race))
         dissipated += lost
         row[0] = t
-        row[1] = wrap_angle(math.atan2(z.imag, z.real))
+        row[1] = point_angle(z)
         row[2] = v_n
         row[3] = p_n
         row[4] = p_t

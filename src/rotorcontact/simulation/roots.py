@@ -206,7 +206,7 @@ def _whirl_moments(k: complex, w: complex, dw: complex, gamma: float, h2: float)
         |f^(n)| <= slow_n e^{-gamma s/2} + fast_n e^{-gamma s},
         slow_n = 2|k|(|A||l1|^n + |B||l2|^n),  fast_n = (|A|^2 + |B|^2) gamma^n + 2|A||B||l3|^n.
 
-    Returns (|A| + |B|, slow_2, fast_2, ..., slow_5, fast_5) for the flight from (w, dw) at s = 0.
+    Returns (|A| + |B|, slow_2, fast_2, ..., slow_7, fast_7) for the flight from (w, dw) at s = 0.
     """
     g2 = 0.5 * gamma
     nu = math.sqrt(-h2)
@@ -229,13 +229,17 @@ def _whirl_moments(k: complex, w: complex, dw: complex, gamma: float, h2: float)
     s4, f4 = ka * l1n + kb * l2n, p * gn + ab * l3n
     l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
     s5, f5 = ka * l1n + kb * l2n, p * gn + ab * l3n
-    return a_abs + b_abs, s2, f2, s3, f3, s4, f4, s5, f5
+    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
+    s6, f6 = ka * l1n + kb * l2n, p * gn + ab * l3n
+    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
+    s7, f7 = ka * l1n + kb * l2n, p * gn + ab * l3n
+    return a_abs + b_abs, s2, f2, s3, f3, s4, f4, s5, f5, s6, f6, s7, f7
 
 
 #: `_whirl_moments` of a flight that has none (not underdamped, or gamma < 0): its first entry is negative.
-NO_WHIRL = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-#: The bounds M2 to M5 of a flight without `_whirl_moments`: none.
-NO_MOMENTS = (-1.0, 0.0, 0.0, 0.0)
+NO_WHIRL = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+#: The bounds M2 to M7 of a flight without `_whirl_moments`: none.
+NO_MOMENTS = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
@@ -253,11 +257,26 @@ def _third_fourth(z, dz, w, dw, gamma, omega):
 
 
 @njit(cache=True)
+def _fifth_sixth(z, dz, w, dw, gamma, omega):
+    """The fifth and sixth derivatives of f = |Z|^2 - 1 at the current point (as `_third_fourth`)."""
+    w2, w3, w4, w5, w6 = _derivatives(w, dw, gamma, omega)
+    kr = z - w  # k e^{is}
+    z2 = -kr + w2
+    z3 = -1j * kr + w3
+    z4 = kr + w4
+    z5 = 1j * kr + w5
+    z6 = -kr + w6
+    f5 = 2.0 * _dot(z, z5) + 10.0 * _dot(dz, z4) + 20.0 * _dot(z2, z3)
+    f6 = 2.0 * _dot(z, z6) + 12.0 * _dot(dz, z5) + 30.0 * _dot(z2, z4) + 20.0 * _dot(z3, z3)
+    return f5, f6
+
+
+@njit(cache=True)
 def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, gamma, omega, h2, horizon, window, moments):
     """Largest step from the current point guaranteed free of crossings.
 
     ``f3``, ``f4`` are the third and fourth derivatives of f there (`_third_fourth`); ``moments`` holds
-    the bounds M2 to M5 on the magnitudes of its second to fifth derivatives ahead of a decaying whirl
+    the bounds M2 to M7 on the magnitudes of its second to seventh derivatives ahead of a decaying whirl
     (from `_whirl_moments`), its first entry negative where the flight has none (`NO_MOMENTS`).
     """
     g2 = 0.5 * gamma
@@ -361,27 +380,33 @@ nearest_root_step = _nearest_root
 
 
 @njit(cache=True)
-def _model_root(f, fp, fpp, f3, m2, m4):
-    """A crossing ahead located by the cubic Taylor model of f: (h, e) with the first crossing in [h - e, h + e].
+def _model_root(f, fp, fpp, f3, f4, f5, f6, m3, m7):
+    """A crossing ahead located by the Taylor polynomial of f: (h, e) with the first crossing in [h - e, h + e].
 
-    For f < 0 < f' with M2 >= |f''| and M4 >= |f''''| ahead, let P(x) = f + f' x + f'' x^2/2 +
-    f''' x^3/6 and h a root of P (Newton from the quadratic model's root), H = 5h/4. On [0, H], f'
-    >= f' - M2 H > 0, so f rises through at most one crossing there, and |f - P| <= M4 H^4/24, so
-    f(h) lies within |P(h)| + M4 H^4/24 of 0 and the crossing within e = that over (f' - M2 H) of h.
-    When e <= h/4 that crossing lies in [0, H] and is the first. Returns (nan, inf) where the model
-    does not certify one (far from the wall, f' too small, or the model without a root).
+    For f < 0 < f' with M3 and M7 bounds on the magnitudes of the third and seventh derivatives of f
+    ahead, let P be the Taylor polynomial of degree 6 of f, h a root of P (Newton from the quadratic
+    model's root) and H = 5h/4. On [0, H] the slope of f is at least min(f', f' + f'' H - M3 H^2/2)
+    (a concave bound, least at an end), so where that is positive f rises through at most one
+    crossing there; and |f - P| <= M7 H^7/5040, so f(h) lies within |P(h)| + M7 H^7/5040 of 0 and the
+    crossing within e = that over the slope of h. When e <= h/4 that crossing lies in [0, H] and is the
+    first. Returns (nan, inf) where the model does not certify one (far from the wall, a slope too
+    small, or no root of the model).
     """
     h = _nearest_root(f, fp, fpp)
     if not h > 0.0:
         return math.nan, math.inf
+    c2, c3, c4, c5, c6 = 0.5 * fpp, f3 / 6.0, f4 / 24.0, f5 / 120.0, f6 / 720.0
     for _ in range(2):
-        h -= (f + h * (fp + h * (0.5 * fpp + h * f3 / 6.0))) / (fp + h * (fpp + 0.5 * h * f3))
+        value = f + h * (fp + h * (c2 + h * (c3 + h * (c4 + h * (c5 + h * c6)))))
+        rate = fp + h * (2.0 * c2 + h * (3.0 * c3 + h * (4.0 * c4 + h * (5.0 * c5 + h * 6.0 * c6))))
+        h -= value / rate
     big = 1.25 * h
-    slope = fp - m2 * big
+    slope = min(fp, fp + big * (fpp - 0.5 * m3 * big))
     if not (h > 0.0 and slope > 0.0):
         return math.nan, math.inf
-    residual = abs(f + h * (fp + h * (0.5 * fpp + h * f3 / 6.0)))
-    e = (residual + m4 * big * big * big * big / 24.0) / slope
+    residual = f + h * (fp + h * (c2 + h * (c3 + h * (c4 + h * (c5 + h * c6)))))
+    big7 = big * big * big * big * big * big * big
+    e = (abs(residual) + m7 * big7 / 5040.0) / slope
     if not e <= 0.25 * h:
         return math.nan, math.inf
     return h, e
@@ -501,10 +526,12 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
         if whirl[0] >= 0.0:
             d2 = decay * decay
             moments = (whirl[1] * decay + whirl[2] * d2, whirl[3] * decay + whirl[4] * d2,
-                       whirl[5] * decay + whirl[6] * d2, whirl[7] * decay + whirl[8] * d2)
+                       whirl[5] * decay + whirl[6] * d2, whirl[7] * decay + whirl[8] * d2,
+                       whirl[9] * decay + whirl[10] * d2, whirl[11] * decay + whirl[12] * d2)
             if inside and fp > 0.0:
-                # near a transversal crossing: the cubic model locates it, or steps to just short of it
-                hm, e = _model_root(f, fp, fpp, f3, moments[0], moments[2])
+                # near a transversal crossing: the Taylor model locates it, or steps to just short of it
+                f5, f6 = _fifth_sixth(z, dz, w, dw, gamma, omega)
+                hm, e = _model_root(f, fp, fpp, f3, f4, f5, f6, moments[1], moments[5])
                 if s + hm + e < horizon:
                     if e <= 4.0 * EPS * (1.0 + s):
                         return CROSSING, s + hm

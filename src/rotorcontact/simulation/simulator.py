@@ -19,7 +19,7 @@ from ..model.flow import equilibrium_point, has_regular_equilibrium, propagate
 from ..model.validation import MAX_COUNT, check_int, check_machine, check_machine_params, check_params, complex_value
 from ..model.params import MAX_T_END, Machine, Parameters, check_range, check_velocity
 from ..model.impact_law import apply_reset, polar_velocity, relative_velocity
-from ..model.angles import wrap_angle
+from ..model.angles import point_angle, wrap_angle
 from .tables import grow_rows, push_row
 from ..model.contact_law import accumulation_tail, free_tangential, normal_force
 from .contact import (
@@ -200,11 +200,10 @@ def flight_event(u, du, k, gamma, omega, d, mu, r_ratio, horizon, on_boundary, l
     v, dv = propagate(u - k, du, tau, gamma, omega)
     ui = k + v
     ui = complex_quotient(ui, abs(ui))
-    if polar_velocity(ui, dv)[0] <= RDOT_MIN * (1.0 + abs(dv)):
-        return code, tau, True, ui, dv, dv, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     du_plus, rd, td, rdp, tdp, vrel, pn, pt = apply_reset(ui, dv, d, mu, r_ratio)
-    theta = wrap_angle(math.atan2(ui.imag, ui.real))
-    return code, tau, False, ui, dv, du_plus, rd, td, rdp, tdp, vrel, pn, pt, theta
+    if rd <= RDOT_MIN * (1.0 + abs(dv)):
+        return code, tau, True, ui, dv, dv, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    return code, tau, False, ui, dv, du_plus, rd, td, rdp, tdp, vrel, pn, pt, point_angle(ui)
 
 
 @njit(cache=True)
