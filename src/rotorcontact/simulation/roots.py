@@ -49,6 +49,10 @@ ITERATION_LIMIT = 3
 
 MAX_STEPS = 200_000
 EPS = 2.220446049250313e-16
+#: Trial steps of `_step_from_moments`: a decaying whirl's bounds, to the seventh derivative, allow long steps
+#: that take more trials to find; bounds from |Z^(n)| (`_step_from_bounds`) do not.
+WHIRL_TRIALS = 4
+BOUND_TRIALS = 2
 #: f' above this (|U|^2 per unit time) is a transversal crossing, whose sign rounding cannot change
 TRANSVERSAL_SLOPE = 1e-8
 
@@ -123,32 +127,39 @@ def _dot(a: complex, b: complex) -> float:
 
 
 @njit(cache=True)
-def _step_from_moments(f, fp, fpp, f3, f4, m2, m3, m4, m5):
-    """Largest crossing-free step given bounds m_n >= |f^(n)| ahead (n = 2 to 5).
+def _step_from_moments(f, fp, fpp, f3, f4, f5, f6, m2, m3, m4, m5, m7, trials):
+    """Largest crossing-free step given the derivatives f to f6 and bounds m_n >= |f^(n)| ahead.
 
     With those bounds, for h in [0, S]
 
         f(h) <= f + f1 h + c2(S) h^2 / 2,
         c2(S) = min(f2 + M3 S / 3,
-                    f2 + max(f3, 0) S / 3 + M4 S^2 / 12,
-                    f2 + max(f3, 0) S / 3 + max(f4, 0) S^2 / 12 + M5 S^3 / 60),
+                    f2 + f3+ S / 3 + M4 S^2 / 12,
+                    f2 + f3+ S / 3 + f4+ S^2 / 12 + M5 S^3 / 60,
+                    f2 + f3+ S / 3 + f4+ S^2 / 12 + f5+ S^3 / 60 + f6+ S^4 / 360 + M7 S^5 / 2520),
 
-    (h^n / n! <= S^(n-2) h^2 / n! on [0, S]), so min(S, first root of that
-    quadratic) is safe for any trial S, and a few trials pick a good one. The
-    second-order bound M2 gives a safe step to start from.
+    (fn+ = max(fn, 0); h^n / n! <= S^(n-2) h^2 / n! on [0, S]), so min(S, first
+    root of that quadratic) is safe for any trial S, and ``trials`` trials pick a
+    good one (S doubled while it is safe, else moved half way to the root). The
+    second-order bound M2 gives a safe step to start from. Without f5, f6 and M7
+    (a flight whose bounds stop at M5), pass 0, 0 and inf.
     """
     best = _first_positive_root(f, fp, m2)
     f3p = max(f3, 0.0)
     f4p = max(f4, 0.0)
+    f5p = max(f5, 0.0)
+    f6p = max(f6, 0.0)
     trial = 2.0 * best
     if fpp < 0.0:
         trial = max(trial, -1.5 * fpp / m3)
-    for _ in range(2):
+    for _ in range(trials):
         t2 = trial * trial
+        low = fpp + f3p * trial / 3.0 + f4p * t2 / 12.0
         c2 = min(
             fpp + m3 * trial / 3.0,
             fpp + f3p * trial / 3.0 + m4 * t2 / 12.0,
-            fpp + f3p * trial / 3.0 + f4p * t2 / 12.0 + m5 * t2 * trial / 60.0,
+            low + m5 * t2 * trial / 60.0,
+            low + t2 * trial * (f5p / 60.0 + trial * (f6p / 360.0 + trial * m7 / 2520.0)),
         )
         g = _first_positive_root(f, fp, c2)
         if g >= trial:
@@ -165,11 +176,12 @@ def _step_from_bounds(f, fp, fpp, f3, f4, z0, z1, z2, z3, z4, z5):
     """Largest crossing-free step given bounds z_n >= |Z^(n)| ahead: `_step_from_moments` with the bounds
     M_n = sum_j C(n, j) z_j z_(n-j) on the derivatives of f = |Z|^2 - 1."""
     return _step_from_moments(
-        f, fp, fpp, f3, f4,
+        f, fp, fpp, f3, f4, 0.0, 0.0,
         2.0 * z1 * z1 + 2.0 * z0 * z2,
         6.0 * z1 * z2 + 2.0 * z0 * z3,
         6.0 * z2 * z2 + 8.0 * z1 * z3 + 2.0 * z0 * z4,
         2.0 * z0 * z5 + 10.0 * z1 * z4 + 20.0 * z2 * z3,
+        math.inf, BOUND_TRIALS,
     )
 
 
@@ -272,10 +284,11 @@ def _fifth_sixth(z, dz, w, dw, gamma, omega):
 
 
 @njit(cache=True)
-def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, gamma, omega, h2, horizon, window, moments):
+def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, f5, f6, gamma, omega, h2, horizon, window, moments):
     """Largest step from the current point guaranteed free of crossings.
 
-    ``f3``, ``f4`` are the third and fourth derivatives of f there (`_third_fourth`); ``moments`` holds
+    ``f3`` to ``f6`` are the third to sixth derivatives of f there (`_third_fourth`, `_fifth_sixth`);
+    ``moments`` holds
     the bounds M2 to M7 on the magnitudes of its second to seventh derivatives ahead of a decaying whirl
     (from `_whirl_moments`), its first entry negative where the flight has none (`NO_MOMENTS`).
     """
@@ -283,7 +296,8 @@ def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, gamma, omega, h2, horizo
     best = 0.0
     nu = math.sqrt(-h2) if h2 < 0.0 else 0.0
     if moments[0] >= 0.0:
-        best = _step_from_moments(f, fp, fpp, f3, f4, moments[0], moments[1], moments[2], moments[3])
+        best = _step_from_moments(f, fp, fpp, f3, f4, f5, f6, moments[0], moments[1], moments[2], moments[3],
+                                  moments[5], WHIRL_TRIALS)
     width = min(window, horizon)
     # the finite window helps only where the all-time bound is poor (growth, or nu small)
     if best < width and (gamma < 0.0 or nu < 0.5 * omega):
@@ -522,22 +536,24 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
             inside = False
         f3, f4 = _third_fourth(z, dz, w, dw, gamma, omega)
         moments = NO_MOMENTS
+        f5 = f6 = 0.0
         h = -1.0
         if whirl[0] >= 0.0:
             d2 = decay * decay
             moments = (whirl[1] * decay + whirl[2] * d2, whirl[3] * decay + whirl[4] * d2,
                        whirl[5] * decay + whirl[6] * d2, whirl[7] * decay + whirl[8] * d2,
                        whirl[9] * decay + whirl[10] * d2, whirl[11] * decay + whirl[12] * d2)
+            f5, f6 = _fifth_sixth(z, dz, w, dw, gamma, omega)
             if inside and fp > 0.0:
                 # near a transversal crossing: the Taylor model locates it, or steps to just short of it
-                f5, f6 = _fifth_sixth(z, dz, w, dw, gamma, omega)
                 hm, e = _model_root(f, fp, fpp, f3, f4, f5, f6, moments[1], moments[5])
                 if s + hm + e < horizon:
                     if e <= 4.0 * EPS * (1.0 + s):
                         return CROSSING, s + hm
                     h = hm - e
         if h < 0.0:
-            h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, gamma, omega, h2, horizon - s, window, moments)
+            h = _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, f5, f6, gamma, omega, h2, horizon - s, window,
+                           moments)
         if s + h == s:
             # the step is below the resolution of s: a crossing here, or a tangency to walk past
             if fp > 0.0:
