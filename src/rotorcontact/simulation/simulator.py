@@ -261,13 +261,15 @@ def simulate_kernel(gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_
     path : (q, 4) array: t, theta, thetadot, thetadot' along contact phases.
     status, reason : int
     t_stop : float
+
+    The tables are the filled rows of the grown ones (`tables.grow_rows`), not copies.
     """
     impacts, flights, contacts, path = new_tables()
     impacts, flights, contacts, path, n_imp, n_fl, n_ct, n_path, status, reason, t_stop = simulate_into(
         gamma, omega, rho, mu, d, phi, r_ratio, u0, du0, t_end, max_events, chatter_tol, chatter_rdot,
         chatter_height, chatter_dt, stop_on_chatter, impacts, flights, contacts, path
     )
-    return (impacts[:n_imp].copy(), flights[:n_fl].copy(), contacts[:n_ct].copy(), path[:n_path].copy(),
+    return (impacts[:n_imp], flights[:n_fl], contacts[:n_ct], path[:n_path],
             status, reason, t_stop)
 
 

@@ -386,7 +386,15 @@ class JoblibExecutor(_Executor):
         from joblib import delayed
 
         self._running = self._parallel(delayed(_indexed)(i, t) for i, t in enumerate(tasks))
-        yield from self._running
+        try:
+            # not ``yield from``: that would close joblib's generator itself when this one is left, and joblib
+            # then writes a note on the tasks it cancels to stderr
+            for item in self._running:
+                yield item
+        except BaseException:
+            # left by an interrupt or an error, here or in the caller: the work ends at once, quietly
+            self.close(abort=True)
+            raise
         self._running = None
 
     def close(self, abort: bool = False) -> None:
