@@ -21,6 +21,7 @@ import time
 
 from rotorcontact import Parameters
 from rotorcontact.continuation.branches import orbit_branches
+from rotorcontact.interpreted import compiled_only
 
 
 def main() -> None:
@@ -31,7 +32,8 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
     p = Parameters.reference()
-    orbit_branches(p, "gamma", 0.1, 0.12, t_max=4.0, n_seeds=2)  # warm-up (numba compilation)
+    with compiled_only():  # a cold cache: compiled here, not run interpreted
+        orbit_branches(p, "gamma", 0.1, 0.12, t_max=4.0, n_seeds=2)  # warm-up (numba compilation)
     walls = []
     for i in range(args.repeat):
         w0, c0 = time.perf_counter(), time.process_time()

@@ -35,6 +35,7 @@ import rotorcontact as rc
 from rotorcontact.studies.sweep import sweep, sweep_values
 from memory import print_peak
 from sweep_problem import add_problem_options
+from rotorcontact.interpreted import compiled_only
 
 
 def main() -> None:
@@ -51,9 +52,10 @@ def main() -> None:
     print(f"cores: {os.cpu_count()}, numba threads: {numba.get_num_threads()}, n_jobs: {args.n_jobs}")
     print(f"gamma in [{args.lo}, {args.hi}], {args.n} values, {args.transient} + {args.record} impacts per value")
     # warm-up (loads or compiles the kernels)
-    sweep(p, "gamma", values[:4], mode="both", n_transient=10, n_record=10, progress=False, n_jobs=args.n_jobs)
-    sweep(p, "gamma", values[:4], mode="independent", n_transient=10, n_record=10, progress=False,
-          n_jobs=args.n_jobs)
+    with compiled_only():  # a cold cache: compiled here, not run interpreted
+        sweep(p, "gamma", values[:4], mode="both", n_transient=10, n_record=10, progress=False, n_jobs=args.n_jobs)
+        sweep(p, "gamma", values[:4], mode="independent", n_transient=10, n_record=10, progress=False,
+              n_jobs=args.n_jobs)
     for mode in args.modes.split(","):
         t0, c0 = time.perf_counter(), time.process_time()
         load0 = os.getloadavg()[0]
