@@ -39,7 +39,7 @@ import math
 
 from numba import njit
 
-from ..interpreted import complex_quotient
+from ..interpreted import complex_quotient, int_power
 from ..model.flow import half_discriminant, scaled_cs
 
 NO_CROSSING = 0
@@ -233,19 +233,19 @@ def _whirl_moments(k: complex, w: complex, dw: complex, gamma: float, h2: float)
     kb = 2.0 * k_abs * b_abs
     p = a_abs * a_abs + b_abs * b_abs
     ab = 2.0 * a_abs * b_abs
-    l1n, l2n, l3n, gn = l1 * l1, l2 * l2, l3 * l3, gamma * gamma
-    s2, f2 = ka * l1n + kb * l2n, p * gn + ab * l3n
-    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
-    s3, f3 = ka * l1n + kb * l2n, p * gn + ab * l3n
-    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
-    s4, f4 = ka * l1n + kb * l2n, p * gn + ab * l3n
-    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
-    s5, f5 = ka * l1n + kb * l2n, p * gn + ab * l3n
-    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
-    s6, f6 = ka * l1n + kb * l2n, p * gn + ab * l3n
-    l1n, l2n, l3n, gn = l1n * l1, l2n * l2, l3n * l3, gn * gamma
-    s7, f7 = ka * l1n + kb * l2n, p * gn + ab * l3n
-    return a_abs + b_abs, s2, f2, s3, f3, s4, f4, s5, f5, s6, f6, s7, f7
+    return (a_abs + b_abs,
+            _rates(ka, l1, kb, l2, 2), _rates(p, gamma, ab, l3, 2),
+            _rates(ka, l1, kb, l2, 3), _rates(p, gamma, ab, l3, 3),
+            _rates(ka, l1, kb, l2, 4), _rates(p, gamma, ab, l3, 4),
+            _rates(ka, l1, kb, l2, 5), _rates(p, gamma, ab, l3, 5),
+            _rates(ka, l1, kb, l2, 6), _rates(p, gamma, ab, l3, 6),
+            _rates(ka, l1, kb, l2, 7), _rates(p, gamma, ab, l3, 7))
+
+
+@njit(cache=True)
+def _rates(x: float, a: float, y: float, b: float, n: int) -> float:
+    """x a^n + y b^n: the bound on the n-th derivative of two terms of moduli x, y and rates a, b."""
+    return x * int_power(a, n) + y * int_power(b, n)
 
 
 #: `_whirl_moments` of a flight that has none (not underdamped, or gamma < 0): its first entry is negative.
