@@ -278,3 +278,31 @@ def test_attractor_labels_and_the_attributes_of_a_study_check_what_they_take():
                        (lambda: summary_variables(None, ("x",)), "result")):
         with pytest.raises(ParameterError, match=rf"^{name} = .* is not an? "):
             call()
+
+
+def test_identity_names_takes_one_value_s_result_and_its_class_codes_only():
+    from rotorcontact.studies.attractors import identity_names
+    from rotorcontact.studies.basins import class_names, classify
+    from rotorcontact.studies.batch import BatchSettings, simulate_batch
+
+    p = REF.replace(gamma=0.1)
+    res = simulate_batch(p, np.array([0j, 0.5 + 0j]), np.zeros(2, complex),
+                         settings=BatchSettings(n_transient=200, n_record=20, n_keep=1))
+    orbits = [o for o in one_impact_orbits(p) if o.admissible]
+    labels = [o.label for o in orbits]
+    codes, _ = classify(res, orbits, 1e-3)
+    names = identity_names(res, codes, labels, p, 1e-2)
+    assert names.shape == (2,) and all(n is None or isinstance(n, str) for n in names)
+    n_classes = len(class_names(labels))
+    cases = [
+        ((None, codes, labels, p, 1e-2), "result = None"),
+        ((res, codes[:1], labels, p, 1e-2), "codes = "),
+        ((res, np.full(2, n_classes), labels, p, 1e-2), "codes = "),
+        ((res, codes.astype(float), labels, p, 1e-2), "codes = "),
+        ((res, codes, "B1,d", p, 1e-2), "orbit_labels = "),
+        ((res, codes, labels, None, 1e-2), "params"),
+        ((res, codes, labels, p, 0.0), "match_tol = "),
+    ]
+    for args, words in cases:
+        with pytest.raises(ParameterError, match=words):
+            identity_names(*args)

@@ -464,3 +464,33 @@ def test_the_final_state_needs_a_trajectory():
     for bad in (None, REF):
         with pytest.raises(ParameterError, match=r"^traj = .* is not a Trajectory object"):
             final_state(bad)
+
+
+def test_the_lane_stages_refuse_what_is_not_lanes_by_name():
+    """`run_lanes` (and the GPU's `launch_lanes`, before it needs a GPU) take the lanes `parameter_array`
+    builds; `BatchResult.from_arrays` the kernel's arrays."""
+    from rotorcontact.studies.batch import BatchResult, BatchSettings, check_lanes, parameter_array, run_lanes
+    from rotorcontact.studies.cuda_batch import launch_lanes
+
+    st = BatchSettings(n_transient=10, n_record=5)
+    params = parameter_array([REF])[:, None, :]
+    u0 = np.zeros((1, 1), complex)
+    good = check_lanes(params, u0, u0, st)
+    assert good[0].shape == (1, 1, 7) and good[1].dtype == complex
+    cases = [
+        ((None, u0, u0, st), "params = None"),
+        ((params[..., :6], u0, u0, st), "params = "),
+        ((np.where(True, np.nan, params), u0, u0, st), "params = "),
+        ((params, np.zeros((2, 1), complex), u0, st), "u0 = "),
+        ((params, u0, np.array([[complex(np.inf, 0)]]), st), "du0 = "),
+        ((params, u0, u0, {"n_transient": 10}), "settings = "),
+    ]
+    for args, words in cases:
+        for stage in (run_lanes, launch_lanes):
+            with pytest.raises(ParameterError, match=words):
+                stage(*args, carry=False)
+    sections, summary = run_lanes(params, u0, u0, st, carry=False)
+    assert BatchResult.from_arrays(sections, summary, st).shape == (1, 1)
+    for bad in ((None, summary, st), (sections, summary[..., :3], st), (sections, summary, None)):
+        with pytest.raises(ParameterError):
+            BatchResult.from_arrays(*bad)

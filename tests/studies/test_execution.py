@@ -484,3 +484,21 @@ def test_a_task_is_a_chunk_task_or_computes_itself():
             run_task(bad)
     with pytest.raises(ParameterError, match=r"^parallel = 'x' is invalid"):
         run_task(None, parallel="x")
+
+
+def test_study_digest_is_exact_in_every_float_and_refuses_objects_it_cannot_write():
+    """Two settings that differ in the last bit of a float have different digests; an object whose str()
+    could hold an address, or leave out what tells two studies apart, is refused by type."""
+    from rotorcontact import ParameterError
+    from rotorcontact.studies.execution import study_digest
+
+    base = {"values": np.array([0.1, 0.2]), "grid": (1, 2.5, 1j), "flag": True, "name": None}
+    bumped = dict(base, values=np.array([0.1, np.nextafter(0.2, 1.0)]))
+    assert study_digest(base) == study_digest(dict(base))
+    assert study_digest(base) != study_digest(bumped)
+
+    class Opaque:
+        pass
+
+    with pytest.raises(ParameterError, match="type Opaque"):
+        study_digest({"settings": [Opaque()]})

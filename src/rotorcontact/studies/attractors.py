@@ -218,8 +218,25 @@ def wilson_interval(count: np.ndarray, total: int, confidence: float = CONFIDENC
 
 def identity_names(result: BatchResult, codes: np.ndarray, orbit_labels, params: Parameters,
                    match_tol: float) -> np.ndarray:
-    """The identity (module docstring) of every point of one value, as an object array (None outside)."""
+    """The identity (module docstring) of every point of one value, as an object array (None outside).
+
+    ``codes`` are `rotorcontact.studies.basins.classify`'s class codes of the points of ``result``, with the
+    orbits ``orbit_labels`` of ``params``; rubbing points are named by the pseudo-equilibrium within
+    ``match_tol`` (rad) of their final angle. A `ParameterError` for anything else.
+    """
     from ..analysis.equilibria import pseudo_equilibria
+
+    check_type("result", result, BatchResult, "a BatchResult (rotorcontact.studies.batch.simulate_batch)")
+    check_params(params)
+    match_tol = check_float("match_tol", match_tol, 0.0, math.pi, low_open=True)
+    if not (isinstance(orbit_labels, (list, tuple)) and all(isinstance(x, str) for x in orbit_labels)):
+        raise ParameterError(f"orbit_labels = {quoted(orbit_labels)} is invalid; allowed: a list of orbit labels")
+    n_classes = len(class_names(list(orbit_labels)))
+    codes_arr = np.asarray(codes) if isinstance(codes, np.ndarray) else None
+    if codes_arr is None or codes_arr.dtype.kind not in "iu" or codes_arr.shape != result.shape \
+            or (codes_arr.size and (codes_arr.min() < 0 or codes_arr.max() >= n_classes)):
+        raise ParameterError(f"codes = {quoted(codes)} is invalid; allowed: an integer array of the result's shape "
+                             f"{result.shape} with class codes from 0 to {n_classes - 1}")
 
     names = np.asarray(class_names(list(orbit_labels)), dtype=object)
     out = names[codes].astype(object)

@@ -82,7 +82,8 @@ from ..simulation.motion import (
     WINDOW,
 )
 from ..model.params import MAX_T_END, MAX_VELOCITY, Parameters, check_range, check_velocity
-from ..model.validation import check_bool, check_int, check_type, complex_array, settings_or_default
+from ..model.validation import (check_bool, check_int, check_type, complex_array, finite_array, quoted,
+                                settings_or_default)
 from ..simulation.simulator import (
     BOUNDARY_TOL,
     CHATTER_DEFAULTS,
@@ -553,7 +554,15 @@ class BatchResult:
 
     @classmethod
     def from_arrays(cls, sections: np.ndarray, summary: np.ndarray, settings: BatchSettings) -> "BatchResult":
-        """Build the result from the kernel's raw arrays (shape ``batch + (n_keep, 4)`` and ``batch + (NSUM,)``)."""
+        """Build the result from the kernel's raw arrays (shape ``batch + (n_keep, 4)`` and ``batch + (NSUM,)``);
+        a `ParameterError` for other arrays, or ``settings`` that are not a `BatchSettings`."""
+        check_type("settings", settings, BatchSettings, "a BatchSettings")
+        shapes = (isinstance(sections, np.ndarray) and isinstance(summary, np.ndarray) and sections.ndim >= 2
+                  and sections.dtype.kind == "f" and summary.dtype.kind == "f" and sections.shape[-1] == 4
+                  and summary.shape == sections.shape[:-2] + (NSUM,))
+        if not shapes:
+            raise ParameterError(f"sections, summary = {quoted(sections)}, {quoted(summary)} are invalid; allowed: "
+                                 f"the kernel's float arrays of shapes batch + (n_keep, 4) and batch + ({NSUM},)")
         s = summary
         as_int = lambda j: s[..., j].astype(np.int64)  # noqa: E731
         return cls(
@@ -660,6 +669,27 @@ def check_initial_states(u0: np.ndarray, du0: np.ndarray) -> None:
         )
 
 
+def check_lanes(params: Any, u0: Any, du0: Any, settings: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The lanes `run_lanes` takes, as arrays: ``params`` finite and real, of shape (n_lanes, n_steps, 7) in
+    `PARAMETER_ORDER`, ``u0`` and ``du0`` finite and complex, of shape (n_lanes, n_steps), and ``settings`` a
+    `BatchSettings`; a `ParameterError` naming the first that is not. The values themselves are checked
+    where the lanes are built (`parameter_array`, `simulate_batch`)."""
+    check_type("settings", settings, BatchSettings, "a BatchSettings")
+    lanes = f"a finite real array of shape (n_lanes, n_steps, {len(PARAMETER_ORDER)}), one row per step in " \
+            "PARAMETER_ORDER (parameter_array)"
+    params = finite_array("params", params, lanes, ndims=(3,))
+    if params.shape[1] < 1 or params.shape[2] != len(PARAMETER_ORDER):
+        raise ParameterError(f"params = {quoted(params)} is invalid; allowed: {lanes}")
+    out = [params]
+    for name, value in (("u0", u0), ("du0", du0)):
+        arr = complex_array(value)
+        if arr is None or arr.shape != params.shape[:2] or not np.all(np.isfinite(arr)):
+            raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: a finite complex array of the "
+                                 f"lanes' shape (n_lanes, n_steps) = {params.shape[:2]}")
+        out.append(arr)
+    return out[0], out[1], out[2]
+
+
 def run_lanes(
     params: np.ndarray,
     u0: np.ndarray,
@@ -688,6 +718,7 @@ def run_lanes(
         workers (`dealt_order`; default: as many as numba's threads, at most one per lane), so that each
         thread gets lanes spread over the batch.
     """
+    params, u0, du0 = check_lanes(params, u0, du0, settings)
     n_lanes, n_steps = params.shape[:2]
     keep = settings.keep
     sections = np.empty((n_lanes, n_steps, keep, 4))

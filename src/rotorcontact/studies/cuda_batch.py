@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .batch import NSUM, BatchSettings, run_lanes
+from .batch import NSUM, BatchSettings, check_lanes, run_lanes
 
 __all__ = ["THREADS_PER_BLOCK", "complete_deferred", "cuda_unavailable", "launch_lanes", "require_cuda",
            "run_lanes_cuda"]
@@ -108,6 +108,7 @@ def launch_lanes(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, settings: 
     start_u, start_du : numpy.ndarray of complex
         Per lane, the state at the start of that step.
     """
+    params, u0, du0 = check_lanes(params, u0, du0, settings)
     from numba import cuda
 
     from .cuda_kernel import lanes_kernel

@@ -25,10 +25,11 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from ..model.validation import check_bool
+from ..errors import ParameterError
+from ..model.validation import check_bool, check_int, check_type, quoted
 from .netcdf import check_output_path, read_finished, write_netcdf
-from .execution import (ChunkStore, ChunkTask, StoredChunks, chunk_folder, fitted_chunk_size, make_executor,
-                        progress_bar, run_waves)
+from .execution import (ChunkStore, ChunkTask, StoredChunks, check_chunk_size, chunk_folder, fitted_chunk_size,
+                        make_executor, progress_bar, run_waves)
 
 __all__ = ["StudyRun", "run_study"]
 
@@ -140,7 +141,23 @@ def run_study(
     Returns
     -------
     StudyRun
+
+    Raises
+    ------
+    ParameterError
+        For a manifest that is not a dict, a digest that is not text, ``keys``, ``waves`` or ``assemble``
+        not callable, or a count, label or chunk size of the wrong kind (and as the executor and the
+        output path are checked).
     """
+    check_type("manifest", manifest, dict, "a dict of everything that defines the chunks")
+    check_type("digest", digest, str, "the study's digest (study_digest)")
+    for name, value in (("keys", keys), ("waves", waves), ("assemble", assemble)):
+        if not callable(value):
+            raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: a function (see run_study)")
+    check_int("n_items", n_items, 0)
+    check_type("desc", desc, str, "the progress bar's label")
+    chunk_size = check_chunk_size(chunk_size)
+    fit_chunks = check_bool("fit_chunks", fit_chunks)
     resume, keep_chunks, progress = (check_bool(n, v) for n, v in
                                      (("resume", resume), ("keep_chunks", keep_chunks), ("progress", progress)))
     store = None

@@ -63,7 +63,7 @@ import numpy as np
 from .batch import NSUM, BatchSettings, run_lanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
-from ..model.validation import check_bool, check_int, check_path
+from ..model.validation import check_bool, check_int, check_path, quoted
 
 __all__ = ["BACKENDS", "ChunkTask", "ChunkStore", "CudaExecutor", "StoredChunks", "available_cores",
            "backend_manifest", "check_backend", "check_workers", "fitted_chunk_size", "local_workers", "make_executor",
@@ -873,7 +873,9 @@ def _canonical(obj: Any) -> Any:
         return [float(obj.real).hex(), float(obj.imag).hex()]
     if obj is None or isinstance(obj, str):
         return obj
-    return str(obj)
+    # str() of another object may hold an address, or leave out what tells two studies apart
+    raise ParameterError(f"a study's settings hold {quoted(obj)} of type {type(obj).__name__}; allowed in them: "
+                         "dicts, lists, tuples, arrays, numbers, text and None")
 
 
 def study_digest(manifest: dict[str, Any]) -> str:
