@@ -288,9 +288,8 @@ def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, f5, f6, gamma, omega, h2
     """Largest step from the current point guaranteed free of crossings.
 
     ``f3`` to ``f6`` are the third to sixth derivatives of f there (`_third_fourth`, `_fifth_sixth`);
-    ``moments`` holds
-    the bounds M2 to M7 on the magnitudes of its second to seventh derivatives ahead of a decaying whirl
-    (from `_whirl_moments`), its first entry negative where the flight has none (`NO_MOMENTS`).
+    ``moments`` holds the bounds M2 to M7 on the magnitudes of its second to seventh derivatives ahead of a
+    decaying whirl (from `_whirl_moments`), its first entry negative where the flight has none (`NO_MOMENTS`).
     """
     g2 = 0.5 * gamma
     best = 0.0
