@@ -400,10 +400,11 @@ def _model_root(f, fp, fpp, f3, f4, f5, f6, m3, m7):
     ahead, let P be the Taylor polynomial of degree 6 of f, h a root of P (Newton from the quadratic
     model's root) and H = 5h/4. On [0, H] the slope of f is at least min(f', f' + f'' H - M3 H^2/2)
     (a concave bound, least at an end), so where that is positive f rises through at most one
-    crossing there; and |f - P| <= M7 H^7/5040, so f(h) lies within |P(h)| + M7 H^7/5040 of 0 and the
-    crossing within e = that over the slope of h. When e <= h/4 that crossing lies in [0, H] and is the
-    first. Returns (nan, inf) where the model does not certify one (far from the wall, a slope too
-    small, or no root of the model).
+    crossing there; and |f(h) - P(h)| <= M7 h^7/5040, so f(h) lies within |P(h)| + M7 h^7/5040 of 0 and
+    the crossing within e = that over the slope of h. When e <= h/4 that crossing lies in [0, H] and is
+    the first. Returns (nan, inf) where the model does not certify one (far from the wall, a slope too
+    small, or no root of the model). The bracket is that of exact derivatives: their rounding adds the
+    conditioning of the crossing itself, O(eps |Z|^2 / f'), as in `_polish`.
     """
     h = _nearest_root(f, fp, fpp)
     if not h > 0.0:
@@ -418,8 +419,8 @@ def _model_root(f, fp, fpp, f3, f4, f5, f6, m3, m7):
     if not (h > 0.0 and slope > 0.0):
         return math.nan, math.inf
     residual = f + h * (fp + h * (c2 + h * (c3 + h * (c4 + h * (c5 + h * c6)))))
-    big7 = big * big * big * big * big * big * big
-    e = (abs(residual) + m7 * big7 / 5040.0) / slope
+    h7 = h * h * h * h * h * h * h
+    e = (abs(residual) + m7 * h7 / 5040.0) / slope
     if not e <= 0.25 * h:
         return math.nan, math.inf
     return h, e
