@@ -1,8 +1,7 @@
 """Angles in the package's convention, (-pi, pi].
 
 `wrap_angle` and `point_angle` are compiled kernels for compiled loops: they take a float or a complex
-number unchecked. `angle_difference` is
-its checked form for Python.
+number unchecked. `angle_difference` is the checked form of `wrap_angle` for Python.
 """
 
 from __future__ import annotations
@@ -15,7 +14,7 @@ from numba import njit
 from ..errors import ParameterError
 from ..interpreted import call_kernel
 
-__all__ = ["wrap_angle", "angle_difference"]
+__all__ = ["wrap_angle", "point_angle", "angle_difference"]
 
 
 @njit(cache=True)
