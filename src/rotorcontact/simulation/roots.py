@@ -255,22 +255,9 @@ NO_MOMENTS = (-1.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 @njit(cache=True)
-def _third_fourth(z, dz, w, dw, gamma, omega):
-    """The third and fourth derivatives of f = |Z|^2 - 1 at the current point (Leibniz, with
+def _higher_derivatives(z, dz, w, dw, gamma, omega):
+    """The third to sixth derivatives of f = |Z|^2 - 1 at the current point (Leibniz, with
     Z^(n) = i^n k e^{is} + W^(n))."""
-    w2, w3, w4, _w5, _w6 = _derivatives(w, dw, gamma, omega)
-    kr = z - w  # k e^{is}
-    ddz = -kr + w2
-    dddz = -1j * kr + w3
-    ddddz = kr + w4
-    f3 = 6.0 * _dot(dz, ddz) + 2.0 * _dot(z, dddz)
-    f4 = 6.0 * _dot(ddz, ddz) + 8.0 * _dot(dz, dddz) + 2.0 * _dot(z, ddddz)
-    return f3, f4
-
-
-@njit(cache=True)
-def _fifth_sixth(z, dz, w, dw, gamma, omega):
-    """The fifth and sixth derivatives of f = |Z|^2 - 1 at the current point (as `_third_fourth`)."""
     w2, w3, w4, w5, w6 = _derivatives(w, dw, gamma, omega)
     kr = z - w  # k e^{is}
     z2 = -kr + w2
@@ -278,16 +265,18 @@ def _fifth_sixth(z, dz, w, dw, gamma, omega):
     z4 = kr + w4
     z5 = 1j * kr + w5
     z6 = -kr + w6
+    f3 = 6.0 * _dot(dz, z2) + 2.0 * _dot(z, z3)
+    f4 = 6.0 * _dot(z2, z2) + 8.0 * _dot(dz, z3) + 2.0 * _dot(z, z4)
     f5 = 2.0 * _dot(z, z5) + 10.0 * _dot(dz, z4) + 20.0 * _dot(z2, z3)
     f6 = 2.0 * _dot(z, z6) + 12.0 * _dot(dz, z5) + 30.0 * _dot(z2, z4) + 20.0 * _dot(z3, z3)
-    return f5, f6
+    return f3, f4, f5, f6
 
 
 @njit(cache=True)
 def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, f5, f6, gamma, omega, h2, horizon, window, moments):
     """Largest step from the current point guaranteed free of crossings.
 
-    ``f3`` to ``f6`` are the third to sixth derivatives of f there (`_third_fourth`, `_fifth_sixth`);
+    ``f3`` to ``f6`` are the third to sixth derivatives of f there (`_higher_derivatives`);
     ``moments`` holds the bounds M2 to M7 on the magnitudes of its second to seventh derivatives ahead of a
     decaying whirl (from `_whirl_moments`), its first entry negative where the flight has none (`NO_MOMENTS`).
     """
@@ -327,7 +316,7 @@ def _liftoff_step(z, dz, w, dw, k_abs, gamma, omega, h2, horizon, window):
     """
     g2 = 0.5 * gamma
     w2, w3, w4, w5, _w6 = _derivatives(w, dw, gamma, omega)
-    f3 = _third_fourth(z, dz, w, dw, gamma, omega)[0]
+    f3 = _higher_derivatives(z, dz, w, dw, gamma, omega)[0]
     if f3 >= 0.0:
         return 0.0
     width = min(window, horizon)
@@ -534,16 +523,14 @@ def next_crossing(v0: complex, dv0: complex, k: complex, gamma: float, omega: fl
             # a tangency within rounding of the wall that does not reach it: walk past
             f = -ftol
             inside = False
-        f3, f4 = _third_fourth(z, dz, w, dw, gamma, omega)
+        f3, f4, f5, f6 = _higher_derivatives(z, dz, w, dw, gamma, omega)
         moments = NO_MOMENTS
-        f5 = f6 = 0.0
         h = -1.0
         if whirl[0] >= 0.0:
             d2 = decay * decay
             moments = (whirl[1] * decay + whirl[2] * d2, whirl[3] * decay + whirl[4] * d2,
                        whirl[5] * decay + whirl[6] * d2, whirl[7] * decay + whirl[8] * d2,
                        whirl[9] * decay + whirl[10] * d2, whirl[11] * decay + whirl[12] * d2)
-            f5, f6 = _fifth_sixth(z, dz, w, dw, gamma, omega)
             if inside and fp > 0.0:
                 # near a transversal crossing: the Taylor model locates it, or steps to just short of it
                 hm, e = _model_root(f, fp, fpp, f3, f4, f5, f6, moments[1], moments[5])

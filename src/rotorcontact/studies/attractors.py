@@ -231,14 +231,12 @@ def identity_names(result: BatchResult, codes: np.ndarray, orbit_labels, params:
     match_tol = check_float("match_tol", match_tol, 0.0, math.pi, low_open=True)
     if not (isinstance(orbit_labels, (list, tuple)) and all(isinstance(x, str) for x in orbit_labels)):
         raise ParameterError(f"orbit_labels = {quoted(orbit_labels)} is invalid; allowed: a list of orbit labels")
-    n_classes = len(class_names(list(orbit_labels)))
-    codes_arr = np.asarray(codes) if isinstance(codes, np.ndarray) else None
-    if codes_arr is None or codes_arr.dtype.kind not in "iu" or codes_arr.shape != result.shape \
-            or (codes_arr.size and (codes_arr.min() < 0 or codes_arr.max() >= n_classes)):
-        raise ParameterError(f"codes = {quoted(codes)} is invalid; allowed: an integer array of the result's shape "
-                             f"{result.shape} with class codes from 0 to {n_classes - 1}")
-
     names = np.asarray(class_names(list(orbit_labels)), dtype=object)
+    if not isinstance(codes, np.ndarray) or codes.dtype.kind not in "iu" or codes.shape != result.shape \
+            or (codes.size and (codes.min() < 0 or codes.max() >= len(names))):
+        raise ParameterError(f"codes = {quoted(codes)} is invalid; allowed: an integer array of the result's shape "
+                             f"{result.shape} with class codes from 0 to {len(names) - 1}")
+
     out = names[codes].astype(object)
     out[codes == 0] = None
     out[out == "no-contact"] = "x_R"
