@@ -256,6 +256,21 @@ def test_zero_budget_compiles_at_once(monkeypatch):
     assert len(kernel.signatures) == 1
 
 
+def test_infinite_budget_never_runs_out(monkeypatch):
+    """inf: a run however long, after any amount already interpreted, stays interpreted."""
+    monkeypatch.setenv(BUDGET_VARIABLE, "inf")
+    kernel = _fresh(_long_sum)
+    tiers._interpreted_s[0] += 1e6  # as if this process had interpreted for days
+    try:
+        assert call_kernel(kernel, 200_000) == interpreted(kernel)(200_000)
+    finally:
+        tiers._interpreted_s[0] -= 1e6
+    assert kernel.signatures == []
+    errors = _fresh(_log)  # a run Python refuses is still compiled and run instead
+    assert call_kernel(errors, 0.0, budget_s=math.inf) == -math.inf
+    assert len(errors.signatures) == 1
+
+
 def test_python_error_in_the_interpreted_tier_falls_back_to_the_compiled_kernel():
     kernel = _fresh(_log)  # Python's math.log(0) raises; compiled, it is -inf
     assert call_kernel(kernel, 0.0, budget_s=10.0) == -math.inf
@@ -268,14 +283,16 @@ def test_budget_variable(monkeypatch):
     assert interpret_budget() == tiers.DEFAULT_BUDGET_S
     monkeypatch.setenv(BUDGET_VARIABLE, "0.5")
     assert interpret_budget() == 0.5
-    for bad in ("abc", "-1", "inf", "nan"):
+    monkeypatch.setenv(BUDGET_VARIABLE, " inf ")
+    assert interpret_budget() == math.inf
+    for bad in ("abc", "-1", "-inf", "nan"):
         monkeypatch.setenv(BUDGET_VARIABLE, bad)
         with pytest.raises(ParameterError, match=BUDGET_VARIABLE):
             interpret_budget()
 
 
 def test_call_kernel_refuses_a_bad_budget():
-    for bad in (-1.0, math.nan, math.inf, "1"):
+    for bad in (-1.0, -math.inf, math.nan, "1", True):
         with pytest.raises(ParameterError, match="budget_s"):
             call_kernel(_fresh(_log), 2.0, budget_s=bad)
 

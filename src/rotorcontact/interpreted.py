@@ -33,7 +33,6 @@ unchecked, as the kernels do.
 
 from __future__ import annotations
 
-import math
 import os
 import threading
 import time
@@ -53,7 +52,8 @@ __all__ = ["DEFAULT_BUDGET_S", "BUDGET_VARIABLE", "INTERPRETED_ERRSTATE", "call_
 
 #: Seconds the interpreted runs of a process may take in all before every kernel runs compiled.
 DEFAULT_BUDGET_S = 2.0
-#: The environment variable that sets that budget (0: always compile).
+#: The environment variable that sets that budget (0: always compile; ``inf``: compile only a kernel whose
+#: interpreted run Python refuses).
 BUDGET_VARIABLE = "ROTORCONTACT_INTERPRET_S"
 #: numpy's floating-point handling in the interpreted tier (see the module docstring).
 INTERPRETED_ERRSTATE = dict(divide="raise", invalid="raise", over="ignore", under="ignore")
@@ -99,7 +99,7 @@ def interpret_budget() -> float:
     Raises
     ------
     ParameterError
-        If the variable is set to something other than a finite number >= 0.
+        If the variable is set to something other than a number >= 0 (``inf`` included).
     """
     text = os.environ.get(BUDGET_VARIABLE)
     if text is None or text.strip() == "":
@@ -108,8 +108,9 @@ def interpret_budget() -> float:
         value = float(text)
     except ValueError:
         value = float("nan")
-    if not (0.0 <= value < float("inf")):
-        raise ParameterError(f"{BUDGET_VARIABLE} = {text!r} is invalid; allowed: a number of seconds >= 0")
+    if not value >= 0.0:
+        raise ParameterError(f"{BUDGET_VARIABLE} = {text!r} is invalid; allowed: a number of seconds >= 0, "
+                             "or inf (never out of time)")
     return value
 
 
@@ -247,7 +248,7 @@ def call_kernel(kernel, *args, budget_s: float | None = None):
         Its arguments, positional.
     budget_s : float, optional
         Seconds the interpreted runs of this process may take in all; default `interpret_budget`
-        (``ROTORCONTACT_INTERPRET_S``). 0 compiles at once.
+        (``ROTORCONTACT_INTERPRET_S``). 0 compiles at once; ``math.inf`` interprets until a run is refused.
 
     Returns
     -------
@@ -266,10 +267,10 @@ def call_kernel(kernel, *args, budget_s: float | None = None):
         return kernel(*args)  # compiled from now on: the budget no longer matters
     if budget_s is None:
         budget = interpret_budget()
-    elif isinstance(budget_s, (int, float)) and 0.0 <= budget_s < math.inf:
+    elif isinstance(budget_s, (int, float)) and not isinstance(budget_s, bool) and budget_s >= 0.0:
         budget = float(budget_s)
     else:
-        raise ParameterError(f"budget_s = {budget_s!r} is invalid; allowed: a number of seconds >= 0")
+        raise ParameterError(f"budget_s = {budget_s!r} is invalid; allowed: a number of seconds >= 0, or inf")
     left = budget - _interpreted_s[0]
     if left <= 0.0 or kernel in _compiled:
         return kernel(*args)
