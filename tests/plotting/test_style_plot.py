@@ -1,4 +1,4 @@
-"""The checks the figures share: axes, datasets, views, labels and figure files."""
+"""The checks the figures share: axes, views, labels and figure files."""
 
 from __future__ import annotations
 
@@ -14,7 +14,6 @@ from rotorcontact import ParameterError  # noqa: E402
 from rotorcontact.plotting.style import (  # noqa: E402
     MAX_PLOT_POINTS,
     check_axes,
-    check_dataset,
     check_figure_path,
     check_limits,
     check_names,
@@ -50,21 +49,6 @@ def test_check_axes_takes_lists_tuples_and_arrays_of_the_right_count():
         check_axes("ab", 2, "left, right")
     with pytest.raises(ParameterError, match=r"^axes = .* holds an object that is not an Axes; allowed:"):
         check_axes([grid[0, 0], "x"], 2, "left, right")
-
-
-def test_check_dataset_names_the_study_and_what_is_missing():
-    import xarray as xr
-
-    ds = xr.Dataset({"a": ("x", [1.0])}, coords={"x": [0.0]}, attrs={"kind": "k"})
-    assert check_dataset(ds, ("a", "x"), "some.study", attrs=("kind",)) is ds
-    with pytest.raises(ParameterError, match=r"^ds = None is not an? Dataset object; allowed: a some\.study "
-                                             r"result or its Dataset$"):
-        check_dataset(None, ("a",), "some.study")
-    with pytest.raises(ParameterError, match=r"^ds = <xarray\.Dataset> .* is not a result of some\.study; "
-                                             r"allowed: a some\.study result or its Dataset \(it needs variables "
-                                             r"'a', 'b' and attributes 'kind', 'other'; this one lacks variable "
-                                             r"'b', attribute 'other'\)$"):
-        check_dataset(ds, ("a", "b"), "some.study", attrs=("kind", "other"))
 
 
 def test_views_labels_and_paths():

@@ -97,6 +97,9 @@ def test_failed_points_need_a_drop_maps_dataset():
     from rotorcontact import ParameterError
     from rotorcontact.studies.drop_map import failed_points
 
-    for bad in (None, xr.Dataset(), "x"):
-        with pytest.raises(ParameterError, match=r"^ds = .* is invalid; allowed: the Dataset of a drop map"):
+    for bad in (None, "x"):
+        with pytest.raises(ParameterError, match=r"^ds = .* is not an? Dataset object; allowed: a drop_map result "
+                                                 r"or its Dataset$"):
             failed_points(bad)
+    with pytest.raises(ParameterError, match=r"^ds = .* is not a result of drop_map; .* lacks variable 'regime'"):
+        failed_points(xr.Dataset())

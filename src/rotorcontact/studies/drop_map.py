@@ -19,8 +19,9 @@ import numpy as np
 from ..errors import ParameterError
 from ..model.params import Machine, check_range
 from ..model.units import RPM
-from ..model.validation import check_length, check_machine, quoted
+from ..model.validation import check_length, check_machine
 from ..simulation.drop_run import MAX_T_END, check_drop_speed, check_failure_before_end, drop
+from .attributes import check_dataset, study_dataset
 from .driver import StudyRun, run_study
 from .execution import check_chunk_size, study_digest
 
@@ -159,11 +160,6 @@ def failed_points(ds) -> list[tuple[float, float]]:
     ParameterError
         For ``ds`` that is not a drop map's Dataset (or the `drop_map` result holding it).
     """
-    import xarray as xr
-
-    ds = getattr(ds, "dataset", ds)
-    if not (isinstance(ds, xr.Dataset) and all(v in ds.variables for v in ("regime", "speed_rpm", "friction"))):
-        raise ParameterError(f"ds = {quoted(ds)} is invalid; allowed: the Dataset of a drop map (drop_map), with "
-                             "regime, speed_rpm and friction")
+    ds = check_dataset(study_dataset(ds), ("regime", "speed_rpm", "friction"), "drop_map")
     rows, cols = np.nonzero(ds["regime"].values.astype(int) == FAILED)
     return [(float(ds["speed_rpm"].values[j]), float(ds["friction"].values[i])) for i, j in zip(rows, cols)]
