@@ -66,11 +66,11 @@ def test_rolling_in_theta_follows_the_time_integrator(spin_rpm):
     assert y_a[1] == pytest.approx(y_b[1], rel=1e-9)
     assert y_a[2] == pytest.approx(y_b[2], abs=1e-7)
     assert y_a[3] == pytest.approx(y_b[3], rel=1e-9)
-    # still rolling on the fixed stator, and the largest normal force over the same steps or nodes
+    # still rolling on the fixed stator
     assert CR * y_a[1] + R * y_a[3] == pytest.approx(0.0, abs=1e-12 * R * abs(y_a[3]))
-    # a maximum sampled at different points (nodes, steps): n varies by g sin(theta) around the wall, and
-    # the samples are within 0.2 rad of its top
-    assert abs(n_a - n_b) <= 0.02 * G
+    # the largest normal force, found between the nodes of the one and the steps of the other (it varies by
+    # g sin(theta) and the unbalance round the wall, and samples 0.1 rad from its top miss it by 5e-3 g)
+    assert n_a == pytest.approx(n_b, rel=1e-10)
 
 
 def test_the_end_of_rolling_is_located_by_the_time_integrator():

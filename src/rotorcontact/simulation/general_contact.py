@@ -30,6 +30,7 @@ from .contact import (
     _A21, _A31, _A32, _A41, _A42, _A43, _A51, _A52, _A53, _A54, _A61, _A62, _A63, _A64, _A65,
     _B1, _B3, _B4, _B5, _B6, _E1, _E3, _E4, _E5, _E6, _E7, CONTACT_TOL, EVENT_TOL, MAX_CONTACT_STEPS,
 )
+from .peaks import BEST, PEAK_SLOTS, PEAK_STEPS, may_exceed, peak_next, peak_record, peak_search
 
 __all__ = ["contact_phase", "contact_rates", "rotor_energy_above_rest", "SLIDING", "ROLLING_MODE", "C_LIFTOFF",
            "C_END", "C_SWITCH", "C_STEP_LIMIT", "C_REST", "C_RACE"]
@@ -136,6 +137,20 @@ def _events(y, p, rolling, sgn, rest_energy):
 
 
 @njit(cache=True)
+def _largest_force(ya, ha, y, h, na, nc, nb, p, rolling, sgn, search):
+    """The largest normal force within the step ``ha`` before the state y (from ya) and the step ``h`` after
+    it, where the samples na < nc >= nb bracket a maximum (`peaks`; ``search``: its slots)."""
+    peak_search(search, -ha, na, 0.0, nc, h, nb)
+    for _ in range(PEAK_STEPS):
+        x = peak_next(search)
+        if x != x:  # done
+            break
+        ys = _step(ya, ha + x, p, rolling, sgn)[0] if x < 0.0 else _step(y, x, p, rolling, sgn)[0]
+        peak_record(search, x, contact_rates(ys, p, rolling, sgn)[1])
+    return search[BEST]
+
+
+@njit(cache=True)
 def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
     """Integrate one contact phase from y0 at t0 until lift-off, a switch, rest, or t_end.
 
@@ -151,11 +166,18 @@ def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
     y : (6,) array
         The state at the end.
     n_max : float
-        Largest normal force per unit mass over the accepted steps.
+        Largest normal force per unit mass over the phase: at its ends, at the integrator's steps, and at each
+        maximum between them that may exceed the largest so far (located by `_largest_force`).
     """
     t = t0
     y = y0.copy()
-    n_max = max(_events(y, p, rolling, sgn, rest_energy)[0], 0.0)
+    nc = _events(y, p, rolling, sgn, rest_energy)[0]
+    n_max = max(nc, 0.0)
+    # the accepted point before y (none yet: ha = 0), for the maxima between steps
+    ya = y
+    ha = 0.0
+    na = nc
+    search = np.empty(PEAK_SLOTS)
     h = 1e-3 / (1.0 + abs(y[1]) + abs(y[3]))
     for _ in range(MAX_CONTACT_STEPS):
         if t >= t_end:
@@ -178,12 +200,20 @@ def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
                     hi = mid
                 else:
                     lo = mid
+                    n_max = max(n_max, a1)
             ye, _e = _step(y, hi, p, rolling, sgn)
             e1, e2, e3, _e4 = _events(ye, p, rolling, sgn, rest_energy)
+            n_max = max(n_max, e1)
+            if ha > 0.0 and na < nc and nc >= e1 and may_exceed(na, nc, e1, n_max):
+                n_max = max(n_max, _largest_force(ya, ha, y, hi, na, nc, e1, p, rolling, sgn, search))
             code = C_LIFTOFF if e1 <= 0.0 else (C_SWITCH if e2 <= 0.0 else (C_REST if e3 <= 0.0 else C_RACE))
             return code, t + hi, ye, n_max
+        if ha > 0.0 and na < nc and nc >= g1 and may_exceed(na, nc, g1, n_max):
+            n_max = max(n_max, _largest_force(ya, ha, y, h, na, nc, g1, p, rolling, sgn, search))
         t += h
+        ya, ha, na = y, h, nc
         y = yn
+        nc = g1
         n_max = max(n_max, g1)
         h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
     return C_STEP_LIMIT, t, y, n_max

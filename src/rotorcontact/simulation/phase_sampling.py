@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .peaks import parabola_vertex
+
 __all__ = ["PhaseForces", "phase_times", "phase_grids", "peak_of_samples", "PHASE_DT", "PHASE_DTHETA",
            "PHASE_MAX_STEPS", "PHASE_MAX_PIECES"]
 
@@ -118,8 +120,7 @@ def peak_of_samples(f: Callable[[np.ndarray], np.ndarray], t: np.ndarray, values
     j = int(np.argmax(v))
     best = max(best, float(v[j]))
     if 0 < j < near.size - 1:
-        curvature = v[j - 1] - 2.0 * v[j] + v[j + 1]
-        if curvature < 0.0:
-            vertex = near[j] + 0.5 * (near[1] - near[0]) * (v[j - 1] - v[j + 1]) / curvature
+        if v[j - 1] - 2.0 * v[j] + v[j + 1] < 0.0:  # concave
+            vertex = parabola_vertex(near[j - 1], v[j - 1], near[j], v[j], near[j + 1], v[j + 1])
             best = max(best, float(f(np.array([vertex]))[0]))
     return best

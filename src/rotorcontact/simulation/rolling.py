@@ -30,6 +30,7 @@ from numpy.polynomial import legendre
 
 from ..model.machine_model import contact_accelerations, rolling_fixed_coefficients
 from .general_contact import contact_phase
+from .peaks import BEST, PEAK_SLOTS, PEAK_STEPS, may_exceed, peak_next, peak_record, peak_search
 
 __all__ = ["rolling_fixed_phase", "fast_rolling_applies", "NODES", "PANEL"]
 
@@ -58,12 +59,63 @@ def _integration_matrix(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 _X, _W, _S = _integration_matrix(NODES)
+# barycentric weights of the nodes: f(x) = sum_j B_j f_j / (x - x_j) / sum_j B_j / (x - x_j), the polynomial
+# through the nodes' values (`_interpolated`)
+_B = np.array([1.0 / np.prod(_X[j] - np.delete(_X, j)) for j in range(NODES)])
 
 
 @njit(cache=True)
 def _reduced(angle: float) -> float:
     """``angle`` less a whole number of turns, to within the rounding of ``angle`` itself."""
     return angle - 2.0 * math.pi * round(angle / (2.0 * math.pi))
+
+
+@njit(cache=True)
+def _interpolated(x: float, values) -> float:
+    """The polynomial through ``values`` at the nodes, at x in [-1, 1] (barycentric form)."""
+    num = 0.0
+    den = 0.0
+    for j in range(NODES):
+        if x == _X[j]:
+            return values[j]
+        c = _B[j] / (x - _X[j])
+        num += c * values[j]
+        den += c
+    return num / den
+
+
+@njit(cache=True)
+def _rolling_force(cos_th, sin_th, cd, sd, w, sgn, p):
+    """(n, q, theta') of rolling on the fixed stator at cos/sin theta, cd, sd = cos/sin delta and w = theta'^2
+    (``p`` as `general_contact.NP`; the race-free branch of `contact_accelerations`)."""
+    mass, cr, ecc, radius, mu, f_y, inv_p = p[0], p[1], p[2], p[3], p[5], p[10], p[11]
+    ratio = cr / radius
+    thd = sgn * math.sqrt(w)
+    unb = ecc * ratio * ratio * w  # e Omega^2, Omega = -(c_r/R) theta'
+    f_n = f_y * sin_th + unb * cd
+    f_t = f_y * cos_th + unb * sd
+    _a, _b, _c, n, q = contact_accelerations(f_n, f_t, sd, cd, ecc, cr, thd, mu, 1.0, True, mass, radius, inv_p,
+                                             radius + cr, 0.0, 0.0)
+    return n, q, thd
+
+
+@njit(cache=True)
+def _largest_force(x1, f1, x2, f2, x3, f3, panel, search):
+    """The largest n where the samples f1 < f2 >= f3 at x1 < x2 < x3 bracket a maximum (`peaks`), between
+    samples from the polynomial through the nodes' n (as accurate as the quadrature's w).
+
+    x is in the Legendre coordinate of the current panel, [-1, 1]; x < -1 reaches back into the panel before
+    it, at x + 2. ``panel`` holds the nodes' n of the current panel (row 0) and of the one before (row 1);
+    ``search``: the search's slots.
+    """
+    peak_search(search, x1, f1, x2, f2, x3, f3)
+    for _ in range(PEAK_STEPS):
+        x = peak_next(search)
+        if x != x:  # done
+            break
+        k = 1 if x < -1.0 else 0
+        peak_record(search, x, _interpolated(x + 2.0 * k, panel[k]))
+    return search[BEST]
 
 
 @njit(cache=True)
@@ -80,9 +132,10 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
 
     Requires `fast_rolling_applies` (p) and y0 on the rolling manifold c_r theta' + R Omega = 0. Returns
     what `general_contact.contact_phase` returns for rolling; the panels where something happens are
-    passed to it.
+    passed to it. The largest normal force is that of the samples (the nodes and the panels' ends) and of
+    each maximum between them that may exceed the largest so far (`_largest_force`).
     """
-    mass, cr, ecc, radius, mu, f_y, inv_p = p[0], p[1], p[2], p[3], p[5], p[10], p[11]
+    mass, cr, ecc, radius, f_y, inv_p = p[0], p[1], p[2], p[3], p[10], p[11]
     ratio = cr / radius
     th, psi, e_d = y0[0], y0[2], y0[5]
     w = y0[1] * y0[1]
@@ -91,7 +144,6 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
     energy_per_w = 0.5 * mass * cr * cr + 0.5 * ratio * ratio / inv_p
     w_floor = max(W_FLOOR * w, 2.0 * rest_energy / energy_per_w if rest_energy > 0.0 else 0.0)
     t = t0
-    n_max = 0.0
     h = 0.5 * sgn * PANEL
     nodes = _X.shape[0]
     # the nodes' offsets from the panel's start, in theta and in delta = psi - theta (rate -(1 + c_r/R))
@@ -111,6 +163,15 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
     st = np.empty(nodes)
     cd = np.empty(nodes)
     sd = np.empty(nodes)
+    # the nodes' n of this panel (row 0) and the one before (`_largest_force`)
+    panel = np.zeros((2, nodes))
+    n_nodes = panel[0]
+    search = np.empty(PEAK_SLOTS)
+    th_r = _reduced(th)
+    d_r = _reduced(psi - th)
+    n_start = _rolling_force(math.cos(th_r), math.sin(th_r), math.cos(d_r), math.sin(d_r), w, sgn, p)[0]
+    n_max = max(n_start, 0.0)
+    n_before = math.inf  # the last node of the panel before (none yet: no maximum is bracketed across the start)
     for _ in range(MAX_PANELS):
         if w <= w_floor:
             break
@@ -133,7 +194,6 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
             g_nodes[j] = p_nodes[j] / phi[j]
         ok = True
         dt = 0.0
-        panel_n = 0.0
         for j in range(nodes):
             acc = 0.0
             for i in range(nodes):
@@ -142,16 +202,11 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
             if wj <= w_floor:
                 ok = False
                 break
-            thd = sgn * math.sqrt(wj)
-            unb = ecc * ratio * ratio * wj  # e Omega^2, Omega = -(c_r/R) theta'
-            f_n = f_y * st[j] + unb * cd[j]
-            f_t = f_y * ct[j] + unb * sd[j]
-            _a, _b, _c, n, q = contact_accelerations(f_n, f_t, sd[j], cd[j], ecc, cr, thd, mu, 1.0, True, mass,
-                                                     radius, inv_p, radius + cr, 0.0, 0.0)
-            if n <= 0.0 or abs(q) >= mu * n:
+            n, q, thd = _rolling_force(ct[j], st[j], cd[j], sd[j], wj, sgn, p)
+            if n <= 0.0 or abs(q) >= p[5] * n:
                 ok = False
                 break
-            panel_n = max(panel_n, n)
+            n_nodes[j] = n
             dt += _W[j] / abs(thd)
         dt *= abs(h)
         if not ok or t + dt >= t_end:
@@ -165,7 +220,24 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
         th += 2.0 * h
         psi -= ratio * 2.0 * h
         t += dt
-        n_max = max(n_max, panel_n)
+        th_e = th_r + 2.0 * h
+        d_e = d_r - (1.0 + ratio) * 2.0 * h
+        n_end = _rolling_force(math.cos(th_e), math.sin(th_e), math.cos(d_e), math.sin(d_e), w, sgn, p)[0]
+        # the samples, in the panel's coordinate: the panel before's last node, the start, the nodes, the end
+        n_max = max(n_max, n_end)
+        if n_before < n_start and n_start >= n_nodes[0] and may_exceed(n_before, n_start, n_nodes[0], n_max):
+            n_max = max(n_max, _largest_force(_X[nodes - 1] - 2.0, n_before, -1.0, n_start, _X[0], n_nodes[0],
+                                              panel, search))
+        for j in range(nodes):
+            n_max = max(n_max, n_nodes[j])
+        for j in range(nodes):
+            x1, f1 = (_X[j - 1], n_nodes[j - 1]) if j > 0 else (-1.0, n_start)
+            x3, f3 = (_X[j + 1], n_nodes[j + 1]) if j < nodes - 1 else (1.0, n_end)
+            if f1 < n_nodes[j] and n_nodes[j] >= f3 and may_exceed(f1, n_nodes[j], f3, n_max):
+                n_max = max(n_max, _largest_force(x1, f1, _X[j], n_nodes[j], x3, f3, panel, search))
+        panel[1, :] = n_nodes
+        n_before = n_nodes[nodes - 1]
+        n_start = n_end
     thd = sgn * math.sqrt(w)
     y = np.array([th, thd, psi, -ratio * thd, 0.0, e_d])
     code, t1, y1, n_rest = contact_phase(y, t, t_end, p, True, 1.0, rest_energy)
