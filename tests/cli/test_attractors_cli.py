@@ -60,6 +60,11 @@ def test_machine_speed_in_rpm(cli, tmp_path):
     (["--param", "gamma", "--from", "0.2", "--to", "0.1"], "--from"),
     (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--t-lyapunov", "0"], "t-lyapunov"),
     (["--param", "omega", "--from", "-1", "--to", "0.2"], "--from"),
+    # keys of the general model, which the study on the paper's model leaves out (a flat sweep), refused
+    (["--machine", "reference", "--param", "gravity", "--from", "0", "--to", "10"], "general model"),
+    (["--machine", "reference", "--param", "contact_stiffness", "--from", "1e9", "--to", "1e10"], "general model"),
+    (["--machine", "reference", "--param", "speed", "--from", "2000rpm", "--to", "1500rpm"],
+     "--from = 2000rpm must be smaller than --to = 1500rpm"),
 ])
 def test_bad_input_exits_2_with_one_line(cli, tmp_path, extra, word):
     code, _out, err = cli.run("attractors", *extra, "--n", "3", "--grid", "plane:3", "--out", tmp_path / "x.nc")

@@ -68,6 +68,8 @@ def test_table_and_plot(tmp_path, cli):
         ["--param", "d", "--from", "0.5", "--to", "1.5"],
         ["--plot", "out.txt"],
         ["--gamma", "nan"],
+        ["--grid", "12,4,4"],  # seeds --impacts P >= 2 only
+        ["--impacts", "1", "--grid", "12,4,4"],
     ],
 )
 def test_bad_input_exits_2(args, cli):

@@ -50,6 +50,13 @@ def test_machine_file_with_units_and_plane(tmp_path, cli):
     assert data["points"][0]["stiffness"] == pytest.approx(5e5) and data["points"][0]["damping"] == pytest.approx(500)
 
 
+def test_help_says_a_speed_needs_its_unit(cli):
+    code, out, _err = cli.run("design-map", "--help")
+    assert code == 0
+    text = " ".join(out.split())
+    assert "a speed must carry its unit" in text and "plain numbers are rpm" not in text
+
+
 @pytest.mark.parametrize(
     "args, fragment",
     [
@@ -61,6 +68,8 @@ def test_machine_file_with_units_and_plane(tmp_path, cli):
         (["--machine", "reference", "--speed", "1000:2000"], "--speed = '2000' has no unit"),
         (["--speed", "1000:2000rpm"], "no machine"),
         (["--machine", "nosuchfile.toml", "--speed", "1000:2000rpm"], "no such file"),
+        (["--machine", "/dev/null", "--speed", "1000:2000rpm"], "not a regular file"),
+        (["--machine", "reference", "--speed", "3000rpm"], "expected a range A:B with its unit after B"),
     ],
 )
 def test_bad_input_exits_2_without_traceback(args, fragment, cli):

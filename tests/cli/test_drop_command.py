@@ -227,6 +227,19 @@ def test_time_options_are_refused_by_their_option_names(cli, machine_file, tmp_p
     assert "t_end" not in err and "fail_at" not in err
 
 
+@pytest.mark.parametrize("argv, words", [
+    (("--speed", "3000:9000rpm", "--n", "1"), "--n = 1 would keep A of each range A:B alone; allowed: --n >= 2"),
+    (("--speed", "3000:9000rpm", "--n", "2", "--friction", "0.1:0.1"), "--friction = '0.1:0.1': the range must "
+                                                                       "increase"),
+    (("--speed", "3000:9000rpm", "--n", "2", "--friction", "0.2:0.1"), "--friction = '0.2:0.1': the range must "
+                                                                       "increase"),
+])
+def test_drop_map_ranges_must_span_an_interval(cli, machine_file, tmp_path, argv, words):
+    code, _out, err = cli.run("drop-map", machine_file, *argv, "--t-end", "10ms", "--out", str(tmp_path / "map"))
+    assert code == 2 and len(err.strip().splitlines()) == 1 and words in err, err
+    assert not (tmp_path / "map").exists()
+
+
 def test_drop_map_marks_failed_drops_and_exits_1(cli, machine_file, tmp_path, failing_drops):
     argv = ("--speed", "3000:9000rpm", "--n", "2", "--t-end", "10ms")
     code, _out, err = cli.run("drop", machine_file, "--speed", "9000rpm", *argv[4:], "--json")

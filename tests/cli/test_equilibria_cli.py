@@ -89,6 +89,7 @@ def test_plot(tmp_path, cli):
         (["--param", "d", "--from", "0", "--to", "2"], "d = "),
         (["--plot", "x.txt", "--from", "0", "--to", "0.1"], "suffix"),
         (["--from", "0", "--to", "0.1", "--points", "1"], "points"),
+        (["--points", "5"], "--points = '5' sets the grid of a parameter range"),
     ],
 )
 def test_bad_input_exits_2_with_a_message(args, word, cli, tmp_path, monkeypatch):

@@ -70,6 +70,20 @@ def test_details_without_json_is_refused(cli):
     assert code == 2 and out == "" and "--details adds fields to the JSON output; allowed: with --json" in err
 
 
+@pytest.mark.parametrize("args, words", [
+    (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "1"], "--n = 1 is a single value"),
+    (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "2", "--details"],
+     "--details adds the fields of one spectrum"),
+    (["--machine", "reference", "--param", "gravity", "--from", "0", "--to", "10", "--n", "2"],
+     "--param = 'gravity' is a key of the general model"),
+    (["--n-jobs", "2"], "--n-jobs need --param"),
+    (["--no-resume", "--chunk-size", "3"], "--chunk-size, --no-resume need --param"),
+])
+def test_options_that_would_be_ignored_are_refused(cli, args, words):
+    code, out, err = cli.run("lyapunov", "--t-end", "20", "--json", *args)
+    assert code == 2 and out == "" and words in err and "Traceback" not in err
+
+
 def test_bad_input_from_the_shell(cli):
     code, _, err = cli.exe("lyapunov", "--du0", "x,1")
     assert code == 2

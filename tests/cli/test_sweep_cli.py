@@ -58,6 +58,10 @@ def test_progress_bar_on_stderr(tmp_path, cli):
          "--start = 'B1,d' and --u0/--du0"),
         (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "3", "--overlay-doublings", "2"],
          "--overlay-doublings"),
+        (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "3", "--section", "rdot"],
+         "--section sets the figure; allowed: with --plot"),
+        (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--n", "3", "--no-overlay"],
+         "--no-overlay sets the figure; allowed: with --plot"),
     ],
 )
 def test_bad_input_exits_2(tmp_path, cli, extra, message):

@@ -300,6 +300,11 @@ def test_a_folder_given_as_machine_file_is_called_a_folder(tmp_path):
     assert "no such file" not in str(exc.value)
 
 
+def test_a_machine_file_that_is_not_a_regular_file_is_called_so():
+    with pytest.raises(ParameterError, match=r"^machine = '/dev/null': not a regular file; give a TOML file"):
+        load_machine("/dev/null")
+
+
 @pytest.mark.parametrize("name", sorted(PARAMS))
 @pytest.mark.parametrize("flag", [True, False])
 def test_bools_are_refused_for_float_parameters(name, flag):

@@ -220,6 +220,9 @@ def run(args: argparse.Namespace) -> int:
         "impacts", args.impacts, 1, MAX_PERIOD_IMPACTS, why="the longest period, in impacts, that is followed")
     doublings = parse_int("doublings", args.doublings, 0, MAX_DOUBLINGS,
                           why="each level doubles the impacts per period")
+    if args.grid is not None and (p is None or p < 2):
+        raise ParameterError(f"--grid = {args.grid!r} seeds the branches of --impacts P >= 2 only; allowed: with "
+                             "--impacts P >= 2")
     if p is not None and p >= 2:
         if args.plot is not None:
             raise ParameterError("--plot draws one-impact branches; allowed: --plot without --impacts P >= 2")

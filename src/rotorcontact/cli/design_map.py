@@ -30,7 +30,7 @@ def register(sub) -> None:
             "With --speed alone: a map against speed. With --speed and --stiffness (or --damping): a plane at "
             "the machine's other settings. With --stiffness and --damping: a plane at the machine's speed. "
             "Ranges are A:B with units after B (for example 1000:6000rpm, 2e5:2e6N/m, 0.5:2kN*s/m); "
-            "plain numbers are rpm, N/m and N s/m."
+            "plain numbers are N/m and N s/m, and a speed must carry its unit."
         ),
     )
     p.add_argument("machine_file", nargs="?", default=None, metavar="MACHINE.toml", help="machine file (SI or units)")
@@ -58,7 +58,8 @@ def parse_range(option: str, text: str, unit: str) -> tuple[float, float]:
     """Parse ``A:B[unit]`` into two values in ``unit``; a unit written after B applies to A too."""
     parts = text.split(":")
     if len(parts) != 2 or not parts[0].strip() or not parts[1].strip():
-        raise ParameterError(f"--{option} = {text!r} is malformed; expected A:B with optional units, e.g. 1000:6000rpm")
+        raise ParameterError(f"--{option} = {text!r} is malformed; expected a range A:B with its unit after B, e.g. "
+                             "1000:6000rpm")
     a_text, b_text = parts[0].strip(), parts[1].strip()
     for end in (a_text, b_text):
         head = end.rstrip("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ/* ")

@@ -45,6 +45,9 @@ def run(args: argparse.Namespace) -> int:
 
     machine = load_machine(args.machine)
     n = parse_int("n", args.n, 1, MAX_N)
+    if n < 2:
+        raise ParameterError(f"--n = {args.n} would keep A of each range A:B alone; allowed: --n >= 2 (A and B "
+                             "both included)")
     lo, hi = parse_range("speed", args.speed, "rad/s")
     speeds = np.linspace(lo, hi, n)
     for speed in speeds:
@@ -56,7 +59,9 @@ def run(args: argparse.Namespace) -> int:
         if len(parts) != 2:
             raise ParameterError(f"--friction = {args.friction!r} is not a range; allowed: A:B, such as 0.05:0.3")
         a = parse_float("friction", parts[0], low=0.0)
-        b = parse_float("friction", parts[1], low=a)
+        b = parse_float("friction", parts[1], low=0.0)
+        if not a < b:
+            raise ParameterError(f"--friction = {args.friction!r}: the range must increase (A < B)")
         frictions = np.linspace(a, b, n)
     fail_at, t_end = parse_drop_times(args)
     chunk = parse_int("chunk-size", args.chunk_size, 1, 1_000_000)

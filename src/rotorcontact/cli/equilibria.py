@@ -24,7 +24,8 @@ from .outputs import check_plot_path
 if TYPE_CHECKING:
     from ..analysis.equilibria import Equilibria, EquilibriumBranches
 
-#: Largest --points (the default is 401).
+#: --points: the default and the largest.
+DEFAULT_POINTS = "401"
 MAX_POINTS = MAX_EQUILIBRIUM_POINTS
 
 
@@ -49,7 +50,7 @@ def register(sub) -> None:
     )
     p.add_argument("--from", dest="start", default=None, metavar="A", help="start of the parameter range")
     p.add_argument("--to", dest="stop", default=None, metavar="B", help="end of the parameter range")
-    p.add_argument("--points", default="401", metavar="N",
+    p.add_argument("--points", default=None, metavar="N",
                    help=f"grid points bracketing the events (default 401, at most {MAX_POINTS})")
     p.set_defaults(func=run)
 
@@ -64,12 +65,15 @@ def _branches(args: argparse.Namespace, params) -> EquilibriumBranches | None:
     if args.start is None and args.stop is None:
         if args.plot is not None:
             raise ParameterError("--plot needs a parameter range; give --from A --to B")
+        if args.points is not None:
+            raise ParameterError(f"--points = {args.points!r} sets the grid of a parameter range; allowed: with "
+                                 "--from A --to B")
         return None
     if args.start is None or args.stop is None:
         raise ParameterError("--from and --to go together; give both")
     start = parameter_value("from", params, args.param, parse_float("from", args.start))
     stop = parameter_value("to", params, args.param, parse_float("to", args.stop))
-    points = parse_int("points", args.points, 2, MAX_POINTS,
+    points = parse_int("points", DEFAULT_POINTS if args.points is None else args.points, 2, MAX_POINTS,
                        why="events are located between grid points, so a finer grid mostly costs time")
     try:
         return equilibrium_branches(params, args.param, start, stop, points)

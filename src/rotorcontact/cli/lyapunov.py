@@ -19,7 +19,7 @@ from .options import (
     print_json,
 )
 from .outputs import check_output_file, note_reuse
-from .scale import add_scale_options, scale_kwargs
+from .scale import add_scale_options, scale_kwargs, scale_options_given
 
 #: Largest --t-end: tangent propagation through contact costs about 3 ms per unit of time, so 1e5 is
 #: minutes of computation.
@@ -93,8 +93,11 @@ def run(args: argparse.Namespace) -> int:
     if args.details and not args.json:
         raise ParameterError("--details adds fields to the JSON output; allowed: with --json")
     scan_options = [o for o, v in (("--from", args.start_value), ("--to", args.stop_value), ("--n", args.n_values),
-                                   ("--out", args.out)) if v is not None]
+                                   ("--out", args.out)) if v is not None] + scale_options_given(args)
     if args.param is not None:
+        if args.details:
+            raise ParameterError("--details adds the fields of one spectrum to the JSON output; allowed: without "
+                                 "--param")
         return run_scan(args, params, machine, u0, du0, t_end, t_transient, qr_interval)
     if scan_options:
         raise ParameterError(f"{', '.join(scan_options)} need --param (a scan against a parameter)")

@@ -329,29 +329,23 @@ def parameter_values(args: argparse.Namespace, params: Parameters, machine: Mach
     ParameterError
         For an unknown parameter, a machine quantity without ``--machine``, a bad count or range.
     """
-    from dataclasses import fields
-
     import numpy as np
 
     from ..model.units import option_quantity
-    from ..studies.parameter_path import parameter_path
+    from ..studies.parameter_path import check_path_param, parameter_path
 
-    param = args.param
-    machine_fields = tuple(f.name for f in fields(Machine))
+    param = check_path_param(args.param, machine, "--param", "--machine")
     if param in PARAM_NAMES:
         unit, a, b = "1", parse_float("from", args.start_value), parse_float("to", args.stop_value)
-    elif param in machine_fields:
-        if machine is None:
-            raise ParameterError(f"--param = {param!r} is a machine quantity; allowed with --machine only "
-                                 f"(model parameters: {', '.join(PARAM_NAMES)})")
+    else:
         unit = Machine.units()[param]
         a, b = option_quantity("--from", args.start_value, unit), option_quantity("--to", args.stop_value, unit)
-    else:
-        raise ParameterError(f"--param = {param!r} is invalid; allowed: {', '.join(PARAM_NAMES)}, or with "
-                             f"--machine {', '.join(machine_fields)}")
     n_values = parse_int("n", args.n_values, 1, max_values, why=why)
     if n_values > 1 and not a < b:
-        raise ParameterError(f"--from {a!r} must be smaller than --to {b!r}")
+        raise ParameterError(f"--from = {args.start_value} must be smaller than --to = {args.stop_value}")
+    if n_values == 1 and a != b:
+        raise ParameterError(f"--n = 1 is a single value, but --from = {args.start_value} and --to = "
+                             f"{args.stop_value} differ; allowed: --n >= 2, or --from = --to")
     values = np.linspace(a, b, n_values)
     try:
         parameter_path(params, param, values[[0, -1]], machine)

@@ -81,7 +81,7 @@ def register(sub) -> None:
     o = p.add_argument_group("output")
     o.add_argument("--out", required=True, metavar="FILE.nc", help="NetCDF file to write")
     o.add_argument("--plot", default=None, metavar="FILE.png", help="also draw the diagram")
-    o.add_argument("--section", default="theta", choices=("theta", "rdot", "thetadot"),
+    o.add_argument("--section", default=None, choices=("theta", "rdot", "thetadot"),
                    help="section variable of the figure (default theta)")
     o.add_argument("--no-overlay", dest="overlay", action="store_false",
                    help="do not overlay the one-impact orbits (continued branches, or the fixed points at each "
@@ -136,6 +136,10 @@ def run(args: argparse.Namespace) -> int:
     du0 = None if args.du0 is None else parse_velocity("du0", args.du0)
     if args.plot is not None:
         check_plot_path(args.plot)
+    else:
+        for given, option in ((args.section is not None, "--section"), (not args.overlay, "--no-overlay")):
+            if given:
+                raise ParameterError(f"{option} sets the figure; allowed: with --plot FILE.png")
     if args.overlay_impacts is not None:
         if args.plot is None:
             raise ParameterError("--overlay-impacts draws on the figure; allowed: with --plot FILE.png")
@@ -166,7 +170,7 @@ def run(args: argparse.Namespace) -> int:
         overlay, overlay_kind = overlay_for(params, args.param, values) if args.overlay else (None, None)
         family, found = _multi_overlay(args, params, values)
         layers = [x for x in (overlay, family) if x is not None]
-        save_sweep_figure(ds, args.plot, args.section, overlay=layers or None, cascades=found)
+        save_sweep_figure(ds, args.plot, args.section or "theta", overlay=layers or None, cascades=found)
     summary = {
         "out": str(res.path),
         "param": args.param,

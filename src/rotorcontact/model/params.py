@@ -38,6 +38,7 @@ __all__ = [
     "MAX_MAGNITUDE",
     "MAX_VELOCITY",
     "OPTIONAL_MACHINE_KEYS",
+    "PAPER_MACHINE_KEYS",
     "RACE_KEYS",
     "CONTACT_LAWS",
 ]
@@ -773,6 +774,11 @@ class Machine:
             raise ParameterError(f"{source}: {exc}") from None
 
 
+#: The keys of a machine that its dimensionless `Parameters` (the paper's model, MODEL.md §1-2) depend on; the
+#: others (`OPTIONAL_MACHINE_KEYS`) belong to the general model of MODEL.md §7-8 only.
+PAPER_MACHINE_KEYS = tuple(f.name for f in fields(Machine) if f.name not in OPTIONAL_MACHINE_KEYS)
+
+
 def _machine_file(name: str) -> Path:
     return Path(str(resources.files("rotorcontact").joinpath("machines", f"{name}.toml")))
 
@@ -800,9 +806,8 @@ def load_machine(path: str | Path) -> Machine:
             f"machine = {path_str!r} is a folder, not a file; give a TOML file or the built-in name 'reference'"
         )
     if not path.is_file():
-        raise ParameterError(
-            f"machine = {path_str!r}: no such file; give a TOML file or the built-in name 'reference'"
-        )
+        what = "not a regular file" if path.exists() else "no such file"
+        raise ParameterError(f"machine = {path_str!r}: {what}; give a TOML file or the built-in name 'reference'")
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:

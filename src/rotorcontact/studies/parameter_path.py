@@ -2,18 +2,18 @@
 
 from __future__ import annotations
 
-from dataclasses import fields, replace
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from ..errors import ParameterError
-from ..model.params import Machine, Parameters
-from .batch import PARAMETER_ORDER
+from ..model.params import OPTIONAL_MACHINE_KEYS, PAPER_MACHINE_KEYS, Machine, Parameters
 from ..model.validation import check_length, check_machine, check_machine_params, check_params, real_array
+from .batch import PARAMETER_ORDER
 from .grids import MAX_GRID_POINTS
 
-__all__ = ["parameter_path", "path_values"]
+__all__ = ["check_path_param", "parameter_path", "path_values"]
 
 
 def path_values(param: Any, values: Any) -> np.ndarray:
@@ -30,26 +30,50 @@ def path_values(param: Any, values: Any) -> np.ndarray:
     return vals
 
 
-def parameter_path(params: Parameters, param: str, values: Any, machine: Machine | None = None) -> list[Parameters]:
-    """The parameters at each value of ``param``: a model parameter, or with ``machine`` a machine quantity (SI).
+def check_path_param(param: Any, machine: Machine | None, name: str = "param", given: str = "a machine") -> str:
+    """Return ``param`` if it can be varied: a model parameter, or with a machine one of the machine's keys
+    that the paper's dimensionless model depends on (`PAPER_MACHINE_KEYS`).
+
+    ``name`` and ``given`` name the parameter and the way to give a machine in the error (the command line's
+    ``--param`` and ``--machine``).
 
     Raises
     ------
     ParameterError
-        For an unknown parameter, a value that gives invalid parameters, a machine quantity without a
-        machine, or ``params`` that are not the machine's (``param`` excepted when it is a model parameter).
+        Naming ``name``: for an unknown parameter, a machine quantity without a machine, or a key of the general
+        model (MODEL.md §7-8: gravity, anisotropy, spin inertia, race, compliant contact, stator on springs),
+        which the studies on the paper's model leave out: every value would give the same result.
+    """
+    if param in PARAMETER_ORDER:
+        return param
+    allowed = f"{', '.join(PARAMETER_ORDER)}, or with {given} {', '.join(PAPER_MACHINE_KEYS)}"
+    if param in PAPER_MACHINE_KEYS:
+        if machine is None:
+            raise ParameterError(f"{name} = {param!r} is a machine quantity; allowed with {given} only "
+                                 f"(model parameters: {', '.join(PARAMETER_ORDER)})")
+        return param
+    if param in OPTIONAL_MACHINE_KEYS:
+        raise ParameterError(f"{name} = {param!r} is a key of the general model (MODEL.md §7-8), which this study "
+                             f"leaves out (it computes on the paper's model, MODEL.md §2: every value would give "
+                             f"the same result); allowed: {allowed}")
+    raise ParameterError(f"{name} = {param!r} is invalid; allowed: {allowed}")
+
+
+def parameter_path(params: Parameters, param: str, values: Any, machine: Machine | None = None) -> list[Parameters]:
+    """The parameters at each value of ``param``: a model parameter, or with ``machine`` a machine quantity (SI)
+    of the paper's model (`check_path_param`).
+
+    Raises
+    ------
+    ParameterError
+        For a ``param`` that `check_path_param` refuses, a value that gives invalid parameters, or ``params``
+        that are not the machine's (``param`` excepted when it is a model parameter).
     """
     check_params(params)
     check_machine(machine)
-    machine_fields = tuple(f.name for f in fields(Machine))
+    check_path_param(param, machine)
     vals = path_values(param, values)
     check_machine_params(params, machine, skip=param if param in PARAMETER_ORDER else None)
     if param in PARAMETER_ORDER:
         return [params.replace(**{param: float(v)}) for v in vals]
-    if param in machine_fields:
-        if machine is None:
-            raise ParameterError(f"param = {param!r} is a machine quantity; allowed with a machine only "
-                                 f"(model parameters: {', '.join(PARAMETER_ORDER)})")
-        return [replace(machine, **{param: float(v)}).parameters() for v in vals]
-    raise ParameterError(f"param = {param!r} is invalid; allowed: {', '.join(PARAMETER_ORDER)}, or with a machine "
-                         f"{', '.join(machine_fields)}")
+    return [replace(machine, **{param: float(v)}).parameters() for v in vals]
