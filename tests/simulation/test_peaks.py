@@ -42,16 +42,26 @@ def test_best_three_drops_the_lowest():
     assert best_three(0.0, 2.5, 1.0, 1.0, 2.0, 2.0, 1.5, 3.0) == (0.0, 2.5, 1.5, 3.0, 2.0, 2.0)
 
 
-def test_may_exceed_bounds_a_parabolas_maximum_for_gaps_within_a_factor_of_5():
+def test_may_exceed_bounds_a_parabolas_maximum_twice_over():
+    """For a parabola sampled at gaps in any ratio r, the maximum exceeds the largest sample by at most
+    r^2 / (4 (r + 1)) of its larger drop; the margin holds twice that."""
     rng = np.random.default_rng(1)
-    for _ in range(2000):
-        left = rng.uniform(0.2, 5.0)
-        x0 = rng.uniform(-left, 1.0)
-        f = [-((x - x0) ** 2) for x in (-left, 0.0, 1.0)]
+    seen = 0
+    for _ in range(4000):
+        left, right = np.exp(rng.uniform(-3.0, 3.0, 2))
+        x0 = rng.uniform(-left, right)
+        f = [-((x - x0) ** 2) for x in (-left, 0.0, right)]
         if f[1] < f[0] or f[1] < f[2]:
             continue
-        assert may_exceed(f[0], f[1], f[2], 0.0)  # the maximum, 0, is within the bound
-        assert not may_exceed(f[0], f[1], f[2], f[1] + 2.0 * (f[1] - min(f[0], f[2])) + 1e-9)
+        seen += 1
+        assert may_exceed(-left, f[0], 0.0, f[1], right, f[2], 0.0)  # the maximum, 0
+        r = max(left, right) / min(left, right)
+        excess = -f[1] / (f[1] - min(f[0], f[2]))
+        assert excess <= r * r / (4.0 * (r + 1.0)) * (1.0 + 1e-12)
+        # the margin is at least twice that bound
+        assert may_exceed(-left, f[0], 0.0, f[1], right, f[2], f[1] + 2.0 * r * r / (4.0 * (r + 1.0))
+                          * (f[1] - min(f[0], f[2])))
+    assert seen > 1000
 
 
 @pytest.mark.parametrize("seed", range(4))

@@ -204,11 +204,11 @@ def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
             ye, _e = _step(y, hi, p, rolling, sgn)
             e1, e2, e3, _e4 = _events(ye, p, rolling, sgn, rest_energy)
             n_max = max(n_max, e1)
-            if ha > 0.0 and na < nc and nc >= e1 and may_exceed(na, nc, e1, n_max):
+            if ha > 0.0 and na < nc and nc >= e1 and may_exceed(-ha, na, 0.0, nc, hi, e1, n_max):
                 n_max = max(n_max, _largest_force(ya, ha, y, hi, na, nc, e1, p, rolling, sgn, search))
             code = C_LIFTOFF if e1 <= 0.0 else (C_SWITCH if e2 <= 0.0 else (C_REST if e3 <= 0.0 else C_RACE))
             return code, t + hi, ye, n_max
-        if ha > 0.0 and na < nc and nc >= g1 and may_exceed(na, nc, g1, n_max):
+        if ha > 0.0 and na < nc and nc >= g1 and may_exceed(-ha, na, 0.0, nc, h, g1, n_max):
             n_max = max(n_max, _largest_force(ya, ha, y, h, na, nc, g1, p, rolling, sgn, search))
         t += h
         ya, ha, na = y, h, nc

@@ -71,15 +71,18 @@ def best_three(x1: float, f1: float, x2: float, f2: float, x3: float, f3: float,
 
 
 @njit(cache=True)
-def may_exceed(f1: float, f2: float, f3: float, largest: float) -> bool:
-    """Whether a maximum bracketed by the samples f1 <= f2 >= f3 may exceed ``largest``.
+def may_exceed(x1: float, f1: float, x2: float, f2: float, x3: float, f3: float, largest: float) -> bool:
+    """Whether a maximum bracketed by the samples f1 <= f2 >= f3 at x1 < x2 < x3 may exceed ``largest``.
 
-    Between samples of a smooth function, at most about as far apart as their neighbours (within a factor of
-    5: the integrator's steps, the quadrature's nodes), its maximum exceeds the largest sample f2 by less than
-    twice the sample's larger drop to a neighbour (for a parabola, the maximum a quarter of the wider gap
-    from x2 exceeds f2 by at most 25 / 24 of that drop).
+    For a parabola, the maximum exceeds f2 by at most r^2 / (4 (r + 1)) times f2's larger drop to a
+    neighbour, r >= 1 the ratio of the two gaps (1/8 for equal gaps, 25/24 for r = 5). The margin taken is
+    (1 + r^2 / (r + 1)) / 2 times that drop: more than twice the parabola's, for the smooth functions sampled
+    finely enough to be near one.
     """
-    return f2 + 2.0 * (f2 - min(f1, f3)) >= largest
+    g1 = x2 - x1
+    g3 = x3 - x2
+    r = max(g1, g3) / min(g1, g3)
+    return f2 + 0.5 * (1.0 + r * r / (r + 1.0)) * (f2 - min(f1, f3)) >= largest
 
 
 @njit(cache=True)

@@ -225,15 +225,16 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
         n_end = _rolling_force(math.cos(th_e), math.sin(th_e), math.cos(d_e), math.sin(d_e), w, sgn, p)[0]
         # the samples, in the panel's coordinate: the panel before's last node, the start, the nodes, the end
         n_max = max(n_max, n_end)
-        if n_before < n_start and n_start >= n_nodes[0] and may_exceed(n_before, n_start, n_nodes[0], n_max):
-            n_max = max(n_max, _largest_force(_X[nodes - 1] - 2.0, n_before, -1.0, n_start, _X[0], n_nodes[0],
-                                              panel, search))
+        xb = _X[nodes - 1] - 2.0  # the panel before's last node
+        if n_before < n_start and n_start >= n_nodes[0]:
+            if may_exceed(xb, n_before, -1.0, n_start, _X[0], n_nodes[0], n_max):
+                n_max = max(n_max, _largest_force(xb, n_before, -1.0, n_start, _X[0], n_nodes[0], panel, search))
         for j in range(nodes):
             n_max = max(n_max, n_nodes[j])
         for j in range(nodes):
             x1, f1 = (_X[j - 1], n_nodes[j - 1]) if j > 0 else (-1.0, n_start)
             x3, f3 = (_X[j + 1], n_nodes[j + 1]) if j < nodes - 1 else (1.0, n_end)
-            if f1 < n_nodes[j] and n_nodes[j] >= f3 and may_exceed(f1, n_nodes[j], f3, n_max):
+            if f1 < n_nodes[j] and n_nodes[j] >= f3 and may_exceed(x1, f1, _X[j], n_nodes[j], x3, f3, n_max):
                 n_max = max(n_max, _largest_force(x1, f1, _X[j], n_nodes[j], x3, f3, panel, search))
         panel[1, :] = n_nodes
         n_before = n_nodes[nodes - 1]
