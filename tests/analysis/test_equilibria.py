@@ -35,8 +35,8 @@ from rotorcontact.analysis.equilibria import (
     pseudo_equilibria,
     regular_equilibrium,
     system_matrix,
-    wrap_angle,
 )
+from rotorcontact.model.angles import wrap_angle
 from reference_parameters import REF
 
 

@@ -291,6 +291,10 @@ def test_bad_input_raises_parameter_error():
         trajectory_lyapunov(simulate(p, 0j, 0j, 10.0), align=0)
     with pytest.raises(ParameterError, match=r"^traj = None is not a Trajectory object"):
         trajectory_lyapunov(None)
+    # a run cut short by its event budget, before the averaging window starts: the message says so
+    with pytest.raises(ParameterError, match=r"^t_transient = 25.0 is not below the end of the run t = .*, where it "
+                                             r"stopped early \(max-events: "):
+        lyapunov_spectrum(p, 0j, 0j, 100.0, max_events=1)
 
 
 # ---------------------------------------------------------------------------

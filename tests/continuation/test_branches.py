@@ -345,6 +345,15 @@ def test_a_range_that_starts_at_the_undamped_resonance_keeps_to_its_box():
     assert inner(at_zero) == inner(wider) and inner(wider)
 
 
+def test_seeds_on_the_bounds_keep_their_curves_in_the_box():
+    """gamma from 0.1 (a seed value, put a rounding error off the bound by its correction): the curves heading
+    below it end there, rather than run on to gamma = -0.5 with their events."""
+    box = orbit_branches(REF, "gamma", 0.1, 0.12, t_max=4.0)
+    tol = 1e-10
+    assert box.curves and all(0.1 - tol <= o.params.gamma <= 0.12 + tol for c in box.curves for o in c.orbits)
+    assert all(0.1 - tol <= e.value <= 0.12 + tol for e in box.events)
+
+
 @pytest.mark.parametrize("args, match", [
     ((None, 0.0, 0.1), r"^param = None is invalid; allowed: 'gamma', 'omega', 'rho', 'mu', 'd'$"),
     (("x", 0.0, 0.1), r"^param = 'x' is invalid"),

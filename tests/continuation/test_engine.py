@@ -103,6 +103,26 @@ def test_events_are_located_with_recorrection_on_the_curve():
         assert abs(abs(e.y[0]) - math.sqrt(0.75)) < 1e-9
 
 
+@pytest.mark.parametrize("direction, ends_at_start", [(-1.0, True), (1.0, False)])
+@pytest.mark.parametrize("side", [0.0, 1.0])
+def test_a_start_a_rounding_error_off_a_terminal_bound_counts_as_on_it(direction, ends_at_start, side):
+    """lambda >= 0.3 as a terminal bound, the start a rounding error below or above it (a seed on a bound after
+    its correction): heading down the curve ends at its start; heading up it runs on to the other side of the
+    bound."""
+    bound = 0.3
+    start = np.nextafter(bound, side)
+    lower = EventFunction("lower", lambda y: y[1] - bound, terminal=True)
+    res = continue_curve(circle, [math.sqrt(1.0 - start**2), start], events=[lower], direction=direction,
+                         correct_start=False, settings=ContinuationSettings(max_step=0.2))
+    assert res.status == "terminal"
+    assert res.points[:, 1].min() >= min(start, bound)  # never beyond the start and the bound
+    if ends_at_start:
+        assert len(res.points) == 2 and res.points[-1, 1] == pytest.approx(bound, abs=1e-15)
+    else:  # round through lambda = 1 and down to the bound on the other side of the circle
+        assert res.points[:, 1].max() > 1.0 - 1e-3
+        assert res.points[-1, 0] < 0.0 and res.points[-1, 1] == pytest.approx(bound, abs=1e-10)
+
+
 def test_discrete_event_is_located_by_bisection():
     ev = EventFunction("x > 0.3", lambda y: int(y[0] > 0.3), kind="discrete")
     res = continue_curve(circle, [1.0, 0.0], events=[ev])

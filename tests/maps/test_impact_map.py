@@ -322,6 +322,15 @@ def test_bad_input_raises_parameter_error():
             im.impact_map(p, [0.0, 0.1, 0.0], law=law)
     with pytest.raises(ParameterError, match="^jacobian = 'yes'"):
         im.impact_map(p, [0.0, 0.1, 0.0], jacobian="yes")
+    # velocities beyond the simulator's bound: refused by every function of an impact state, not overflowed
+    fast = [0.0, 1e300, 0.0]
+    for call in (lambda: im.impact_map(p, fast), lambda: im.post_impact_state(p, fast),
+                 lambda: im.impact_map_jacobian(p, fast, 1.0), lambda: im.flight_extrema(p, fast, 1.0)):
+        with pytest.raises(ParameterError, match=r"^\(rdot, thetadot\) = 1e\+300,0.0 is too fast .* allowed: "
+                                                 r"\|\(rdot, thetadot\)\| <= 1e\+06"):
+            call()
+    with pytest.raises(ParameterError, match=r"^rdot = 1e\+300 is out of range"):
+        im.fixed_point_residual(p, 1.0, 1e300)
     with pytest.raises(ParameterError):
         im.impact_map(p, [0.0, 0.1, 0.0], horizon=-1.0)
     with pytest.raises(ParameterError):

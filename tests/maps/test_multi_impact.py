@@ -198,6 +198,12 @@ def test_residual_and_bad_input():
         find_period_doubling(p, "B1,d", "gamma", lo=0.09, hi=0.1, n_scan=4)
     with pytest.raises(ParameterError):
         solve_multi_impact(p, [[0.0, float("nan"), 0.0]])
+    # a guess that is not an impact, or too fast, is bad input (not a failure of Newton's method)
+    with pytest.raises(ParameterError, match=r"^guess\[0\] = \(0.0, -1.0, 0.0\) has rdot = -1.0 <= 0, not an "
+                                             r"impact; allowed: impact states, rdot > 0$"):
+        solve_multi_impact(p, [(0.0, -1.0, 0.0), (0.0, -1.0, 0.0)])
+    with pytest.raises(ParameterError, match=r"^guess\[1\] = \(0.0, 1e\+300, 0.0\) is too fast; allowed: "):
+        solve_multi_impact(p, [b.state, (0.0, 1e300, 0.0)])
 
 
 def test_orbits_of_more_impacts_than_the_bound_are_refused_before_any_allocation():
@@ -217,12 +223,15 @@ def test_orbits_of_more_impacts_than_the_bound_are_refused_before_any_allocation
 @pytest.mark.parametrize("kwargs, match", [(dict(lo="0"), r"^lo = '0' is text"), (dict(hi=None), r"^hi = None"),
                                            (dict(tol=-1.0), r"^tol = -1.0 is invalid; allowed: a finite number > 0$"),
                                            (dict(n_scan=10**9), r"^n_scan = 1000000000 is invalid; allowed: an integer "
-                                                                r"from 1 to 10000$")])
+                                                                r"from 1 to 10000$"),
+                                           (dict(label="B9,z"), r"^label = 'B9,z' is not a one-impact orbit label; "
+                                                                r"allowed: 'B<n>,<a\|b\|c\|d>'"),
+                                           (dict(label=None), r"^label = None is not a one-impact orbit label")])
 def test_find_period_doubling_refuses_bad_intervals_and_scans(kwargs, match):
-    args = dict(lo=0.0, hi=0.2)
+    args = dict(label="B1,d", param="gamma", lo=0.0, hi=0.2)
     args.update(kwargs)
     with pytest.raises(ParameterError, match=match):
-        find_period_doubling(REF, "B1,d", "gamma", **args)
+        find_period_doubling(REF, **args)
 
 
 def test_the_impact_bound_holds_for_the_doubled_orbits_too():

@@ -59,6 +59,22 @@ IVP_CASES = [
 ]
 
 
+@pytest.mark.parametrize("omega, u0, du0", [(1e-14, 0j, 0j), (1e-14, 0.2 + 0.1j, 0.4 - 0.3j), (1e-8, 0.5j, 0.3)])
+def test_an_undamped_all_but_free_rotor_matches_solve_ivp(ref, omega, u0, du0):
+    """gamma = 0 and omega near 0 (a bearing far softer than the spin): the whirl's two terms, each of size
+    |W'| / omega, cancel, so the step bounds of the finite window take over. The run completes, and its first
+    30 flights match solve_ivp's, each from the simulator's own state after the impact before."""
+    p = Parameters(**dict(REF_VALUES, gamma=0.0, omega=omega))
+    assert simulate(p, u0, du0, 50.0).status == "completed"
+    imp = ref.run(p, u0, du0, 200.0, max_impacts=30, impacts_only=True).impacts
+    assert len(imp.t) == 30
+    t0, u, du = 0.0, complex(u0), complex(du0)
+    for j in range(30):
+        (t, _theta, rdot, *_rest), _, _ = ref.ivp_next_impact(p, t0, u, du, 500.0)
+        assert abs(imp.t[j] - t) < 1e-9 * (1.0 + 1.0 / abs(rdot)), (j, imp.t[j], t)
+        t0, u, du = imp.t[j], complex(imp.u_re[j], imp.u_im[j]), complex(imp.du_plus_re[j], imp.du_plus_im[j])
+
+
 @pytest.mark.parametrize("label,kw,u0,du0", IVP_CASES, ids=[c[0] for c in IVP_CASES])
 def test_first_50_impacts_match_solve_ivp(ref, label, kw, u0, du0):
     """Each flight of the simulator against solve_ivp started from the simulator's own

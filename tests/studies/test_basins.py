@@ -141,6 +141,8 @@ def test_parse_grid():
     assert parse_grid(g.describe()).axis1.tolist() == g.axis1.tolist()
     for bad, msg in [
         ("", "empty"),
+        (5, r"^grid = 5 is not text"),
+        (["plane:4"], r"^grid = \['plane:4'\] is not text"),
         ("x=0:1:3", "both x and y"),
         ("x=0:1:3,direction=0:1:3", "both"),
         ("x=0:1,y=0:1:3", "NAME=START:STOP:COUNT"),

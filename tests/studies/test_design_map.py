@@ -221,6 +221,14 @@ def test_design_map_refuses_malformed_ranges_by_name(ranges, match):
         design_map(reference_machine(), ranges, 3)
 
 
+def test_one_point_over_a_range_of_two_ends_is_refused():
+    from rotorcontact.studies.design_map import design_map
+
+    with pytest.raises(ParameterError, match=r"^range of speed = \(1000.0, 6000.0\) has two ends, but n = 1 is a "
+                                             r"single point; allowed: n >= 2, or first = last$"):
+        design_map(reference_machine(), {"speed": (1000.0, 6000.0)}, 1)
+
+
 @pytest.mark.parametrize("speeds", [["1000"], [True], [1000 + 1j], "1000"])
 def test_speeds_that_are_not_real_numbers_are_refused(speeds):
     with pytest.raises(ParameterError, match=r"^speeds_rpm = .* allowed: finite values > 0"):

@@ -24,8 +24,8 @@ def test_the_machine_keys_split_into_the_paper_models_and_the_general_models():
 @pytest.mark.parametrize("key", PAPER_MACHINE_KEYS)
 def test_every_paper_key_moves_the_dimensionless_parameters(key):
     value = getattr(M, key)
-    path = parameter_path(REF, key, [value, 0.9 * value], M)
-    assert path[0] == REF and path[1] != REF
+    path = parameter_path(REF, key, [0.9 * value, value], M)
+    assert path[0] != REF and path[1] == REF
 
 
 @pytest.mark.parametrize("extra", [dict(gravity=9.81), dict(polar_inertia=0.04), dict(static_force=100.0),
@@ -54,3 +54,11 @@ def test_check_path_param_takes_model_parameters_and_paper_keys():
     for bad in ("nonsense", None, 3):
         with pytest.raises(ParameterError, match=r"^param = .* is invalid; allowed: gamma"):
             check_path_param(bad, M)
+
+
+@pytest.mark.parametrize("values", [[0.1, 0.05], [0.1, 0.1], [0.05, 0.1, 0.08]])
+def test_values_out_of_order_or_repeated_are_refused(values):
+    """A path is taken in order (the attractors' appearing and disappearing are read along it)."""
+    with pytest.raises(ParameterError, match=r"^values of 'gamma' = .* must increase strictly"):
+        parameter_path(REF, "gamma", values)
+    assert [q.gamma for q in parameter_path(REF, "gamma", [0.05, 0.1])] == [0.05, 0.1]

@@ -271,8 +271,9 @@ def test_invalid_input():
         sweep(REF, "speed", values)
     with pytest.raises(ParameterError, match="increase"):
         sweep(REF, "gamma", [0.2, 0.1])
-    with pytest.raises(ParameterError, match="mode"):
-        sweep(REF, "gamma", values, mode="sideways")
+    for mode in ("sideways", ["both"], None):
+        with pytest.raises(ParameterError, match=r"^mode = .* is invalid; allowed: "):
+            sweep(REF, "gamma", values, mode=mode)
     with pytest.raises(ParameterError, match="d = 2"):
         sweep(REF, "d", [0.5, 2.0])
     with pytest.raises(ParameterError, match="B1,d"):
@@ -340,7 +341,7 @@ def test_a_value_beyond_the_simulators_accurate_range_is_refused(param, value):
 
 @pytest.mark.parametrize("args, match", [
     ((0.0, 1.0, 10**12), r"^n = 1000000000000 is invalid; allowed: an integer from 1 to 16000000$"),
-    ((-1e308, 1e308, 3), r"^from = -1e\+308 to = 1e\+308 spans more than"),
+    ((-1e308, 1e308, 3), r"^start = -1e\+308 to stop = 1e\+308 spans more than"),
 ])
 def test_sweep_values_refuses_what_it_cannot_build(args, match):
     with pytest.raises(ParameterError, match=match):

@@ -62,7 +62,6 @@ __all__ = [
     "STATE_NAMES",
     "BRANCH_PARAMETERS",
     "PSEUDO_NAMES",
-    "wrap_angle",
     "friction_sign",
     "polar_field",
     "polar_jacobian",

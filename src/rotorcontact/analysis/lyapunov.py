@@ -1109,9 +1109,10 @@ def trajectory_lyapunov(
             "allowed: a trajectory simulated with on_chatter='contact'"
         )
     if t_transient >= traj.t_stop:
+        early = "" if traj.status == "completed" else f", where it stopped early ({traj.status}: {traj.message})"
         raise ParameterError(
-            f"t_transient = {t_transient!r} is not below the end of the run t = {traj.t_stop!r}; "
-            "allowed: t_transient < t_end"
+            f"t_transient = {t_transient!r} is not below the end of the run t = {traj.t_stop!r}{early}; "
+            "allowed: t_transient below the end of the run"
         )
     walker = _Walker(traj, t_transient, qr_interval, align)
     walker.run()

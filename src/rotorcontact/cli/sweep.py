@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         values = sweep_values(start_value, stop_value, n_values)
     except ParameterError as exc:
-        raise renamed(exc, {"from": "--from", "to": "--to", "n": "--n"}) from None
+        raise renamed(exc, {"start": "--from", "stop": "--to", "n": "--n"}) from None
     if args.start is not None and (args.u0 is not None or args.du0 is not None):
         raise ParameterError(f"--start = {args.start!r} and --u0/--du0 both give the initial state; allowed: one "
                              "of them")

@@ -48,7 +48,10 @@ A *terminal* event ends the continuation at its located point; that is how
 a domain boundary (a parameter bound, a bound on an unknown) is handled. A
 terminal event that changes sign within a step but cannot be located (no trial
 point can be corrected onto the curve: a singular point, such as where two
-curves cross) ends the continuation at the step's start, inside the domain.
+curves cross) ends the continuation at the step's start, inside the domain. A
+start a rounding error outside a terminal event's domain (a seed on a parameter bound
+that the scaling put just beyond it) counts as on its boundary: a first step further
+out ends the continuation at the start.
 """
 
 from __future__ import annotations
@@ -726,7 +729,10 @@ def _locate(
                 except CorrectionError:
                     pass
         gv = ev.function(prob.y(z_best))
-        continuous = gv is not None and abs(gv) < min(abs(g0), abs(g1))
+        # through a pole |g| grows at the sign change; at a root it falls, if not below an end a rounding
+        # error from 0 (a start on the bound), then far below the other
+        continuous = gv is not None and (abs(gv) < min(abs(g0), abs(g1))
+                                         or abs(gv) <= 1e-6 * max(abs(g0), abs(g1)))
     lam_gap = abs(yb[param_index] - ya[param_index])
     converged = converged or lam_gap <= settings.location_tol
     return (
@@ -844,7 +850,14 @@ def continue_curve(
 
     zs = [z0]
     ts = [t0]
-    gvals = [ev.function(prob.y(z0)) for ev in events]
+    # a start a rounding error outside the domain of a terminal event (a seed on the boundary of a box, put
+    # beyond it by the scaling or the correction) is taken as on its boundary: heading out, the curve ends
+    # at once; a value further below 0 is a sign the continuation is to watch change (a fold's slope)
+    y_start = prob.y(z0)
+    rounding = 16.0 * np.finfo(float).eps * (1.0 + float(np.max(np.abs(y_start))))
+    gvals = [ev.function(y_start) for ev in events]
+    gvals = [0.0 if ev.terminal and ev.kind == "continuous" and g is not None and -rounding <= g < 0 else g
+             for ev, g in zip(events, gvals)]
     located: list[LocatedEvent] = []
     h = settings.step
     status, message = "max-points", f"stopped after {settings.max_points} steps"

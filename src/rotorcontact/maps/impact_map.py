@@ -109,6 +109,7 @@ from __future__ import annotations
 
 import cmath
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
@@ -126,7 +127,7 @@ from ..model.flow import (
     propagate,
     scaled_cs,
 )
-from ..model.params import Parameters, check_finite, check_range
+from ..model.params import MAX_VELOCITY, Parameters, check_finite, check_range, check_velocity
 from ..model.validation import check_bool, check_choice, check_params, complex_array, real_array
 from ..model.impact_law import (
     apply_reset,
@@ -140,6 +141,8 @@ from ..model.impact_law import (
 from ..simulation.roots import CROSSING, STUCK, next_crossing, window_bounds
 
 __all__ = [
+    "ORBIT_LABEL",
+    "check_orbit_label",
     "IDEAL",
     "SLIP_BOUNDED",
     "ImpactMapResult",
@@ -714,7 +717,9 @@ def _state(state) -> tuple[float, float, float]:
     if arr.shape != (3,):
         raise ParameterError(f"state = {state!r} is not (theta, rdot, thetadot): need 3 numbers")
     names = ("theta", "rdot", "thetadot")
-    return tuple(check_finite(n, x) for n, x in zip(names, arr))  # type: ignore[return-value]
+    theta, rdot, thetadot = (check_finite(n, x) for n, x in zip(names, arr))
+    check_velocity("(rdot, thetadot)", complex(rdot, thetadot))
+    return theta, rdot, thetadot
 
 
 @dataclass(frozen=True)
@@ -1164,7 +1169,7 @@ def fixed_point_residual(params: Parameters, T: float, rdot: float) -> tuple[np.
     """
     _params_tuple(params)
     T = _check_period(params, "T", T)
-    rdot = check_finite("rdot", rdot)
+    rdot = check_range("rdot", rdot, low=-MAX_VELOCITY, high=MAX_VELOCITY)
     q = _q(params)
     a11, a12, a21, a22, da12, da22 = call_kernel(_coefficients, T, params.gamma, params.omega)
     z = 1.0 + q * a12 * rdot
@@ -1433,6 +1438,19 @@ def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> Impact
         stable=stable,
         params=params,
     )
+
+
+#: The form of a one-impact orbit's label, B<n>,<a|b|c|d> (MODEL.md §5).
+ORBIT_LABEL = re.compile(r"B[1-9][0-9]*,[abcd]")
+
+
+def check_orbit_label(name: str, value: Any) -> str:
+    """Return ``value`` if it has the form of a one-impact orbit's label (`ORBIT_LABEL`), else a `ParameterError`
+    naming ``name``."""
+    if not isinstance(value, str) or not ORBIT_LABEL.fullmatch(value):
+        raise ParameterError(f"{name} = {value!r} is not a one-impact orbit label; allowed: 'B<n>,<a|b|c|d>', such "
+                             "as 'B1,d'")
+    return value
 
 
 def one_impact_orbits(params: Parameters, t_max: float = 12.0) -> tuple[ImpactOrbit, ...]:

@@ -72,6 +72,7 @@ from ..errors import ParameterError
 from .impact_map import (
     SLIP_BOUNDED,
     ImpactOrbit,
+    check_orbit_label,
     flight_extrema,
     impact_map,
     one_impact_orbits,
@@ -380,8 +381,9 @@ def _build_orbit(params: Parameters, states: np.ndarray, label: str) -> MultiImp
 
 
 def impact_states(states, name: str = "guess") -> np.ndarray:
-    """``states`` as a (p, 3) array of finite (theta, rdot-, thetadot-) rows, 1 <= p <= `MAX_ORBIT_IMPACTS`;
-    a `ParameterError` naming ``name`` otherwise (text, bools, ragged lists, other shapes)."""
+    """``states`` as a (p, 3) array of finite (theta, rdot-, thetadot-) rows, 1 <= p <= `MAX_ORBIT_IMPACTS`,
+    each an impact (rdot- > 0) at most `MAX_VELOCITY` fast; a `ParameterError` naming ``name`` otherwise (text,
+    bools, ragged lists, other shapes)."""
     x = real_array(states)
     if x is None:
         raise ParameterError(f"{name} = {quoted(states)} is not a (p, 3) array of (theta, rdot, thetadot)")
@@ -389,6 +391,14 @@ def impact_states(states, name: str = "guess") -> np.ndarray:
         raise ParameterError(f"{name} has shape {x.shape}; allowed: (p, 3) with 1 <= p <= {MAX_ORBIT_IMPACTS}")
     if not np.all(np.isfinite(x)):
         raise ParameterError(f"{name} is not finite; allowed: finite (theta, rdot, thetadot) rows")
+    # (a `_MapFailure`: within Newton's method an iterate leaving the impacts is a failed step, not bad input)
+    for i, row in enumerate(x):
+        if not row[1] > 0.0:
+            raise _MapFailure(f"{name}[{i}] = {tuple(map(float, row))} has rdot = {float(row[1])!r} <= 0, not an "
+                              "impact; allowed: impact states, rdot > 0")
+        if not abs(complex(row[1], row[2])) <= MAX_VELOCITY:
+            raise _MapFailure(f"{name}[{i}] = {tuple(map(float, row))} is too fast; allowed: |(rdot, thetadot)| <= "
+                              f"{MAX_VELOCITY:g}")
     return np.array(x, dtype=float)
 
 
@@ -809,6 +819,7 @@ def find_period_doubling(
         a complex pair crossing the unit circle (a Neimark-Sacker bifurcation).
     """
     check_params(params)
+    label = check_orbit_label("label", label)
     param = _check_parameter(param)
     lo = check_finite("lo", lo)
     hi = check_finite("hi", hi)

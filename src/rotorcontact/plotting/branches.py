@@ -18,7 +18,6 @@ branch letter. Every line carries a ``gid`` ``"<label>:<style>"`` with style
 from __future__ import annotations
 
 import math
-import re
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
@@ -26,6 +25,7 @@ import numpy as np
 from ..continuation.branches import BRANCH_PARAMETERS, LabelBranch, OrbitBranches, orbit_branches
 from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
+from ..maps.impact_map import ORBIT_LABEL
 from ..model.params import Parameters
 from ..model.validation import (check_bool, check_choice, check_float, check_params, check_type, is_pair, quoted,
                                 real_array)
@@ -112,10 +112,6 @@ def _draw_styled(ax, label: str, x: np.ndarray, y: np.ndarray, b: LabelBranch, c
             run = idx[i0 : min(i + 1, len(idx))]
             ax.plot(x[run], y[run], color=color, gid=f"{label}:{styles[i0]}", **_LINE[styles[i0]])
             i0 = i
-
-
-#: The form of a one-impact orbit's label.
-ORBIT_LABEL = re.compile(r"B[1-9][0-9]*,[abcd]")
 
 
 def _check_labels(branches: OrbitBranches, labels: Sequence[str]) -> list[str]:

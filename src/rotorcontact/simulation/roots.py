@@ -287,8 +287,9 @@ def _safe_step(z, dz, w, dw, k_abs, f, fp, fpp, f3, f4, f5, f6, gamma, omega, h2
         best = _step_from_moments(f, fp, fpp, f3, f4, f5, f6, moments[0], moments[1], moments[2], moments[3],
                                   moments[5], WHIRL_TRIALS)
     width = min(window, horizon)
-    # the finite window helps only where the all-time bound is poor (growth, or nu small)
-    if best < width and (gamma < 0.0 or nu < 0.5 * omega):
+    # the finite window helps only where the all-time bound is poor: growth, or nu small against omega (near
+    # critical damping) or against the rotation (a soft bearing: the whirl's terms, of size |W'| / nu, cancel)
+    if best < width and (gamma < 0.0 or nu < 0.5 * omega or nu < 0.5):
         w2, w3, w4, w5, w6 = _derivatives(w, dw, gamma, omega)
         cmax, smax = window_bounds(gamma, h2, width)
         h = min(

@@ -490,6 +490,9 @@ def _check_span(name: str, span: Any, points: int) -> tuple[float, float]:
     if not (first < last or (first == last and points == 1)):
         raise ParameterError(f"range of {name} = {span!r} is invalid; allowed: (first, last) with first < last "
                              "(first = last for a single point)")
+    if points == 1 and first != last:
+        raise ParameterError(f"range of {name} = {span!r} has two ends, but n = 1 is a single point; allowed: "
+                             "n >= 2, or first = last")
     return first, last
 
 

@@ -186,7 +186,9 @@ def parse_grid(text: str, option: str = "grid") -> BasinGrid:
     ParameterError
         With a one-line message that names the faulty part and the forms allowed.
     """
-    if not isinstance(text, str) or not text.strip():
+    if not isinstance(text, str):
+        raise ParameterError(f"{option} = {text!r} is not text; allowed: {_FORMS}")
+    if not text.strip():
         raise ParameterError(f"{option} = {text!r} is empty; allowed: {_FORMS}")
     s = text.strip().replace(" ", "")
     short = re.fullmatch(r"(plane|shock):(.*)", s)

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..model.params import OPTIONAL_MACHINE_KEYS, PAPER_MACHINE_KEYS, Machine, Parameters
-from ..model.validation import check_length, check_machine, check_machine_params, check_params, real_array
+from ..model.validation import check_length, check_machine, check_machine_params, check_params, quoted, real_array
 from .batch import PARAMETER_ORDER
 from .grids import MAX_GRID_POINTS
 
@@ -17,8 +17,8 @@ __all__ = ["check_path_param", "parameter_path", "path_values"]
 
 
 def path_values(param: Any, values: Any) -> np.ndarray:
-    """``values`` of ``param`` as a flat array of finite reals, at least one and at most `MAX_GRID_POINTS`;
-    text, bools and complex numbers are refused (`rotorcontact.model.validation.real_array`)."""
+    """``values`` of ``param`` as a flat array of finite reals, strictly increasing, at least one and at most
+    `MAX_GRID_POINTS`; text, bools and complex numbers are refused (`rotorcontact.model.validation.real_array`)."""
     check_length(f"values of {param!r}", values, MAX_GRID_POINTS)
     vals = real_array(values)
     if vals is None:
@@ -27,6 +27,9 @@ def path_values(param: Any, values: Any) -> np.ndarray:
     vals = vals.reshape(-1)
     if vals.size == 0 or not np.all(np.isfinite(vals)):
         raise ParameterError(f"values of {param!r} must be finite and at least one")
+    if not np.all(np.diff(vals) > 0.0):
+        raise ParameterError(f"values of {param!r} = {quoted(values)} must increase strictly (a path through the "
+                             "values in order)")
     return vals
 
 

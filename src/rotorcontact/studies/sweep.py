@@ -94,16 +94,16 @@ SECTION_ATTRS = {
 
 def sweep_values(start: float, stop: float, n: int) -> np.ndarray:
     """``n`` equally spaced values from ``start`` to ``stop`` (both included; one value needs start = stop)."""
-    start = check_finite("from", start)
-    stop = check_finite("to", stop)
+    start = check_finite("start", start)
+    stop = check_finite("stop", stop)
     n = check_int("n", n, 1, MAX_GRID_POINTS)
     if not math.isfinite(stop - start):
-        raise ParameterError(f"from = {start!r} to = {stop!r} spans more than the largest float")
+        raise ParameterError(f"start = {start!r} to stop = {stop!r} spans more than the largest float")
     if n > 1 and not start < stop:
-        raise ParameterError(f"from = {start!r} must be smaller than to = {stop!r}")
+        raise ParameterError(f"start = {start!r} must be smaller than stop = {stop!r}")
     if n == 1 and start != stop:
-        raise ParameterError(f"n = 1 is a single value, but from = {start!r} and to = {stop!r} differ; allowed: "
-                             "n >= 2, or from = to")
+        raise ParameterError(f"n = 1 is a single value, but start = {start!r} and stop = {stop!r} differ; allowed: "
+                             "n >= 2, or start = stop")
     return np.linspace(start, stop, int(n))
 
 
@@ -315,7 +315,7 @@ def sweep(
     if param not in SWEEP_PARAMETERS:
         raise ParameterError(f"param = {param!r} is invalid; allowed: {', '.join(SWEEP_PARAMETERS)}")
     check_machine_params(params, machine, skip=param)
-    if mode not in MODES:
+    if not isinstance(mode, str) or mode not in MODES:
         raise ParameterError(f"mode = {mode!r} is invalid; allowed: {', '.join(MODES)}")
     vals = _check_values(param, values)
     settings = check_batch_settings(settings, vals.size * len(MODES[mode]), lambda: BatchSettings(
