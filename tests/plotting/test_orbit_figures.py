@@ -155,6 +155,17 @@ def test_fig6b_max_multiplier_only_where_admissible(branches):
             assert set(y) <= set(b.max_multiplier[np.isfinite(b.max_multiplier)])
 
 
+def test_a_log_axis_of_multipliers_refuses_limits_at_or_below_zero(branches):
+    import matplotlib.pyplot as plt
+
+    before = plt.get_fignums()
+    with pytest.raises(ParameterError, match=r"^ylim = \(-1, 3\) reaches 0 or below, which a logarithmic axis "):
+        plot_max_multiplier(REF, branches=branches, log=True, ylim=(-1, 3))
+    assert plt.get_fignums() == before  # refused before drawing
+    fig, ax = plot_max_multiplier(REF, branches=branches, log=False, ylim=(-1, 3))
+    assert ax.get_ylim() == (-1.0, 3.0)
+
+
 def test_fig6a_plane_with_curves_regions_and_labels():
     diagram = codim2_diagram(REF, ("gamma", "omega"), ((0.0, 0.5), (0.6, 1.25)), grazing=("B1,d",))
     fig, ax = plot_codim2(REF, diagram=diagram, shape=(21, 21))

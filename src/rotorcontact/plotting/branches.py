@@ -434,10 +434,14 @@ def plot_max_multiplier(
     Raises
     ------
     ParameterError
-        As `plot_rdot`, and if ``log``, ``events`` or ``legend`` is not True or False.
+        As `plot_rdot`, if ``log``, ``events`` or ``legend`` is not True or False, and for a ``ylim`` that
+        reaches 0 or below on the logarithmic axis of ``log``.
     """
     _check_inputs(params, branches)
     _check_options(labels, ax, xlim, ylim, log=log, events=events, legend=legend)
+    if log and ylim is not None and not min(ylim) > 0.0:
+        raise ParameterError(f"ylim = {quoted(ylim)} reaches 0 or below, which a logarithmic axis cannot show; "
+                             "allowed: limits > 0, or log=False")
     branches = branches or orbit_branches(params, param, start, stop)
     fig, ax = plot_branch_quantity(branches, "max_multiplier", labels, ax=ax, xlim=xlim, ylim=None, events=events,
                                    legend=legend)
