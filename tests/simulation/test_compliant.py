@@ -266,6 +266,13 @@ def test_force_history_of_an_elastic_impact_is_hertz():
     assert forces[6] == 0.0 and forces[7] == 0.0
     with pytest.raises(ParameterError, match="contact = None"):
         contact_force_history(machine(), 184.2, 0.0, [0.1])
+    # a speed is checked before it is used: with units without a start, in rad/s with one
+    rpm = m.speed * 30.0 / math.pi
+    by_rpm = contact_force_history(m, f"{rpm!r} rpm", 0.0, [t_wall])
+    assert by_rpm == pytest.approx(contact_force_history(m, m.speed, 0.0, [t_wall]), rel=1e-9)
+    for speed in ("fast", None, math.inf):
+        with pytest.raises(ParameterError, match=r"^speed = "):
+            contact_force_history(m, speed, 0.0, times, start=(0j, complex(v0, 0.0)))
 
 
 @pytest.mark.parametrize("spin, kind", [(0.125, 1.0), (100.0, 0.0), (-100.0, 2.0)])

@@ -525,6 +525,8 @@ def test_the_drop_functions_refuse_what_is_not_a_machine(machine):
      r"^t_end = 1e\+300 is out of range; allowed: \(0, 100000\] s"),
     (lambda m: run_general(m, 0j, 0j, 0.0, 0.0, 1e300), r"^t_end = 1e\+300 is out of range; allowed: \(0, 10000\] s"),
     (lambda m: run_general(m, 0j, 0j, 100.0, 0.0, 0.05, stator_start=0j), r"^stator_start = "),
+    (lambda m: run_general(m, 0j, 0j, 100.0, 0.0, 0.05, max_events=0), r"^max_events = 0 is invalid"),
+    (lambda m: run_general(m, 0j, 0j, 100.0, 0.0, 0.05, max_events="x"), r"^max_events = 'x' is invalid"),
     (lambda m: drop(m, None, 0.0, 1e300), r"^t_end = 1e\+300 is out of range; allowed: \(0, 10000\]"),
     (lambda m: run_general(m, 0j, 1e30, 100.0, 0.0, 0.01), r"^v0 = \(1e\+30\+0j\) m/s is too fast .* allowed: \|v0\| "
                                                           r"<= 1000 m/s$"),

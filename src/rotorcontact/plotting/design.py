@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import ListedColormap
@@ -13,6 +15,17 @@ from ..errors import ParameterError
 from ..model.validation import check_type, quoted
 from .style import check_figure_path, new_axes, save_figure
 
+if TYPE_CHECKING:
+    import os
+    from pathlib import Path
+
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["plot_speed_regimes", "plot_operating_line", "plot_plane", "plot_speed_recovery", "plot_plane_recovery",
+           "plot_design_map", "save_design_map", "REGIME_COLORS"]
+
+#: Colour of each outcome of a design map (`rotorcontact.studies.design_map.OUTCOMES`).
 REGIME_COLORS = {"safe": "#4daf4a", "bistable": "#ffbf00", "contact-certain": "#e41a1c"}
 _LABELS = {"speed_rpm": "speed (rpm)", "stiffness": "bearing stiffness k (N/m)", "damping": "bearing damping c (N s/m)"}
 _KINDS = {1: "a speed map (speed_map)", 2: "a plane map (plane_map)"}
@@ -38,13 +51,30 @@ def _legend(ax) -> None:
     )
 
 
-def plot_speed_regimes(dmap: DesignMap, ax=None):
+def plot_speed_regimes(dmap: DesignMap, ax: Axes | None = None) -> tuple[Figure, Axes]:
     """Regimes against speed, shaded, with the contact-free whirl amplitude and the clearance (micrometres).
+
+    The forced whirl |k| c_r of each speed is drawn dashed, for comparison.
+
+    Parameters
+    ----------
+    dmap : DesignMap
+        A map over speed alone (`rotorcontact.studies.design_map.speed_map`).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; without it a figure of its own is made.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``ax`` where given).
+    ax : matplotlib.axes.Axes
+        The axes drawn on.
 
     Raises
     ------
     ParameterError
-        If ``dmap`` is not a speed map (`speed_map`) or ``ax`` is not an Axes.
+        If ``dmap`` is not a DesignMap or is a map over two settings (not a speed map, `speed_map`), or
+        ``ax`` is neither None nor an Axes (both checked before anything is drawn).
     """
     _check_map(dmap, 1)
     fig, ax = new_axes(ax, figsize=(8, 4))
@@ -69,13 +99,31 @@ def plot_speed_regimes(dmap: DesignMap, ax=None):
     return fig, ax
 
 
-def plot_operating_line(dmap: DesignMap, ax=None):
+def plot_operating_line(dmap: DesignMap, ax: Axes | None = None) -> tuple[Figure, Axes]:
     """The speed run-up as a curve in the (gamma, omega) plane, over the boundary-equilibrium curve.
+
+    Each point of the map is marked in the colour of its regime, and the machine's own operating point
+    with a star.
+
+    Parameters
+    ----------
+    dmap : DesignMap
+        A design map (`rotorcontact.studies.design_map.speed_map` or
+        `rotorcontact.studies.design_map.plane_map`), with or without a shock.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; without it a figure of its own is made.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``ax`` where given).
+    ax : matplotlib.axes.Axes
+        The axes drawn on.
 
     Raises
     ------
     ParameterError
-        If ``dmap`` is not a DesignMap or ``ax`` is not an Axes.
+        If ``dmap`` is not a DesignMap or ``ax`` is neither None nor an Axes (both checked before anything is drawn).
     """
     _check_map(dmap)
     fig, ax = new_axes(ax, figsize=(5, 4))
@@ -103,13 +151,28 @@ def plot_operating_line(dmap: DesignMap, ax=None):
     return fig, ax
 
 
-def plot_plane(dmap: DesignMap, ax=None):
+def plot_plane(dmap: DesignMap, ax: Axes | None = None) -> tuple[Figure, Axes]:
     """Regimes over a plane of two settings, with the machine's own setting marked.
+
+    Parameters
+    ----------
+    dmap : DesignMap
+        A map over two settings (`rotorcontact.studies.design_map.plane_map`).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; without it a figure of its own is made.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``ax`` where given).
+    ax : matplotlib.axes.Axes
+        The axes drawn on.
 
     Raises
     ------
     ParameterError
-        If ``dmap`` is not a plane map (`plane_map`) or ``ax`` is not an Axes.
+        If ``dmap`` is not a DesignMap or is a map over one setting (not a plane map, `plane_map`), or
+        ``ax`` is neither None nor an Axes (both checked before anything is drawn).
     """
     _check_map(dmap, 2)
     fig, ax = new_axes(ax, figsize=(6, 4.5))
@@ -137,16 +200,32 @@ def _shock_text(dmap: DesignMap) -> str:
     return f"recovery after a {1e3 * dmap.shock:.3g} mm/s shock (%)"
 
 
-def plot_speed_recovery(dmap: DesignMap, ax=None):
+def plot_speed_recovery(dmap: DesignMap, ax: Axes | None = None) -> tuple[Figure, Axes]:
     """Recovery probabilities of the bistable speeds (%), as points against speed.
 
     With ``ax`` (for example a twin of the axes of `plot_speed_regimes`) they are drawn there.
-    Returns (fig, ax).
+    Speeds whose probability was not computed are left blank.
+
+    Parameters
+    ----------
+    dmap : DesignMap
+        A map over speed alone computed with a shock (`rotorcontact.studies.design_map.speed_map` with
+        ``shock``).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; without it a figure of its own is made.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``ax`` where given).
+    ax : matplotlib.axes.Axes
+        The axes drawn on.
 
     Raises
     ------
     ParameterError
-        If ``dmap`` is not a speed map computed with a shock or ``ax`` is not an Axes.
+        If ``dmap`` is not a DesignMap, is a map over two settings or was computed without a shock (not a
+        speed map computed with a shock), or ``ax`` is neither None nor an Axes (both checked before anything is drawn).
     """
     _check_map(dmap, 1, shock=True)
     fig, ax = new_axes(ax, figsize=(8, 4))
@@ -156,13 +235,31 @@ def plot_speed_recovery(dmap: DesignMap, ax=None):
     return fig, ax
 
 
-def plot_plane_recovery(dmap: DesignMap, ax=None):
-    """Recovery probabilities (%) of the bistable settings of a plane; blank elsewhere. Returns (fig, ax).
+def plot_plane_recovery(dmap: DesignMap, ax: Axes | None = None) -> tuple[Figure, Axes]:
+    """Recovery probabilities (%) of the bistable settings of a plane; blank elsewhere.
+
+    A colour bar is added beside ``ax``.
+
+    Parameters
+    ----------
+    dmap : DesignMap
+        A map over two settings computed with a shock (`rotorcontact.studies.design_map.plane_map` with
+        ``shock``).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; without it a figure of its own is made.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``ax`` where given).
+    ax : matplotlib.axes.Axes
+        The axes drawn on.
 
     Raises
     ------
     ParameterError
-        If ``dmap`` is not a plane map computed with a shock or ``ax`` is not an Axes.
+        If ``dmap`` is not a DesignMap, is a map over one setting or was computed without a shock (not a
+        plane map computed with a shock), or ``ax`` is neither None nor an Axes (both checked before anything is drawn).
     """
     _check_map(dmap, 2, shock=True)
     fig, ax = new_axes(ax, figsize=(6, 4.5))
@@ -176,11 +273,27 @@ def plot_plane_recovery(dmap: DesignMap, ax=None):
     return fig, ax
 
 
-def plot_design_map(dmap: DesignMap):
+def plot_design_map(dmap: DesignMap) -> tuple[Figure, np.ndarray | Axes]:
     """The figure written by ``design-map``: regimes and operating line for speed maps, the plane otherwise.
 
     With recovery probabilities (``--shock``) they are drawn too: on a second axis against speed,
     or as a second panel beside the plane.
+
+    Parameters
+    ----------
+    dmap : DesignMap
+        A design map (`rotorcontact.studies.design_map.speed_map` or
+        `rotorcontact.studies.design_map.plane_map`), with or without a shock.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        A new figure.
+    axes : numpy.ndarray of matplotlib.axes.Axes, or matplotlib.axes.Axes
+        The panels: an array of two (`plot_speed_regimes` and `plot_operating_line` for a speed map,
+        `plot_plane` and `plot_plane_recovery` for a plane map with a shock), or the single Axes of
+        `plot_plane` for a plane map without a shock. The second axis of the recovery against speed is
+        a twin of ``axes[0]``, not among them.
 
     Raises
     ------
@@ -205,14 +318,32 @@ def plot_design_map(dmap: DesignMap):
     return fig, axes
 
 
-def save_design_map(dmap: DesignMap, path):
+def save_design_map(dmap: DesignMap, path: str | os.PathLike[str]) -> Path:
     """Draw `plot_design_map` and save it.
+
+    The figure is saved by `rotorcontact.plotting.style.save_figure` (150 dpi, format from the suffix)
+    and closed.
+
+    Parameters
+    ----------
+    dmap : DesignMap
+        A design map (`rotorcontact.studies.design_map.speed_map` or
+        `rotorcontact.studies.design_map.plane_map`), with or without a shock.
+    path : str or os.PathLike
+        The file to write: a ``.png``, ``.svg`` or ``.pdf`` file in a folder that exists.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, as written.
 
     Raises
     ------
     ParameterError
-        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing), and for a
-        ``dmap`` that `plot_design_map` refuses.
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing): not
+        text or os.PathLike, empty or holding a NUL character, another suffix than ``.png``, ``.svg`` or
+        ``.pdf``, or in a folder that does not exist; and for a ``dmap`` that `plot_design_map` refuses
+        (not a DesignMap).
     """
     check_figure_path(path)
     fig, _ = plot_design_map(dmap)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -9,7 +11,19 @@ from ..model.validation import check_bool, check_float, check_int, check_type
 from ..simulation.trajectory import Trajectory
 from .style import MAX_PLOT_POINTS, check_ax, check_axes, check_figure_path, draw_clearance, new_axes, save_figure
 
+if TYPE_CHECKING:
+    import os
+    from collections.abc import Sequence
+    from pathlib import Path
 
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["plot_inertial", "plot_corotating", "shade_contact", "plot_radius", "plot_trajectory",
+           "save_trajectory_figure", "MAX_CONTACT_SAMPLES", "CONTACT_COLORS"]
+
+#: Most plot times added along the contact phases of a trajectory figure, all phases together (beyond the
+#: ``n`` uniform times), so that fast whirl in contact is followed without unbounded memory.
 MAX_CONTACT_SAMPLES = 20000
 
 
@@ -39,28 +53,35 @@ def _times(traj: Trajectory, t_from: float | None, n: int) -> np.ndarray:
     return np.unique(np.concatenate(parts))
 
 
-def plot_inertial(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000):
+def plot_inertial(traj: Trajectory, ax: Axes | None = None, *, t_from: float | None = None,
+                  n: int = 4000) -> tuple[Figure, Axes]:
     """Rotor centre Z = U e^{it} in the inertial frame, with the clearance circle.
 
     Parameters
     ----------
     traj : Trajectory
+        The motion to draw (`rotorcontact.simulate`).
     ax : matplotlib.axes.Axes, optional
+        Where to draw; without it a figure of its own is made.
     t_from : float, optional
-        Draw from this time on.
+        Draw from this time on (dimensionless, clipped to [0, ``traj.t_stop``]); default: from the start.
     n : int
         Number of uniform plot times, 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS` (impacts and
         contact phases are added).
 
     Returns
     -------
-    (fig, ax)
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``ax`` where given).
+    ax : matplotlib.axes.Axes
+        The axes drawn on.
 
     Raises
     ------
     ParameterError
-        If ``traj`` is not a Trajectory, ``ax`` not an Axes, ``t_from`` not a finite number or ``n`` out
-        of its range.
+        If ``traj`` is not a Trajectory, ``ax`` neither None nor an Axes, ``t_from`` neither None nor a
+        finite number, or ``n`` not an integer from 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS`
+        (all checked before anything is drawn).
     """
     _check_trajectory(traj, t_from, n)
     fig, ax = new_axes(ax)
@@ -82,16 +103,18 @@ def _draw_corotating(ax, u: np.ndarray, impacts: np.ndarray, k: complex, lw: flo
     draw_clearance(ax)
 
 
-def plot_corotating(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000,
-                    inset: bool = False, legend: bool = True):
+def plot_corotating(traj: Trajectory, ax: Axes | None = None, *, t_from: float | None = None, n: int = 4000,
+                    inset: bool = False, legend: bool = True) -> tuple[Figure, Axes]:
     """Rotor centre U in the co-rotating frame, impacts marked, clearance circle in grey.
 
     Parameters
     ----------
     traj : Trajectory
+        The motion to draw (`rotorcontact.simulate`).
     ax : matplotlib.axes.Axes, optional
+        Where to draw; without it a figure of its own is made.
     t_from : float, optional
-        Draw from this time on.
+        Draw from this time on (dimensionless, clipped to [0, ``traj.t_stop``]); default: from the start.
     n : int
         Number of uniform plot times, 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS` (impacts and
         contact phases are added).
@@ -105,13 +128,17 @@ def plot_corotating(traj: Trajectory, ax=None, *, t_from: float | None = None, n
 
     Returns
     -------
-    (fig, ax)
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``ax`` where given).
+    ax : matplotlib.axes.Axes
+        The main axes drawn on (the inset, if any, is its child).
 
     Raises
     ------
     ParameterError
-        If ``traj`` is not a Trajectory, ``ax`` not an Axes, ``t_from`` not a finite number, ``n`` out of
-        its range, or ``inset`` or ``legend`` not True or False.
+        If ``traj`` is not a Trajectory, ``ax`` neither None nor an Axes, ``t_from`` neither None nor a
+        finite number, ``n`` not an integer from 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS`, or
+        ``inset`` or ``legend`` not True or False (all checked before anything is drawn).
     """
     _check_trajectory(traj, t_from, n)
     check_bool("inset", inset)
@@ -145,16 +172,33 @@ def plot_corotating(traj: Trajectory, ax=None, *, t_from: float | None = None, n
     return fig, ax
 
 
+#: Colour of each kind of contact phase in `shade_contact`.
 CONTACT_COLORS = {"sliding-forward": "tab:orange", "rolling": "tab:red", "sliding-backward": "tab:purple"}
 
 
-def shade_contact(traj: Trajectory, ax, t_from: float = 0.0) -> None:
+def shade_contact(traj: Trajectory, ax: Axes, t_from: float = 0.0) -> None:
     """Shade the contact phases of ``traj`` on a time axis, one colour per kind.
+
+    The colours are `CONTACT_COLORS`; a legend of the kinds shaded is added where there is any.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        The motion to draw (`rotorcontact.simulate`).
+    ax : matplotlib.axes.Axes
+        The axes to shade, with the (dimensionless) time along x.
+    t_from : float
+        Shade from this time on: phases that end before it are left out, one that spans it is cut there.
+
+    Returns
+    -------
+    None
 
     Raises
     ------
     ParameterError
-        If ``traj`` is not a Trajectory, ``ax`` not an Axes or ``t_from`` not a finite number.
+        If ``traj`` is not a Trajectory, ``ax`` not an Axes (None included) or ``t_from`` not a finite
+        number.
     """
     check_type("traj", traj, Trajectory, "a rotorcontact.Trajectory (rotorcontact.simulate)")
     check_ax(ax, optional=False)
@@ -170,10 +214,37 @@ def shade_contact(traj: Trajectory, ax, t_from: float = 0.0) -> None:
         ax.legend(loc="lower right", fontsize=8)
 
 
-def plot_radius(traj: Trajectory, ax=None, *, t_from: float | None = None, n: int = 4000):
+def plot_radius(traj: Trajectory, ax: Axes | None = None, *, t_from: float | None = None,
+                n: int = 4000) -> tuple[Figure, Axes]:
     """r(t) = |U(t)|, with the clearance r = 1 and the contact phases shaded.
 
-    Arguments and errors as `plot_inertial`; returns (fig, ax).
+    The contact phases are shaded by `shade_contact`.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        The motion to draw (`rotorcontact.simulate`).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; without it a figure of its own is made.
+    t_from : float, optional
+        Draw from this time on (dimensionless, clipped to [0, ``traj.t_stop``]); default: from the start.
+    n : int
+        Number of uniform plot times, 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS` (impacts and
+        contact phases are added).
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``ax`` where given).
+    ax : matplotlib.axes.Axes
+        The axes drawn on.
+
+    Raises
+    ------
+    ParameterError
+        If ``traj`` is not a Trajectory, ``ax`` neither None nor an Axes, ``t_from`` neither None nor a
+        finite number, or ``n`` not an integer from 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS`
+        (all checked before anything is drawn).
     """
     _check_trajectory(traj, t_from, n)
     fig, ax = new_axes(ax)
@@ -187,30 +258,40 @@ def plot_radius(traj: Trajectory, ax=None, *, t_from: float | None = None, n: in
     return fig, ax
 
 
-def plot_trajectory(traj: Trajectory, axes=None, *, t_from: float | None = None, n: int = 4000):
+def plot_trajectory(traj: Trajectory, axes: Sequence[Axes] | np.ndarray | None = None, *,
+                    t_from: float | None = None, n: int = 4000) -> tuple[Figure, np.ndarray | list[Axes]]:
     """Three panels: inertial frame, co-rotating frame and r(t).
+
+    The panels are drawn by `plot_inertial`, `plot_corotating` and `plot_radius`.
 
     Parameters
     ----------
     traj : Trajectory
+        The motion to draw (`rotorcontact.simulate`).
     axes : sequence of three matplotlib.axes.Axes, optional
-        Where to draw the three panels. Without it a figure of its own is
-        made, with the parameters and the motion in its title.
+        Where to draw the three panels: a list, a tuple or a numpy array of three Axes (of any shape, read
+        in C order). Without it a figure of its own is made, with the parameters and the motion in its
+        title.
     t_from : float, optional
-        Draw from this time on.
+        Draw from this time on (dimensionless, clipped to [0, ``traj.t_stop``]); default: from the start.
     n : int
         Number of uniform plot times, 2 to `rotorcontact.plotting.style.MAX_PLOT_POINTS` (impacts and
         contact phases are added).
 
     Returns
     -------
-    (fig, axes)
+    fig : matplotlib.figure.Figure
+        The figure drawn in (that of ``axes[0]`` where ``axes`` are given).
+    axes : numpy.ndarray or list of matplotlib.axes.Axes
+        The three panels: the numpy array of `matplotlib.pyplot.subplots` for a figure of its own, else
+        the given Axes as a list.
 
     Raises
     ------
     ParameterError
-        If ``traj`` is not a Trajectory, ``axes`` neither None nor three Axes, ``t_from`` not a finite
-        number or ``n`` out of its range.
+        If ``traj`` is not a Trajectory, ``axes`` neither None nor a list, tuple or numpy array of exactly
+        three Axes, ``t_from`` neither None nor a finite number, or ``n`` not an integer from 2 to
+        `rotorcontact.plotting.style.MAX_PLOT_POINTS` (all checked before anything is drawn).
     """
     _check_trajectory(traj, t_from, n)
     axes = check_axes(axes, 3, "inertial, co-rotating, radius")
@@ -233,14 +314,34 @@ def plot_trajectory(traj: Trajectory, axes=None, *, t_from: float | None = None,
     return fig, axes
 
 
-def save_trajectory_figure(traj: Trajectory, path, **kwargs):
+def save_trajectory_figure(traj: Trajectory, path: str | os.PathLike[str], **kwargs) -> Path:
     """Draw `plot_trajectory` and save it to ``path``.
+
+    The figure is saved by `rotorcontact.plotting.style.save_figure` (150 dpi, format from the suffix)
+    and closed.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        The motion to draw (`rotorcontact.simulate`).
+    path : str or os.PathLike
+        The file to write: a ``.png``, ``.svg`` or ``.pdf`` file in a folder that exists.
+    **kwargs
+        Passed on to `plot_trajectory`: ``axes``, ``t_from`` and ``n``.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``, as written.
 
     Raises
     ------
     ParameterError
-        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing), and
-        for the arguments `plot_trajectory` refuses.
+        For a ``path`` that `rotorcontact.plotting.style.check_figure_path` refuses (before drawing): not
+        text or os.PathLike, empty or holding a NUL character, another suffix than ``.png``, ``.svg`` or
+        ``.pdf``, or in a folder that does not exist; and for the arguments `plot_trajectory` refuses.
+    TypeError
+        For a keyword argument that `plot_trajectory` does not take.
     """
     check_figure_path(path)
     fig, _ = plot_trajectory(traj, **kwargs)

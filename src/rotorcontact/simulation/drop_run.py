@@ -353,11 +353,58 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
 
     ``fail_at = inf``: the magnetic bearing holds throughout (``rotorcontact simulate --machine``).
     The unbalance angle starts at ``machine.unbalance_phase``; the race starts at rest. With the compliant
-    law the rotor may start in contact (|z0 - z_s| > c_r): an episode starts at once. ``tol``: the
-    relative tolerance of compliant contact episodes (MODEL.md §8), in [1e-14, 1e-3]. ``stator_start``: the
-    position (m) and velocity (m/s) of a stator on springs at the start (default: at rest at its centre).
+    law the rotor may start in contact (|z0 - z_s| > c_r): an episode starts at once. A run whose
+    ``fail_at`` is at or after ``t_end`` stays levitated (`drop` refuses that; this function does not).
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine (its optional keys of MODEL.md §7 give gravity, anisotropy, spin inertia, race, the
+        compliant law and a stator on springs).
+    z0 : complex
+        Position of the rotor's centre at the start, m: a complex number x + iy, or a pair (x, y). Within
+        the clearance c_r of the stator's centre z_s (to a relative 1e-12); with the compliant law up to
+        (1 + `MAX_START_DEPTH`) c_r from it.
+    v0 : complex
+        Velocity of the rotor's centre at the start, m/s: a complex number or a pair, with
+        |v0| <= `MAX_START_VELOCITY`.
+    speed : float
+        Spin speed at the start, rad/s, in [-`rotorcontact.model.params.MAX_SPEED`,
+        `rotorcontact.model.params.MAX_SPEED`]: negative (backwards) and zero spin are allowed here.
+    fail_at : float
+        Time of the bearing failure, s: >= 0, or ``math.inf`` (a float) for a bearing that never fails.
+    t_end : float
+        Final time, s: > 0 and at most `MAX_T_END`, or at most `rotorcontact.model.params.MAX_T_END` radians
+        of spin (``MAX_T_END / |speed|`` of that module, s) where that is longer.
+    max_events : int
+        Largest number of flights, 1 to `rotorcontact.model.validation.MAX_COUNT`.
+    tol : float
+        The relative tolerance of compliant contact episodes (MODEL.md §8), in [1e-14, 1e-3]; default
+        `EPISODE_TOL`.
+    stator_start : tuple of two complex
+        The position (m) and velocity (m/s) of a stator on springs at the start, (z_s, v_s), each a complex
+        number or a pair (default: at rest at its centre). Only (0, 0) for a fixed stator (no
+        ``stator_mass``).
+
+    Returns
+    -------
+    DropResult
+        The run; its status is ``"failed"`` where the arithmetic lost a value (nan, inf) of the final state
+        or of the impact table.
+
+    Raises
+    ------
+    ParameterError
+        If ``machine`` is not a Machine; ``max_events`` is not an integer in its range; ``tol``, ``speed`` or
+        ``t_end`` is not a finite number in its range; ``fail_at`` is neither ``math.inf`` nor a finite number
+        >= 0; ``z0``, ``v0`` or an item of ``stator_start`` is not a finite complex number (text and bools
+        refused); |v0| exceeds
+        `MAX_START_VELOCITY`; ``stator_start`` is not a tuple, list or array of two items, or is not (0, 0)
+        for a fixed stator; or ``z0`` lies beyond the clearance round z_s (rigid law) or deeper than
+        `MAX_START_DEPTH` clearances inside the stator (compliant law).
     """
     check_machine(machine, optional=False)
+    max_events = check_int("max_events", max_events, low=1, high=MAX_COUNT)
     tol = check_range("tol", tol, low=1e-14, high=1e-3)
     # the spin may be negative (backwards) or zero here
     speed = check_range("speed", speed, low=-MAX_SPEED, high=MAX_SPEED, unit="rad/s")
@@ -419,13 +466,39 @@ def contact_force_history(machine: Machine, speed: float, fail_at: float, times,
 
     Each value comes from the drop run to that time (the integration up to it is the same as in the
     whole run: only its last step is cut short) and the law of MODEL.md §8 with the damping of the episode
-    in progress.
+    in progress. Each time reruns the drop up to it, hence at most `MAX_FORCE_TIMES` of them.
+
+    Parameters
+    ----------
+    machine : Machine
+        The machine, with the compliant contact law (``contact = "compliant"``).
+    speed : float or str
+        Spin speed at the start: rad/s, or without ``start`` also text with units (``"12000 rpm"``). Without
+        ``start`` it is checked as by `drop` (`check_drop_speed`: > 0, at most
+        `rotorcontact.model.params.MAX_SPEED`, with a levitated whirl inside the clearance); with it as by
+        `run_general` (|speed| at most `rotorcontact.model.params.MAX_SPEED`, rad/s).
+    fail_at : float
+        Time of the bearing failure, s (>= 0). Without ``start`` it must be before each of ``times`` (a
+        drop's ``t_end``); with it, ``math.inf`` is allowed too (the bearing never fails).
+    times : array_like of float
+        The times of the force, s: 1 to `MAX_FORCE_TIMES` finite times > 0, a single number or a 1-D
+        array. Each is the ``t_end`` of a run, within the range `drop` or `run_general` allows.
+    start : tuple of two complex, optional
+        (z0, v0): position (m) and velocity (m/s) of the rotor's centre at the start, each a complex number
+        or a pair, as `run_general` takes them. Default: the levitated state at ``speed`` (`drop`).
+
+    Returns
+    -------
+    numpy.ndarray
+        F_n at each of ``times``, N: a 1-D array of as many floats (0 where the rotor is out of contact).
 
     Raises
     ------
     ParameterError
-        For a machine without the compliant law, ``times`` that are not 1 to `MAX_FORCE_TIMES` finite times
-        > 0, or a ``start`` that is not a pair (z0, v0).
+        For a machine that is not a Machine or is without the compliant law, ``times`` that are not 1 to
+        `MAX_FORCE_TIMES` finite times > 0, or a ``start`` that is not a pair (z0, v0); and for what `drop`
+        (without ``start``) or `run_general` (with it) refuses of ``speed``, ``fail_at``, a time as its
+        ``t_end``, or ``start``'s z0 and v0.
     """
     check_machine(machine, optional=False)
     if not machine.compliant:
@@ -436,6 +509,10 @@ def contact_force_history(machine: Machine, speed: float, fail_at: float, times,
         raise ParameterError(f"times = {quoted(times)} is invalid; allowed: 1 to {MAX_FORCE_TIMES} finite times > 0, s")
     if start is not None and not is_pair(start):
         raise ParameterError(f"start = {quoted(start)} is invalid; allowed: (z0, v0) in m and m/s, or None")
+    if start is None:
+        speed = check_drop_speed(machine, speed, "speed")
+    else:
+        speed = check_range("speed", speed, low=-MAX_SPEED, high=MAX_SPEED, unit="rad/s")
     chi = restitution_damping(machine.restitution, machine.exponent)
     floor = DAMPING_VELOCITY_FRACTION * _velocity_scale(machine, speed)
     out = []
