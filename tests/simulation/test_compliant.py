@@ -332,3 +332,79 @@ def test_a_drop_ends_in_a_lasting_rolling_episode_listed_as_backward_whirl():
     assert whirl <= m.rotor_radius * last[COL["spin_before"]] / m.clearance
     assert r.regime == "backward-whirl" and r.backward_whirl_onset <= interval["t_start_s"]
     assert r.to_dict()["contact_intervals"] == r.contact_intervals()
+
+
+def _episode_p(stator=(0.0, 0.0, 0.0, 0.0, 0.0), n=1.5):
+    from rotorcontact.simulation.drop import _episode_params
+
+    return _episode_params(50.0, 0.7e-3, 0.0, 0.04, 0.3, 0.0, 0.0, 0.0, 0.0, -9.81, 1.0 / 0.04, 0.0, 0.0, 0.0,
+                           KC, n, 0.0, 1e-10, 1.0, np.array(stator, dtype=float))
+
+
+def _own_energy_above_rest(y, mass, cr, g, kc, n, ksx=0.0, ksy=0.0):
+    """Kinetic and potential energy less their value at rest, written out: gravity, the contact's elasticity
+    and the stator's springs, the rest found from the balance of the weight (no stator: ksy = 0)."""
+    ke = 0.5 * mass * (y[2] ** 2 + y[3] ** 2) + 0.5 * 0.04 * y[5] ** 2
+    if ksy > 0.0:
+        ke += 0.5 * 2.0 * (y[13] ** 2 + y[14] ** 2)  # stator mass 2 kg
+    delta = math.hypot(y[0] - y[11], y[1] - y[12]) - cr
+    ds = (mass * g / kc) ** (1.0 / n)
+    ys_rest = -mass * g / ksy if ksy > 0.0 else 0.0
+    y_rest = ys_rest - (cr + ds)
+
+    def potential(yy, d, xs, ys):
+        return mass * g * yy + (kc * d ** (n + 1) / (n + 1) if d > 0 else 0.0) + 0.5 * (ksx * xs**2 + ksy * ys**2)
+
+    return ke + potential(y[1], delta, y[11], y[12]) - potential(y_rest, ds, 0.0, ys_rest)
+
+
+@pytest.mark.parametrize("stator", [None, (1.0 / 2.0, 2e6, 5e6, 0.0, 0.0)])
+def test_the_energy_above_rest_is_zero_at_rest_and_the_written_out_energy_elsewhere(stator):
+    from rotorcontact.simulation.compliant import NY, energy_above_rest
+
+    mass, cr, g, n = 50.0, 0.7e-3, 9.81, 1.5
+    p = _episode_p() if stator is None else _episode_p(stator)
+    ksx, ksy = (0.0, 0.0) if stator is None else stator[1:3]
+    ds = (mass * g / KC) ** (1.0 / n)
+    ys = -mass * g / ksy if stator is not None else 0.0
+    rest = np.zeros(NY)
+    rest[1], rest[12] = ys - (cr + ds), ys
+    scale = mass * g * cr
+    assert abs(energy_above_rest(rest, p)) <= 1e-12 * scale
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        y = rest.copy()
+        angle = -math.pi / 2 + rng.uniform(-0.3, 0.3)
+        radius = cr + rng.uniform(-0.5, 1.5) * ds
+        y[11:13] = (rng.uniform(-1e-5, 1e-5, 2) if stator is not None else 0.0)
+        y[0], y[1] = y[11] + radius * math.cos(angle), y[12] + radius * math.sin(angle)
+        y[2], y[3], y[5] = rng.normal(0.0, 1e-3, 3)
+        if stator is not None:
+            y[13:15] = rng.normal(0.0, 1e-3, 2)
+        own = _own_energy_above_rest(y, mass, cr, g, KC, n, ksx, ksy)
+        assert own > 0.0
+        assert energy_above_rest(y, p) == pytest.approx(own, rel=1e-9, abs=1e-12 * scale)
+
+
+def test_a_compliant_rotor_rocking_at_the_bottom_rests_only_when_its_energy_above_rest_is_spent():
+    """A rotor rolling to and fro at the bottom of a compliant wall passes through zero kinetic energy at each
+    turning point; its rest is where its energy above rest, potential included, falls to 1e-8 of the kinetic
+    energy at the start (as for the rigid law), not at a turning point of a swing."""
+    from rotorcontact.simulation.drop_run import REST_FRACTION
+
+    m = machine(eccentricity=0.0, gravity=9.81, polar_inertia=0.04, race_inertia=0.005, race_drag_torque=0.0,
+                race_drag_coefficient=0.3, friction=0.3, contact="compliant", contact_stiffness=KC, restitution=0.9)
+    cr, radius, amp, thd0 = m.clearance, m.rotor_radius, 0.3, -5.0
+    ds = (m.mass * 9.81 * math.cos(amp) / KC) ** (1.0 / 1.5)
+    speed = -cr * thd0 / radius
+    th0 = -math.pi / 2 + amp
+    z0 = (cr + ds) * complex(math.cos(th0), math.sin(th0))
+    v0 = 1j * cr * thd0 * complex(math.cos(th0), math.sin(th0))
+    r = run_general(m, z0, v0, speed, 0.0, 20.0)
+    assert r.status == "at-rest"
+    fs = r.final_state
+    y = np.zeros(15)
+    y[0], y[1], y[2], y[3], y[5] = fs[1], fs[2], fs[3], fs[4], fs[5]
+    ke0 = 0.5 * m.mass * abs(v0) ** 2 + 0.5 * 0.04 * speed**2
+    left = _own_energy_above_rest(y, m.mass, cr, 9.81, KC, 1.5)
+    assert 0.0 <= left <= REST_FRACTION * ke0 * (1.0 + 1e-6)

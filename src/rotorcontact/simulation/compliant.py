@@ -30,7 +30,8 @@ from .contact import (
     _B1, _B3, _B4, _B5, _B6, _E1, _E3, _E4, _E5, _E6, _E7, EVENT_TOL, MAX_CONTACT_STEPS,
 )
 
-__all__ = ["compliant_episode", "episode_rates", "NQ", "NY", "E_HORIZON", "E_SEPARATED", "E_STEP_LIMIT", "E_REST"]
+__all__ = ["compliant_episode", "energy_above_rest", "episode_rates", "NQ", "NY", "E_HORIZON", "E_SEPARATED",
+           "E_STEP_LIMIT", "E_REST"]
 
 E_HORIZON = 0
 E_SEPARATED = 1
@@ -160,6 +161,32 @@ def _kinetic(y, p):
 
 
 @njit(cache=True)
+def energy_above_rest(y, p):
+    """The energy of the episode state y above the rotor's rest on the stator, J (0 only at that rest).
+
+    The kinetic energy (`_kinetic`) and the potential energy of the constant force m b_y, of the contact's
+    elasticity K_c delta^(n+1)/(n+1) and of a stator's springs, less its least value: the rotor resting on the
+    wall where m b_y points, pressed in by delta_s (K_c delta_s^n = m |b_y|), the stator's springs carrying
+    that force. The compliant form of `general_contact.rotor_energy_above_rest` (MODEL.md §7-8).
+    """
+    mass, cr, b_y, kc, expo = p[0], p[1], p[10], p[15], p[16]
+    xs, ys = y[11], y[12]
+    delta = abs(complex(y[0] - xs, y[1] - ys)) - cr
+    energy = _kinetic(y, p) + (kc * delta ** (expo + 1.0) / (expo + 1.0) if delta > 0.0 else 0.0)
+    if p[20] > 0.0:
+        energy += 0.5 * (p[21] * xs * xs + p[22] * ys * ys)
+    if b_y != 0.0:
+        force = mass * abs(b_y)
+        side = 1.0 if b_y > 0.0 else -1.0
+        # -m b_y y less its value at rest, and the least elastic energies: F (c_r - side y) + F delta_s n/(n+1)
+        # (+ F^2 / (2 k_sy) with the stator's springs)
+        energy += force * (cr - side * y[1]) + force * (force / kc) ** (1.0 / expo) * expo / (expo + 1.0)
+        if p[20] > 0.0 and p[22] > 0.0:
+            energy += 0.5 * force * force / p[22]
+    return energy
+
+
+@njit(cache=True)
 def _inside(y, p, rolling, sgn, rdir, which, rest_energy):
     """Whether y lies before the event sought by `_bisect`: delta' > 0 (which = 0), F_n' > 0 (1), or every
     switching function of `_events` positive (2)."""
@@ -231,11 +258,11 @@ def friction_mode(y, p, at_switch, rdir):
 @njit(cache=True)
 def _events(y, p, rolling, sgn, rdir, rest_energy):
     """Switching functions, positive inside the phase: delta; sgn v_rel (sliding) or mu F_n - |F_t| (rolling);
-    the rotor's kinetic energy above ``rest_energy`` (1 where that is 0: no rest event); rdir Omega_b (the race
-    turning) or T_b - R_b |F_t| (the race held; 1 without a race)."""
+    the energy above rest (`energy_above_rest`) above ``rest_energy`` (1 where that is 0: no rest event);
+    rdir Omega_b (the race turning) or T_b - R_b |F_t| (the race held; 1 without a race)."""
     _r, fn, _dfn, delta, _vn, v_rel, ft = episode_rates(y, p, rolling, sgn, rdir)
     g2 = p[5] * fn - abs(ft) if rolling else sgn * v_rel
-    g3 = _kinetic(y, p) - rest_energy if rest_energy > 0.0 else 1.0
+    g3 = energy_above_rest(y, p) - rest_energy if rest_energy > 0.0 else 1.0
     if p[12] == 0.0:
         g4 = 1.0
     elif rdir == 0.0:
@@ -261,7 +288,7 @@ def compliant_episode(y0, t0, t_end, p, f_max, d_max, modes, rest_energy=0.0):
     ``f_max``, ``d_max``: the largest normal force (N) and penetration (m) so far in the episode, updated.
     ``modes``: (3,) array of the time spent sliding forward (v_rel > 0), rolling and sliding backward, s,
     added to in place.
-    ``rest_energy`` > 0: the episode also ends where the rotor's kinetic energy (whirl and spin) falls to it.
+    ``rest_energy`` > 0: the episode also ends where its energy above rest (`energy_above_rest`) falls to it.
 
     Returns
     -------
