@@ -61,6 +61,21 @@ def test_dry_whip_errors_exit_2(cli, machine_file, args, match):
     assert code == 2 and match in err and "Traceback" not in err and out == ""
 
 
+def test_a_whip_deeper_than_the_compliant_laws_range_is_warned(cli, tmp_path, machine_file):
+    """A stiff support (k_s = 5e7 N/m) makes the whip press more than a clearance into the stator: the result
+    is printed, with one warning line on stderr; the whip of the machine above has none."""
+    path = tmp_path / "stiff.toml"
+    path.write_text(STATOR_MACHINE.replace('stator_stiffness = "5 MN/m"', 'stator_stiffness = "50 MN/m"')
+                    .replace("friction = 0.15", "friction = 0.2"))
+    whip = steady_dry_whip(load_machine(path))
+    assert whip.penetration > load_machine(path).clearance
+    code, out, err = cli.run("dry-whip", str(path), "--json")
+    assert code == 0 and cli.loads(out)["penetration_m"] == whip.penetration
+    assert err.count("\n") == 1 and "warning: the whip presses" in err and "clearances into the stator" in err
+    code, out, err = cli.run("dry-whip", machine_file, "--json")
+    assert code == 0 and err == ""
+
+
 def test_dry_whip_of_a_fixed_stator_is_refused(cli, tmp_path):
     path = tmp_path / "fixed.toml"
     path.write_text("\n".join(line for line in STATOR_MACHINE.splitlines() if not line.startswith("stator_")))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from ..errors import ParameterError
 from ..model.params import load_machine
@@ -42,6 +43,13 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(str(exc).replace("bearing_failed = False", "--bearing = acting")
                              .replace("speed =", "--speed =").replace("----speed", "--speed")) from None
     out = whip.to_dict()
+    from ..simulation.drop_run import MAX_START_DEPTH
+
+    depth = whip.penetration / machine.clearance
+    if depth > MAX_START_DEPTH:
+        print(f"rotorcontact dry-whip: warning: the whip presses {depth:.3g} clearances into the stator, beyond "
+              f"the compliant law's range ({MAX_START_DEPTH:g}): no motion of this machine reaches it, and the "
+              "simulator cannot start on it", file=sys.stderr)
     if args.json:
         print_json(out)
         return 0
