@@ -17,8 +17,8 @@ it. The caller runs it as
 Each trial is the vertex of the parabola through three points, the three largest seen (`parabola_vertex`,
 `best_three`). Once the vertex moves less than `PEAK_TOL` of the bracket's width, the search probes
 `PEAK_PROBE` of the width to either side: a parabola through wide points can settle on a vertex off the
-maximum, and the close points then give one on it. It ends once a settled vertex has all three points within
-twice the probe, or a vertex leaves the bracket or repeats a point. The largest value seen is kept, so it is
+maximum, and the close points then give one on it. It ends once a vertex settles with the points it came from
+within four probes of one another, or a vertex leaves the bracket or repeats a point. The largest value seen is kept, so it is
 never below the largest sample.
 
 Its functions are compiled and take their arguments unchecked.
