@@ -82,3 +82,45 @@ def test_the_largest_force_between_steps_is_located(spin_rpm):
     ref, at_end = reference_max(y0, t_end, p, True, 1.0)
     assert not at_end
     assert n_max == pytest.approx(ref, rel=1e-9)
+
+
+def _rolling_with_bearing():
+    p = params(0.6, kx=2e5, ky=3e6, cx=300.0, cy=5000.0, ecc=2e-6)
+    om = 600.0 * math.pi / 30.0
+    return p, np.array([-1.0, -R / CR * om, 0.3, om, 0.0, 0.0])
+
+
+def _peak(y0, p, t1):
+    """The time and value of the largest force over [0, t1], by solve_ivp's dense output and a bounded search."""
+    sol = solve_ivp(lambda t, y: contact_rates(y, p, True, 1.0)[0], (0.0, t1), y0, method="DOP853", rtol=1e-13,
+                    atol=1e-13, dense_output=True)
+    grid = np.linspace(0.0, t1, 2001)
+    n = [contact_rates(sol.sol(t), p, True, 1.0)[1] for t in grid]
+    k = int(np.argmax(n))
+    res = minimize_scalar(lambda t: -contact_rates(sol.sol(t), p, True, 1.0)[1], bounds=(grid[k - 1], grid[k + 1]),
+                          method="bounded", options={"xatol": 1e-18})
+    return float(res.x), -float(res.fun), sol
+
+
+@pytest.mark.parametrize("after", [3e-8, 2e-7, 7.4e-6])
+def test_a_maximum_in_the_last_step_before_the_end_is_located(after):
+    """The phase ends (t_end) just after a maximum of the force, inside its last step, so that no sample after
+    the maximum lies below it but the end's."""
+    p, y0 = _rolling_with_bearing()
+    t_peak, n_peak, _sol = _peak(y0, p, 6e-4)
+    code, t1, _y1, n_max = contact_phase(y0, 0.0, t_peak + after, p, True, 1.0, 0.0)
+    assert code == C_END
+    assert n_max == pytest.approx(n_peak, rel=1e-11)
+
+
+@pytest.mark.parametrize("after", [5e-7, 1.5e-6, 6e-6])
+def test_a_maximum_just_before_an_ending_event_is_located(after):
+    """The rest event (its energy set from the reference) ends the phase just after a maximum of the force."""
+    from rotorcontact.simulation.general_contact import C_REST, rotor_energy_above_rest
+
+    p, y0 = _rolling_with_bearing()
+    t_peak, n_peak, sol = _peak(y0, p, 6e-4)
+    rest = rotor_energy_above_rest(sol.sol(t_peak + after), p)
+    code, t1, _y1, n_max = contact_phase(y0, 0.0, 0.03, p, True, 1.0, rest)
+    assert code == C_REST and t1 == pytest.approx(t_peak + after, abs=1e-9)
+    assert n_max == pytest.approx(n_peak, rel=1e-11)

@@ -82,3 +82,27 @@ def test_the_end_of_rolling_is_located_by_the_time_integrator():
     assert code_a == code_b != C_END
     assert t_a == pytest.approx(t_b, rel=1e-9)
     np.testing.assert_allclose(y_a[:4], y_b[:4], rtol=1e-8, atol=1e-9)
+
+
+@pytest.mark.parametrize("past_half_turn", [8e-4, None])
+def test_a_maximum_just_before_the_hand_off_to_the_time_integrator_is_located(past_half_turn):
+    """A slow roll started just short of the top: its first half turn ends just past the bottom, where the
+    force is largest, between the panel's last node and its end. With t_end inside the next half turn that
+    panel is handed to the time integrator, which starts at the end: the maximum is located all the same."""
+    from scipy.integrate import solve_ivp
+    from scipy.optimize import brentq
+
+    from rotorcontact.simulation.general_contact import contact_rates
+
+    p = params(mu=MU, ecc=0.0)
+    om = 60.0 * math.pi / 30.0
+    y0 = np.array([math.pi / 2 - 0.008, -R / CR * om, 0.4, om, 0.0, 0.0])
+    sol = solve_ivp(lambda t, y: contact_rates(y, p, True, 1.0)[0], (0.0, 0.03), y0, method="DOP853", rtol=1e-13,
+                    atol=1e-13, dense_output=True)
+    t_bottom = brentq(lambda t: sol.sol(t)[0] + math.pi / 2, 0.0, 0.03, xtol=1e-16)
+    n_bottom = contact_rates(sol.sol(t_bottom), p, True, 1.0)[1]  # the largest force: at the bottom
+    t_half = brentq(lambda t: sol.sol(t)[0] - (y0[0] - math.pi), 0.0, 0.03, xtol=1e-16)  # the first panel's end
+    t_end = 0.02 if past_half_turn is None else t_half + past_half_turn
+    _code, t1, _y1, n_max = rolling_fixed_phase(y0, 0.0, t_end, p, 0.0)
+    assert t1 > t_bottom
+    assert n_max == pytest.approx(n_bottom, rel=1e-11)

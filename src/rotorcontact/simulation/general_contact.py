@@ -30,7 +30,7 @@ from .contact import (
     _A21, _A31, _A32, _A41, _A42, _A43, _A51, _A52, _A53, _A54, _A61, _A62, _A63, _A64, _A65,
     _B1, _B3, _B4, _B5, _B6, _E1, _E3, _E4, _E5, _E6, _E7, CONTACT_TOL, EVENT_TOL, MAX_CONTACT_STEPS,
 )
-from .peaks import BEST, PEAK_SLOTS, PEAK_STEPS, may_exceed, peak_next, peak_record, peak_search
+from .peaks import BEST, PEAK_SLOTS, PEAK_STEPS, may_exceed, peak_next, peak_record, peak_search, peak_search_end
 
 __all__ = ["contact_phase", "contact_rates", "rotor_energy_above_rest", "SLIDING", "ROLLING_MODE", "C_LIFTOFF",
            "C_END", "C_SWITCH", "C_STEP_LIMIT", "C_REST", "C_RACE"]
@@ -137,10 +137,8 @@ def _events(y, p, rolling, sgn, rest_energy):
 
 
 @njit(cache=True)
-def _largest_force(ya, ha, y, h, na, nc, nb, p, rolling, sgn, search):
-    """The largest normal force within the step ``ha`` before the state y (from ya) and the step ``h`` after
-    it, where the samples na < nc >= nb bracket a maximum (`peaks`; ``search``: its slots)."""
-    peak_search(search, -ha, na, 0.0, nc, h, nb)
+def _searched(ya, ha, y, p, rolling, sgn, search):
+    """Run the started ``search`` over times x from y (x < 0: from ya, ``ha`` before it); its largest force."""
     for _ in range(PEAK_STEPS):
         x = peak_next(search)
         if x != x:  # done
@@ -148,6 +146,22 @@ def _largest_force(ya, ha, y, h, na, nc, nb, p, rolling, sgn, search):
         ys = _step(ya, ha + x, p, rolling, sgn)[0] if x < 0.0 else _step(y, x, p, rolling, sgn)[0]
         peak_record(search, x, contact_rates(ys, p, rolling, sgn)[1])
     return search[BEST]
+
+
+@njit(cache=True)
+def _largest_force(ya, ha, y, h, na, nc, nb, p, rolling, sgn, search):
+    """The largest normal force within the step ``ha`` before the state y (from ya) and the step ``h`` after
+    it, where the samples na < nc >= nb bracket a maximum (`peaks`; ``search``: its slots)."""
+    peak_search(search, -ha, na, 0.0, nc, h, nb)
+    return _searched(ya, ha, y, p, rolling, sgn, search)
+
+
+@njit(cache=True)
+def _largest_force_at_end(y, h, n0, n1, p, rolling, sgn, search):
+    """The largest normal force within the step ``h`` from the state y, the first or last of a phase, whose end
+    sample (n0 at y, or n1) is the larger (`peaks.peak_search_end`)."""
+    peak_search_end(search, 0.0, n0, h, n1)
+    return _searched(y, 0.0, y, p, rolling, sgn, search)
 
 
 @njit(cache=True)
@@ -181,6 +195,8 @@ def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
     h = 1e-3 / (1.0 + abs(y[1]) + abs(y[3]))
     for _ in range(MAX_CONTACT_STEPS):
         if t >= t_end:
+            if ha > 0.0 and nc >= na:
+                n_max = max(n_max, _largest_force_at_end(ya, ha, na, nc, p, rolling, sgn, search))
             return C_END, t_end, y, n_max
         h = min(h, t_end - t)
         yn, err = _step(y, h, p, rolling, sgn)
@@ -206,14 +222,20 @@ def contact_phase(y0, t0, t_end, p, rolling, sgn, rest_energy=0.0):
             n_max = max(n_max, e1)
             if ha > 0.0 and na < nc and nc >= e1 and may_exceed(-ha, na, 0.0, nc, hi, e1, n_max):
                 n_max = max(n_max, _largest_force(ya, ha, y, hi, na, nc, e1, p, rolling, sgn, search))
+            if e1 >= nc or ha == 0.0:  # the phase's last (or only) step: a maximum inside it, by an end
+                n_max = max(n_max, _largest_force_at_end(y, hi, nc, e1, p, rolling, sgn, search))
             code = C_LIFTOFF if e1 <= 0.0 else (C_SWITCH if e2 <= 0.0 else (C_REST if e3 <= 0.0 else C_RACE))
             return code, t + hi, ye, n_max
         if ha > 0.0 and na < nc and nc >= g1 and may_exceed(-ha, na, 0.0, nc, h, g1, n_max):
             n_max = max(n_max, _largest_force(ya, ha, y, h, na, nc, g1, p, rolling, sgn, search))
+        elif ha == 0.0 and nc >= g1:  # the phase's first step, from its larger end
+            n_max = max(n_max, _largest_force_at_end(y, h, nc, g1, p, rolling, sgn, search))
         t += h
         ya, ha, na = y, h, nc
         y = yn
         nc = g1
         n_max = max(n_max, g1)
         h *= min(5.0, 0.9 * max(err, 1e-10) ** -0.2)
+    if ha > 0.0 and nc >= na:
+        n_max = max(n_max, _largest_force_at_end(ya, ha, na, nc, p, rolling, sgn, search))
     return C_STEP_LIMIT, t, y, n_max

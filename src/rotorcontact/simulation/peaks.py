@@ -21,6 +21,12 @@ maximum, and the close points then give one on it. It ends once a vertex settles
 within four probes of one another, or a vertex leaves the bracket or repeats a point. The largest value seen is kept, so it is
 never below the largest sample.
 
+At a phase's start or end the largest sample may be the end itself, with a maximum just inside it that no
+sample after it brackets. `peak_search_end` starts the search from the two samples of that last gap: it tries
+the gap's middle, then the vertex of the parabola through the three points where it lies inside the gap (else
+a probe just inside the larger end), then the vertices of the points nearest that end; a point above both
+ends brackets a maximum, which the search then locates as above.
+
 Its functions are compiled and take their arguments unchecked.
 """
 
@@ -32,7 +38,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["PEAK_STEPS", "PEAK_TOL", "PEAK_PROBE", "PEAK_SLOTS", "BEST", "parabola_vertex", "best_three", "may_exceed",
-           "peak_search", "peak_next", "peak_record"]
+           "peak_search", "peak_search_end", "peak_next", "peak_record"]
 
 #: Most trials of a search (4 to 6 are usual).
 PEAK_STEPS = 16
@@ -43,7 +49,7 @@ PEAK_PROBE = 1e-3
 #: Slots of a search: the three points (x, f), the bracket, the last vertex, the largest value, the stage
 #: (searching, or probing to the left or right of the settled vertex) and that vertex with its value.
 _X1, _F1, _X2, _F2, _X3, _F3, _LO, _HI, _BEFORE, BEST, _STAGE, _XC, _FC, _FL, PEAK_SLOTS = range(15)
-_SEARCHING, _LEFT, _RIGHT, _DONE = 0.0, 1.0, 2.0, 3.0
+_SEARCHING, _LEFT, _RIGHT, _DONE, _MIDDLE, _VERTEX = 0.0, 1.0, 2.0, 3.0, 4.0, 5.0
 
 
 @njit(cache=True)
@@ -98,9 +104,29 @@ def peak_search(s: np.ndarray, x1: float, f1: float, x2: float, f2: float, x3: f
 
 
 @njit(cache=True)
+def peak_search_end(s: np.ndarray, xa: float, fa: float, xb: float, fb: float) -> None:
+    """Start in ``s`` a search for a maximum inside the last gap (xa, xb) of a phase's samples, xa < xb, where
+    the one of them at the phase's start or end is the larger (module docstring)."""
+    peak_search(s, xa, fa, 0.5 * (xa + xb), max(fa, fb), xb, fb)
+    s[_STAGE] = _MIDDLE
+
+
+@njit(cache=True)
+def _restart(s: np.ndarray, x1: float, f1: float, x2: float, f2: float, x3: float, f3: float) -> None:
+    """Go on as a search bracketed by x1 < x2 < x3 (f2 above both), keeping the largest value seen."""
+    best = s[BEST]
+    peak_search(s, x1, f1, x2, f2, x3, f3)
+    s[BEST] = max(best, f2)
+
+
+@njit(cache=True)
 def peak_next(s: np.ndarray) -> float:
     """The next abscissa to evaluate, or NaN where the search is done."""
     stage = s[_STAGE]
+    if stage == _MIDDLE:
+        return s[_X2]
+    if stage == _VERTEX:
+        return s[_XC]
     probe = PEAK_PROBE * (s[_HI] - s[_LO])
     if stage == _LEFT:
         return max(s[_LO], s[_XC] - probe)
@@ -119,6 +145,43 @@ def peak_record(s: np.ndarray, x: float, fx: float) -> None:
     """Record the value ``fx`` at the abscissa ``x`` that `peak_next` gave."""
     s[BEST] = max(s[BEST], fx)
     stage = s[_STAGE]
+    if stage == _MIDDLE:
+        x1, f1, x3, f3 = s[_X1], s[_F1], s[_X3], s[_F3]
+        if fx > f1 and fx > f3:
+            _restart(s, x1, f1, x, fx, x3, f3)
+            return
+        v = parabola_vertex(x1, f1, x, fx, x3, f3)
+        concave = (fx - f1) * (x3 - x) > (f3 - fx) * (x - x1)  # the slope falls from the left half to the right
+        s[_X2], s[_F2] = x, fx
+        if concave and x1 < v < x3 and v != x:
+            s[_XC] = v
+        else:
+            # a vertex past the larger end, within the parabola's error of it: a probe just inside that end
+            probe = PEAK_PROBE * (x3 - x1)
+            s[_XC] = x3 - probe if f3 >= f1 else x1 + probe
+        s[_STAGE] = _VERTEX
+        return
+    if stage == _VERTEX:
+        x1, f1, xm, fm, x3, f3 = s[_X1], s[_F1], s[_X2], s[_F2], s[_X3], s[_F3]
+        if fx > max(f1, fm, f3):
+            if x < xm:
+                _restart(s, x1, f1, x, fx, xm, fm)
+            else:
+                _restart(s, xm, fm, x, fx, x3, f3)
+            return
+        # not above the points yet: the next vertex, of the three points nearest the end that is the larger
+        if f3 >= f1:
+            xa, fa, xb, fb, xc, fc = (x, fx, xm, fm, x3, f3) if x < xm else (xm, fm, x, fx, x3, f3)
+        else:
+            xa, fa, xb, fb, xc, fc = (x1, f1, x, fx, xm, fm) if x < xm else (x1, f1, xm, fm, x, fx)
+        v = parabola_vertex(xa, fa, xb, fb, xc, fc)
+        if (fb - fa) * (xc - xb) > (fc - fb) * (xb - xa) and xa < v < xc and v != xb and \
+                abs(v - x) > PEAK_TOL * (s[_HI] - s[_LO]):
+            s[_X1], s[_F1], s[_X2], s[_F2], s[_X3], s[_F3] = xa, fa, xb, fb, xc, fc
+            s[_XC] = v
+        else:
+            s[_STAGE] = _DONE
+        return
     if stage == _LEFT:
         s[_FL] = fx
         s[_STAGE] = _RIGHT

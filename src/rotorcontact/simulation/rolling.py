@@ -30,7 +30,7 @@ from numpy.polynomial import legendre
 
 from ..model.machine_model import contact_accelerations, rolling_fixed_coefficients
 from .general_contact import contact_phase
-from .peaks import BEST, PEAK_SLOTS, PEAK_STEPS, may_exceed, peak_next, peak_record, peak_search
+from .peaks import BEST, PEAK_SLOTS, PEAK_STEPS, may_exceed, peak_next, peak_record, peak_search, peak_search_end
 
 __all__ = ["rolling_fixed_phase", "fast_rolling_applies", "NODES", "PANEL"]
 
@@ -100,6 +100,18 @@ def _rolling_force(cos_th, sin_th, cd, sd, w, sgn, p):
 
 
 @njit(cache=True)
+def _searched(panel, search):
+    """Run the started ``search`` on the polynomials through the nodes' n (`_largest_force`); its largest n."""
+    for _ in range(PEAK_STEPS):
+        x = peak_next(search)
+        if x != x:  # done
+            break
+        k = 1 if x < -1.0 else 0
+        peak_record(search, x, _interpolated(x + 2.0 * k, panel[k]))
+    return search[BEST]
+
+
+@njit(cache=True)
 def _largest_force(x1, f1, x2, f2, x3, f3, panel, search):
     """The largest n where the samples f1 < f2 >= f3 at x1 < x2 < x3 bracket a maximum (`peaks`), between
     samples from the polynomial through the nodes' n (as accurate as the quadrature's w).
@@ -109,13 +121,15 @@ def _largest_force(x1, f1, x2, f2, x3, f3, panel, search):
     ``search``: the search's slots.
     """
     peak_search(search, x1, f1, x2, f2, x3, f3)
-    for _ in range(PEAK_STEPS):
-        x = peak_next(search)
-        if x != x:  # done
-            break
-        k = 1 if x < -1.0 else 0
-        peak_record(search, x, _interpolated(x + 2.0 * k, panel[k]))
-    return search[BEST]
+    return _searched(panel, search)
+
+
+@njit(cache=True)
+def _largest_force_at_end(xa, fa, xb, fb, panel, search):
+    """The largest n within the gap (xa, xb) at the start or end of the samples, whose end sample is the larger
+    (`peaks.peak_search_end`); coordinates as `_largest_force`."""
+    peak_search_end(search, xa, fa, xb, fb)
+    return _searched(panel, search)
 
 
 @njit(cache=True)
@@ -231,6 +245,8 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
                 n_max = max(n_max, _largest_force(xb, n_before, -1.0, n_start, _X[0], n_nodes[0], panel, search))
         for j in range(nodes):
             n_max = max(n_max, n_nodes[j])
+        if n_before == math.inf and n_start >= n_nodes[0]:  # the phase's start, above its first node
+            n_max = max(n_max, _largest_force_at_end(-1.0, n_start, _X[0], n_nodes[0], panel, search))
         for j in range(nodes):
             x1, f1 = (_X[j - 1], n_nodes[j - 1]) if j > 0 else (-1.0, n_start)
             x3, f3 = (_X[j + 1], n_nodes[j + 1]) if j < nodes - 1 else (1.0, n_end)
@@ -239,6 +255,10 @@ def rolling_fixed_phase(y0, t0, t_end, p, rest_energy):
         panel[1, :] = n_nodes
         n_before = n_nodes[nodes - 1]
         n_start = n_end
+    if n_before < math.inf and n_start >= n_before:
+        # the last whole panel's end, above its last node: the time integrator goes on from that end
+        xb = _X[nodes - 1] - 2.0
+        n_max = max(n_max, _largest_force_at_end(xb, n_before, -1.0, n_start, panel, search))
     thd = sgn * math.sqrt(w)
     y = np.array([th, thd, psi, -ratio * thd, 0.0, e_d])
     code, t1, y1, n_rest = contact_phase(y, t, t_end, p, True, 1.0, rest_energy)
