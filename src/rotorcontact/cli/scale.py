@@ -65,7 +65,8 @@ def scale_options_given(args: argparse.Namespace) -> list[str]:
     """The options of `add_scale_options` given on the command line (for a command that runs no study)."""
     given = [(args.n_jobs is not None, "--n-jobs"), (args.scheduler is not None, "--scheduler"),
              (getattr(args, "backend", "cpu") != "cpu", "--backend"), (args.chunk_size is not None, "--chunk-size"),
-             (not args.resume, "--no-resume"), (args.keep_chunks, "--keep-chunks"), (not args.progress, "--no-progress")]
+             (not args.resume, "--no-resume"), (args.keep_chunks, "--keep-chunks"),
+             (not args.progress, "--no-progress")]
     return [option for is_given, option in given if is_given]
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..studies.attributes import check_dataset, study_dataset
+from ..studies.datasets import check_dataset, study_dataset
 from .style import check_axes, check_figure_path, save_figure
 
 __all__ = ["plot_attractors", "save_attractors_figure"]

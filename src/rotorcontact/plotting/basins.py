@@ -8,7 +8,7 @@ import numpy as np
 
 from ..model.validation import check_bool
 from ..simulation.motion import canonical_regime
-from ..studies.attributes import check_dataset, study_dataset
+from ..studies.datasets import check_dataset, study_dataset
 from .style import check_figure_path, draw_clearance, new_axes, save_figure
 
 __all__ = ["plot_basins", "save_basins_figure", "CLASS_COLORS"]

@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import BoundaryNorm, ListedColormap
 
-from ..studies.attributes import check_dataset, study_dataset
+from ..studies.datasets import check_dataset, study_dataset
 from .style import check_figure_path, save_figure
 
 __all__ = ["plot_drop_map", "save_drop_map_figure"]

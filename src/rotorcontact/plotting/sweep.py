@@ -19,7 +19,7 @@ import numpy as np
 from ..studies.batch import REGIME_NAMES
 from ..errors import ParameterError
 from ..model.validation import check_choice, check_float, check_type, quoted
-from ..studies.attributes import check_dataset, study_dataset
+from ..studies.datasets import check_dataset, study_dataset
 from .style import check_figure_path, new_axes, save_figure
 
 __all__ = ["plot_sweep", "plot_regimes", "save_sweep_figure", "SECTION_LABELS", "REGIME_COLORS"]

@@ -18,8 +18,8 @@ Each trial is the vertex of the parabola through three points, the three largest
 `best_three`). Once the vertex moves less than `PEAK_TOL` of the bracket's width, the search probes
 `PEAK_PROBE` of the width to either side: a parabola through wide points can settle on a vertex off the
 maximum, and the close points then give one on it. It ends once a vertex settles with the points it came from
-within four probes of one another, or a vertex leaves the bracket or repeats a point. The largest value seen is kept, so it is
-never below the largest sample.
+within four probes of one another, or a vertex leaves the bracket or repeats a point. The largest value seen
+is kept, so it is never below the largest sample.
 
 At a phase's start or end the largest sample may be the end itself, with a maximum just inside it that no
 sample after it brackets. `peak_search_end` starts the search from the two samples of that last gap: it tries

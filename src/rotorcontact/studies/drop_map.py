@@ -21,7 +21,7 @@ from ..model.params import Machine, check_range
 from ..model.units import RPM
 from ..model.validation import check_length, check_machine
 from ..simulation.drop_run import MAX_T_END, check_drop_speed, check_failure_before_end, drop
-from .attributes import check_dataset, study_dataset
+from .datasets import check_dataset, study_dataset
 from .driver import StudyRun, run_study
 from .execution import check_chunk_size, study_digest
 

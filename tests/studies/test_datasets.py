@@ -6,7 +6,7 @@ import pytest
 import xarray as xr
 
 from rotorcontact import ParameterError
-from rotorcontact.studies.attributes import check_dataset, study_dataset
+from rotorcontact.studies.datasets import check_dataset, study_dataset
 
 
 def test_check_dataset_names_the_study_and_what_is_missing():
