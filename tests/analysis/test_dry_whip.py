@@ -54,6 +54,25 @@ def test_the_whip_tends_to_the_coupled_natural_frequency_as_the_support_damping_
     assert shifts[3] < 1e-3
 
 
+def test_of_several_roots_the_whip_is_the_one_closest_below_the_coupled_frequency():
+    # a lightly damped live bearing adds a root near sqrt(k/m) below the whip, and one lies above the
+    # stator's own frequency sqrt(k_s/m_s) (MODEL.md §8): located here by a dense scan of Im G - mu Re G
+    m = machine(damping=50.0)
+    whip = steady_dry_whip(m, bearing_failed=False)
+    k, c, ks, cs = m.kx, m.cx, m.stator_stiffness, m.stator_damping
+    w = -np.linspace(1.0, 3.0 * math.sqrt(ks / m.stator_mass), 400_001)
+    a = k - m.mass * w**2 + 1j * c * w
+    b = ks - m.stator_mass * w**2 + 1j * cs * w
+    g = a * b / (a + b)
+    residual = g.imag - m.friction * g.real
+    roots = w[np.flatnonzero(np.sign(residual[1:]) != np.sign(residual[:-1]))]
+    assert len(roots) == 3
+    low, whip_root, high = sorted(roots, reverse=True)
+    assert low == pytest.approx(-math.sqrt(k / m.mass), rel=0.05)
+    assert high < -math.sqrt(ks / m.stator_mass)
+    assert whip.whirl_rate == pytest.approx(whip_root, abs=2.0 * (w[0] - w[1]))
+
+
 @pytest.mark.parametrize("damping, failed", [(400.0, True), (200.0, True), (400.0, False)])
 def test_the_simulator_started_on_the_whip_stays_on_it(damping, failed):
     m = machine(stator_damping=damping, damping=50.0)
