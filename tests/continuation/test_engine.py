@@ -123,6 +123,24 @@ def test_a_start_a_rounding_error_off_a_terminal_bound_counts_as_on_it(direction
         assert res.points[-1, 0] < 0.0 and res.points[-1, 1] == pytest.approx(bound, abs=1e-10)
 
 
+@pytest.mark.parametrize("scale", [1e-13, 1.0, 1e13])
+def test_a_start_outside_a_terminal_bound_by_more_than_rounding_is_not_taken_as_on_it(scale):
+    """The rounding allowed is in the event's own scale: scale (lambda - 0.3) from lambda = 0.3 - 1e-9 is a
+    sign change to locate, whatever the scale, and one ulp below the bound is on it, whatever the scale."""
+    bound = 0.3
+    lower = EventFunction("lower", lambda y: scale * (y[1] - bound), terminal=True)
+    settings = ContinuationSettings(max_step=0.2)
+    start = bound - 1e-9
+    res = continue_curve(circle, [math.sqrt(1.0 - start**2), start], events=[lower], direction=1.0,
+                         correct_start=False, settings=settings)
+    assert res.status == "terminal" and len(res.events) == 1
+    assert res.points[-1, 1] == pytest.approx(bound, abs=1e-12) and res.points[:, 1].max() < bound + 1e-12
+    start = np.nextafter(bound, 0.0)
+    res = continue_curve(circle, [math.sqrt(1.0 - start**2), start], events=[lower], direction=-1.0,
+                         correct_start=False, settings=settings)
+    assert res.status == "terminal" and len(res.points) == 2
+
+
 def test_discrete_event_is_located_by_bisection():
     ev = EventFunction("x > 0.3", lambda y: int(y[0] > 0.3), kind="discrete")
     res = continue_curve(circle, [1.0, 0.0], events=[ev])

@@ -51,7 +51,8 @@ point can be corrected onto the curve: a singular point, such as where two
 curves cross) ends the continuation at the step's start, inside the domain. A
 start a rounding error outside a terminal event's domain (a seed on a parameter bound
 that the scaling put just beyond it) counts as on its boundary: a first step further
-out ends the continuation at the start.
+out ends the continuation at the start. The rounding is that of the start's unknowns carried to the
+event's value by its slopes, so an event's scale does not matter.
 """
 
 from __future__ import annotations
@@ -777,6 +778,24 @@ def _initial_tangent(prob: _Scaled, z0: np.ndarray, direction: float | np.ndarra
     return t
 
 
+def _within_rounding_outside(event: EventFunction, y: np.ndarray, g: float | int | None) -> bool:
+    """Whether a terminal event's value g < 0 at y is within the rounding error of y: 16 eps (1 + |y_j|) in
+    each unknown, carried to g by its slopes (one-sided differences), so that the test is in g's own scale."""
+    if not (event.terminal and event.kind == "continuous" and g is not None and g < 0):
+        return False
+    eps = np.finfo(float).eps
+    spread = 0.0
+    for j in range(y.size):
+        step = math.sqrt(eps) * (1.0 + abs(y[j]))
+        shifted = y.copy()
+        shifted[j] += step
+        g_shifted = event.function(shifted)
+        if g_shifted is None:
+            return False
+        spread += abs(g_shifted - g) / step * 16.0 * eps * (1.0 + abs(y[j]))
+    return -g <= spread
+
+
 def continue_curve(
     residual: Residual,
     y0: Sequence[float],
@@ -854,10 +873,8 @@ def continue_curve(
     # beyond it by the scaling or the correction) is taken as on its boundary: heading out, the curve ends
     # at once; a value further below 0 is a sign the continuation is to watch change (a fold's slope)
     y_start = prob.y(z0)
-    rounding = 16.0 * np.finfo(float).eps * (1.0 + float(np.max(np.abs(y_start))))
     gvals = [ev.function(y_start) for ev in events]
-    gvals = [0.0 if ev.terminal and ev.kind == "continuous" and g is not None and -rounding <= g < 0 else g
-             for ev, g in zip(events, gvals)]
+    gvals = [0.0 if _within_rounding_outside(ev, y_start, g) else g for ev, g in zip(events, gvals)]
     located: list[LocatedEvent] = []
     h = settings.step
     status, message = "max-points", f"stopped after {settings.max_points} steps"
