@@ -482,6 +482,26 @@ def test_degenerate_boundary_equilibria_are_unclassified_with_a_reason():
     assert b0.gamma_star == 0.0 and b0.kind is None and "transversality" in b0.reason
 
 
+@pytest.mark.parametrize("border", ["omega_min", "omega_switch", "omega_max"])
+@pytest.mark.parametrize("ulps", [-2, 0, 2])
+def test_both_classifications_leave_a_border_of_the_omega_ranges_unclassified(border, ulps):
+    # a border as beb_omega_ranges returns it, and a few ulps either side: the square root's rounding puts
+    # omega^2 off the border, and gamma* = sqrt(rho^2 - a^2) magnifies it at the borders of existence
+    ranges = beb_omega_ranges(REF.rho, REF.mu)
+    omega = getattr(ranges, border)
+    for _ in range(abs(ulps)):
+        omega = float(np.nextafter(omega, 0.0 if ulps < 0 else 2.0))
+    p = REF.replace(omega=omega)
+    b = boundary_equilibrium(p)
+    assert b.kind is None and ranges.kind(omega) is None and classify_beb_analytic(p) is None
+    if b.gamma_star is not None:
+        assert "degenerate" in b.reason
+    # off the border by far more than rounding, both classify, alike
+    for side in (-1.0, 1.0):
+        q = REF.replace(omega=getattr(ranges, border) * (1.0 + side * 1e-6))
+        assert boundary_equilibrium(q).kind == classify_beb_analytic(q)
+
+
 def test_no_real_gamma_star_gives_none_and_a_reason():
     p = REF.replace(omega=0.3)
     b = boundary_equilibrium(p)

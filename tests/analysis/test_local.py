@@ -155,6 +155,35 @@ def test_expm2_matches_scipy_expm_including_near_double_eigenvalues():
     assert np.allclose(stacked, np.stack([scipy.linalg.expm(m) for m in mats]), rtol=1e-14, atol=1e-14)
 
 
+def _f1_mpmath(system, T):
+    """F1(T) = 1 + Re(q a22), a = (e^{-AT} - I)^{-1}, at 50 digits."""
+    import mpmath
+
+    with mpmath.workdps(50):
+        a = mpmath.matrix([[0, 1], [-mpmath.mpc(system.beta0), -mpmath.mpc(system.alpha0)]])
+        inv = (mpmath.expm(-a * mpmath.mpf(T)) - mpmath.eye(2)) ** -1
+        return float(1 + mpmath.re(mpmath.mpc(system.q) * inv[1, 1]))
+
+
+@pytest.mark.parametrize("which", ["rotor", "general"])
+def test_f1_matches_mpmath_down_to_tiny_periods(rotor, general, which):
+    # e^{-AT} - I has an entry of order T^2: at small T it must not come from a difference of O(1) terms
+    system = LinearImpactingSystem.from_parameters(rotor) if which == "rotor" else general
+    periods = np.array([1e-10, 1e-8, 3e-8, 1e-7, 1e-5, 1e-3, 0.3, 0.99, 1.0, 1.01, 2.5, 7.0])
+    ref = np.array([_f1_mpmath(system, t) for t in periods])
+    scale = np.maximum(1.0, np.abs(ref))
+    assert np.all(np.abs(system.f1(periods) - ref) <= 1e-13 * scale)
+    assert all(abs(system.f1(float(t)) - r) <= 1e-13 * s for t, r, s in zip(periods, ref, scale))
+
+
+def test_no_orbit_is_found_below_the_smallest_period_of_f1_s_first_zero(rotor):
+    # F1 stays near (1 - d)/2 > 0 for small T at gamma*: a search up to 1e-4 or 2e-5 finds nothing
+    system = LinearImpactingSystem.from_parameters(rotor)
+    for t_max in (1e-4, 2e-5):
+        assert system.f1_zeros(t_max) == ()
+        assert system.fixed_points(0.0, t_max) == ()
+
+
 def test_generic_a_matrix_matches_the_rotor_closed_form(rotor):
     s = LinearImpactingSystem.from_parameters(rotor)
     gs = boundary_gamma(rotor)

@@ -54,6 +54,22 @@ def test_machine_speed_in_rpm(cli, tmp_path):
     assert all("exponent_per_s" in a for a in data["attractors"])
 
 
+@pytest.mark.parametrize("param, start, stop", [("speed", "1500rpm", "2000rpm"), ("stiffness", "9e5", "1.1e6")])
+def test_exponents_per_second_use_the_speed_of_each_value(cli, tmp_path, param, start, stop):
+    # per second = dimensionless times Omega (time in units of 1 / Omega, MODEL.md §2): the Omega of each value
+    # along the speed, the machine's own along the stiffness
+    data = cli.json("attractors", "--machine", "reference", "--param", param, "--from", start, "--to", stop,
+                    "--n", "2", "--grid", "plane:3", "--t-lyapunov", "200", "--no-progress", "--out",
+                    tmp_path / "s.nc")
+    speeds = data["values"] if param == "speed" else [reference_machine().speed] * 2
+    exponents = 0
+    for item in data["attractors"]:
+        for x, per_s, omega in zip(item["exponent"], item["exponent_per_s"], speeds):
+            assert per_s is None if x is None else per_s == pytest.approx(x * omega, rel=1e-14)
+            exponents += x is not None
+    assert exponents >= 2
+
+
 @pytest.mark.parametrize("extra, word", [
     (["--param", "nonsense", "--from", "0", "--to", "1"], "--param"),
     (["--param", "speed", "--from", "1", "--to", "2"], "--machine"),

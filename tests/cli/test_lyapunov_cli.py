@@ -123,3 +123,20 @@ def test_scan_against_a_parameter(cli, tmp_path):
     assert code == 2 and "--param" in err
     code, _out, err = cli.run("lyapunov", "--param", "gamma", "--from", "0.1", "--json")
     assert code == 2 and "--to" in err
+
+
+@pytest.mark.parametrize("param, start, stop", [("speed", "1500rpm", "3000rpm"), ("stiffness", "9e5", "1.1e6")])
+def test_a_machine_scan_gives_each_value_its_own_time_scale(cli, param, start, stop):
+    # exponents per second are the dimensionless ones times Omega (time in units of 1 / Omega, MODEL.md §2): the
+    # Omega of each value along the speed, the machine's own along the stiffness
+    from rotorcontact import reference_machine
+
+    data = cli.json("lyapunov", "--machine", "reference", "--param", param, "--from", start, "--to", stop,
+                    "--n", "2", "--t-end", "300", "--no-progress")
+    speeds = data["values"] if param == "speed" else [reference_machine().speed] * 2
+    for row, per_s, omega in zip(data["exponents"], data["exponents_per_s"], speeds):
+        assert per_s == [None if x is None else pytest.approx(x * omega, rel=1e-14) for x in row]
+    if param == "speed":
+        assert data["values_rpm"] == pytest.approx([1500.0, 3000.0], rel=1e-12)
+    else:
+        assert "values_rpm" not in data

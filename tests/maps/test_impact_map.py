@@ -679,6 +679,18 @@ def test_second_derivative_bound_of_r_rdot_holds():
             assert np.all(np.abs(f2) <= bound)
 
 
+def test_orbits_impacting_faster_than_the_simulator_follows_are_refused_naming_rho():
+    # the orbits' impact speeds scale with the unbalance rho: at rho = 1e6 one is above MAX_VELOCITY
+    from rotorcontact.model.params import MAX_VELOCITY
+
+    slower = im.one_impact_orbits(REF.replace(rho=1e5))
+    fastest = max(abs(complex(o.rdot, o.thetadot)) for o in slower)
+    assert MAX_VELOCITY / 10.0 < fastest < MAX_VELOCITY
+    with pytest.raises(ParameterError, match=r"^rho = 1e\+06 \(gamma = .*\) gives the orbit B\d,[abcd] an impact at "
+                                             r"\|\(rdot, thetadot\)\| = .*; allowed: .* at most 1e\+06"):
+        im.one_impact_orbits(REF.replace(rho=1e6))
+
+
 def test_more_zeros_than_the_isolation_can_follow_are_refused_naming_t_max():
     # at gamma = 0 the flight neither grows nor decays (no period limit) and F1 has a pair of zeros per
     # oscillation: about 0.24 per unit of t_max here, so t_max = 1e4 holds thousands

@@ -25,9 +25,8 @@ and the pseudo-equilibrium that meets it has eta = H(x_R) / c + O(eps^2), where
 are evaluated numerically at x_B. x_R is admissible where H(x_R) > 0 and the
 pseudo-equilibrium where eta > 0. So c > 0 gives a **non-smooth fold** (both
 admissible on one side of gamma*, both virtual on the other) and c < 0 gives
-**persistence** (x_R turns into the pseudo-equilibrium). MODEL.md §4 writes
-H_gamma in front of F_x^{-1} W; for H = 1 - r, H_gamma = 0 and H_gamma F_x^{-1} W
-would be a vector, so the row vector H_x is the one meant and used here.
+**persistence** (x_R turns into the pseudo-equilibrium). The row vector H_x is the one in
+front of F_x^{-1} W (MODEL.md §4; docs/equilibria.md on the form with H_gamma sometimes written).
 
 Analytically (`beb_omega_ranges`), c = (1 + d) (1 - omega^2 - mu gamma*) / rho^2,
 so the bifurcation is a non-smooth fold for
@@ -101,6 +100,12 @@ BEBKind = Literal["nonsmooth-fold", "persistence"]
 
 # Relative tolerance below which a non-degeneracy quantity counts as zero.
 _DEGENERACY_RTOL = 1e-10
+
+
+def _at_border(omega_sq: float, border: float) -> bool:
+    """Whether omega^2 is within the degeneracy tolerance of a border of the boundary equilibrium's omega-ranges
+    (`BEBOmegaRanges`): the numerical classification and the analytic one count a border alike."""
+    return abs(omega_sq - border) <= _DEGENERACY_RTOL * (1.0 + omega_sq)
 
 #: Largest magnitude of r, rdot and thetadot in a state given to the fields, and 1 / the smallest r: a million
 #: times the fastest motion of the model (|U'| <= `rotorcontact.model.params.MAX_VELOCITY`, the rolling rate
@@ -750,6 +755,9 @@ def boundary_equilibrium(params: Parameters) -> BoundaryEquilibrium:
     hx, hg = boundary_function_gradient()
     det = float(np.linalg.det(fx))
     common = dict(gamma_star=gs, theta=theta_b, params=pb, det_jacobian=det)
+    # gamma* = sqrt(rho^2 - a^2) magnifies a rounding of rho - a near its zero: there the transversality,
+    # of the size of gamma*, is tested at the border in omega^2 instead
+    at_reach_border = any(_at_border(p.omega**2, b) for b in (1.0 - p.rho, 1.0 + p.rho))
     if not abs(det) > _DEGENERACY_RTOL * np.linalg.norm(fx, 2) ** 4:
         return BoundaryEquilibrium(kind=None, partner=None, reason="degenerate: det F_x = 0 at x_B", **common)
     y_g = np.linalg.solve(fx, fg)
@@ -757,7 +765,7 @@ def boundary_equilibrium(params: Parameters) -> BoundaryEquilibrium:
     tau = float(hg - hx @ y_g)
     coef = float(-hx @ y_w)
     common.update(transversality=tau, coefficient=coef)
-    if not abs(tau) > _DEGENERACY_RTOL * np.linalg.norm(y_g):
+    if at_reach_border or not abs(tau) > _DEGENERACY_RTOL * np.linalg.norm(y_g):
         return BoundaryEquilibrium(
             kind=None,
             partner=None,
@@ -830,7 +838,9 @@ class BEBOmegaRanges:
         return (max(low, self.omega_min or 0.0), self.omega_max)
 
     def kind(self, omega: float) -> BEBKind | None:
-        """The bifurcation type at ``omega`` (None outside both open ranges or at their borders).
+        """The bifurcation type at ``omega`` (None outside both open ranges or at their borders: within
+        1e-10 (1 + omega^2) of one in omega^2; `boundary_equilibrium` counts the borders of existence alike and
+        the switch by its own test of the coefficient, so the two can differ within about 1e-10 of it).
 
         Raises
         ------
@@ -843,7 +853,7 @@ class BEBOmegaRanges:
             return None
         lo, switch, hi = self._limits_sq()
         w2 = omega * omega
-        if not lo < w2 < hi:
+        if not lo < w2 < hi or any(_at_border(w2, b) for b in (lo, switch, hi)):
             return None
         if w2 < switch:
             return "nonsmooth-fold"

@@ -172,6 +172,32 @@ def _expm2(m: np.ndarray) -> np.ndarray:
     return out
 
 
+#: Largest |M| (largest absolute row sum) at which `_expm2_minus_identity` sums e^M - I as a series.
+SERIES_NORM = 1.0
+#: Terms of that series: the first left out, 1/(SERIES_TERMS + 1)!, is below the rounding of double precision.
+SERIES_TERMS = 20
+
+
+def _expm2_minus_identity(m: np.ndarray) -> np.ndarray:
+    """e^M - I for complex 2x2 matrices M (shape (..., 2, 2)), without cancellation where M is small.
+
+    Where the largest absolute row sum of M is at most `SERIES_NORM`, e^M - I = M phi(M) with
+    phi(M) = sum_k M^k / (k + 1)! summed by Horner's rule: an entry of e^M - I that is O(|M|^2) (the first of
+    e^{-AT} - I at small T, where -A T has a zero there) is then a product, not a difference of O(1) terms.
+    Elsewhere e^M - I as `_expm2` gives it.
+    """
+    m = np.asarray(m, dtype=complex)
+    out = _expm2(m) - np.eye(2)
+    small = np.abs(m).sum(axis=-1).max(axis=-1) <= SERIES_NORM
+    if np.any(small):
+        ms = m[small]
+        phi = np.broadcast_to(np.eye(2, dtype=complex), ms.shape).copy()
+        for k in range(SERIES_TERMS, 1, -1):
+            phi = np.eye(2) + ms @ phi / k
+        out[small] = ms @ phi
+    return out
+
+
 # ---------------------------------------------------------------------------
 # The general system
 # ---------------------------------------------------------------------------
@@ -373,7 +399,7 @@ class LinearImpactingSystem:
         if t.size:
             self._check_period("T" if t.ndim == 0 else "max(T)", float(t.max()), eps)
         a = self.matrix(eps)
-        e = _expm2(-t[..., None, None] * a) - np.eye(2)
+        e = _expm2_minus_identity(-t[..., None, None] * a)
         # 2x2 inverse in closed form (vectorised)
         det = e[..., 0, 0] * e[..., 1, 1] - e[..., 0, 1] * e[..., 1, 0]
         inv = np.empty(e.shape, dtype=complex)
@@ -408,7 +434,7 @@ class LinearImpactingSystem:
         eb = scipy.linalg.expm(big)
         e = eb[:2, :2]
         de_deps = eb[:2, 2:]
-        a = np.linalg.inv(e - np.eye(2))
+        a = self.a_matrix(T, eps)
         da_dt = a @ a_mat @ e @ a  # d/dT (e^{-AT} - I)^{-1} = a A e^{-AT} a
         da_deps = -a @ de_deps @ a
         return a, da_dt, da_deps

@@ -6,7 +6,7 @@ import argparse
 import math
 import time
 
-from ..model.si import rate_scale, scaled_list
+from ..model.si import rate_scale, scaled_each
 from ..studies.grids import GRID_SYNTAX
 from .basins import add_window_options
 from .options import (
@@ -84,6 +84,7 @@ def run(args: argparse.Namespace) -> int:
     from ..studies.attractors import attractors
     from ..studies.basins import parse_grid
     from ..studies.design_map import rad_s_to_rpm
+    from ..studies.parameter_path import machine_at
 
     params, machine = parameters_from_args(args)
     unit, values = parameter_values(args, params, machine, MAX_VALUES, why="split a longer range")
@@ -110,8 +111,10 @@ def run(args: argparse.Namespace) -> int:
         save_attractors_figure(res.dataset, args.plot)
     items = [a.to_dict() for a in res.attractors]
     if machine is not None:
+        # the time scale is that of each value: 1 / Omega changes along a path in the speed
+        rates = [rate_scale(machine_at(machine, args.param, v)) for v in res.values]
         for item in items:
-            item["exponent_per_s"] = scaled_list(item["exponent"], rate_scale(machine))
+            item["exponent_per_s"] = scaled_each(item["exponent"], rates)
     summary = {
         "out": str(res.path),
         "param": args.param,

@@ -71,7 +71,7 @@ def register(sub) -> None:
 def _check_reach(args: argparse.Namespace, params, start: float, stop: float, t_max: float) -> None:
     """Refuse, naming the option that sets it, a range end where periods up to t_max cannot be computed.
 
-    The flight grows like e^{growth T} (`rotorcontact.maps.impact_map.period_limit`); its rate is largest at
+    The flight grows or decays like e^{±growth T} (`rotorcontact.maps.impact_map.period_limit`); its rate is largest at
     an end of the range (it increases with |gamma| and decreases with omega).
     """
     from ..maps.impact_map import MAX_GROWTH, flight_growth, period_limit
@@ -89,8 +89,8 @@ def _check_reach(args: argparse.Namespace, params, start: float, stop: float, t_
             raise ParameterError(f"--t-max = {t_max:g} is too large at {args.param} = {value:g}, the default "
                                  f"--{option}; allowed: --t-max <= {limit:.6g}, or another --{option}")
         raise ParameterError(
-            f"--{option} = {value:g} is out of reach: at {args.param} = {value:g} the free flight grows like "
-            f"e^{{{flight_growth(at):.3g} T}}, too fast to follow periods up to --t-max = {t_max:g}; allowed: "
+            f"--{option} = {value:g} is out of reach: at {args.param} = {value:g} the free flight grows or decays "
+            f"like e^{{±{flight_growth(at):.3g} T}}, too fast to follow periods up to --t-max = {t_max:g}; allowed: "
             f"a range where --t-max <= {MAX_GROWTH:g} / (|gamma| / 2 + sqrt(max(gamma^2 / 4 - omega^2, 0))), or {fix}"
         )
 

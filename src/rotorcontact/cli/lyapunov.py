@@ -203,7 +203,14 @@ def run_scan(args, params, machine, u0, du0, t_end, t_transient, qr_interval) ->
         "seconds": elapsed,
     }
     if machine is not None:
-        data["exponents_per_s"] = [scaled_list(r, rate_scale(machine)) for r in data["exponents"]]
+        from ..studies.design_map import rad_s_to_rpm
+        from ..studies.parameter_path import machine_at
+
+        # the time scale is that of each value: 1 / Omega changes along a path in the speed
+        data["exponents_per_s"] = [scaled_list(r, rate_scale(machine_at(machine, args.param, v)))
+                                   for r, v in zip(data["exponents"], res.values)]
+        if args.param == "speed":
+            data["values_rpm"] = [float(v) for v in rad_s_to_rpm(res.values)]
     if args.json:
         print_json(json_result(params, data, machine, ignored=ignored_keys(args)))
         return 0

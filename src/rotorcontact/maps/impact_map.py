@@ -962,8 +962,8 @@ def check_growth(name: str, value: float, growth: float, where: str) -> float:
     decaying like e^{growth T} leaves the range where it is evaluated accurately; ``where`` names the
     parameters in the `ParameterError`."""
     if growth > 0.0 and value > MAX_GROWTH / growth:
-        raise ParameterError(f"{name} = {value!r} is too large at {where} (the flight grows like "
-                             f"e^{{{growth:.3g} T}}); allowed: {name} <= {MAX_GROWTH / growth:.6g}")
+        raise ParameterError(f"{name} = {value!r} is too large at {where} (the free flight grows or decays like "
+                             f"e^{{±{growth:.3g} T}}); allowed: {name} <= {MAX_GROWTH / growth:.6g}")
     return value
 
 
@@ -1400,6 +1400,14 @@ def _orbit(params: Parameters, zero: F1Zero, branch: str, rdot: float) -> Impact
     admissible = rdot > 0.0
     slipping = call_kernel(slides_forward, thetadot, rdot, d, mu, rr)
     state = (theta, rdot, thetadot)
+    speed = abs(complex(rdot, thetadot))
+    if not speed <= MAX_VELOCITY:
+        raise ParameterError(
+            f"rho = {params.rho:g} (gamma = {params.gamma:g}, omega = {params.omega:g}, mu = {params.mu:g}, "
+            f"d = {params.d:g}) gives the orbit B{zero.n},{branch} an impact at |(rdot, thetadot)| = {speed:.3g} "
+            f"clearances per unit time; allowed: parameters whose orbits impact at most {MAX_VELOCITY:g} (the "
+            "unbalance rho sets their speed)"
+        )
     u0, du0 = post_impact_state(params, state, law=IDEAL)
     ext = _extrema_from_post(params, u0, du0, T)
     r_max = ext.r_max

@@ -31,6 +31,8 @@ __all__ = [
     "MICROMETRE",
     "velocity_scale",
     "rate_scale",
+    "scaled_list",
+    "scaled_each",
     "parameter_si",
     "orbit_si",
     "regular_si",
@@ -221,3 +223,11 @@ def equilibria_si(machine: "Machine", eq: "Equilibria") -> dict[str, Any]:
 def scaled_list(values: Sequence[float | None], scale: float) -> list[float | None]:
     """``values`` times ``scale``, with None (and non-finite values) kept as None."""
     return [_scaled(v, scale) for v in values]
+
+
+def scaled_each(values: Sequence[float | None], scales: Sequence[float]) -> list[float | None]:
+    """Each of ``values`` times its own scale (the scale at each value of a parameter path), with None (and
+    non-finite values) kept as None."""
+    if len(values) != len(scales):
+        raise ParameterError(f"{len(values)} values and {len(scales)} scales; allowed: one scale per value")
+    return [_scaled(v, s) for v, s in zip(values, scales)]

@@ -13,7 +13,7 @@ from ..model.validation import check_length, check_machine, check_machine_params
 from .batch import PARAMETER_ORDER
 from .grids import MAX_GRID_POINTS
 
-__all__ = ["check_path_param", "parameter_path", "path_values"]
+__all__ = ["check_path_param", "machine_at", "parameter_path", "path_values"]
 
 
 def path_values(param: Any, values: Any) -> np.ndarray:
@@ -79,4 +79,22 @@ def parameter_path(params: Parameters, param: str, values: Any, machine: Machine
     check_machine_params(params, machine, skip=param if param in PARAMETER_ORDER else None)
     if param in PARAMETER_ORDER:
         return [params.replace(**{param: float(v)}) for v in vals]
-    return [replace(machine, **{param: float(v)}).parameters() for v in vals]
+    return [machine_at(machine, param, v).parameters() for v in vals]
+
+
+def machine_at(machine: Machine, param: str, value: float) -> Machine:
+    """The machine at one value of a path: ``param``, one of its keys, set to ``value`` (SI); a model parameter
+    leaves the machine as it is. Its scales (`rotorcontact.model.si`) are those of that value: varying the
+    speed changes the time scale 1 / Omega that turns rates and times into SI.
+
+    Raises
+    ------
+    ParameterError
+        For a ``machine`` that is not a Machine, a ``param`` that `check_path_param` refuses, or a value the
+        machine refuses.
+    """
+    check_machine(machine, optional=False)
+    check_path_param(param, machine)
+    if param in PARAMETER_ORDER:
+        return machine
+    return replace(machine, **{param: float(value)})
