@@ -81,8 +81,16 @@ def test_exponents_per_second_use_the_speed_of_each_value(cli, tmp_path, param, 
     (["--machine", "reference", "--param", "contact_stiffness", "--from", "1e9", "--to", "1e10"], "general model"),
     (["--machine", "reference", "--param", "speed", "--from", "2000rpm", "--to", "1500rpm"],
      "--from = 2000rpm must be smaller than --to = 1500rpm"),
+    # a rubbing point is matched by its angle: refused before anything is computed
+    (["--param", "gamma", "--from", "0.1", "--to", "0.2", "--match-tol", "4"], "--match-tol"),
 ])
 def test_bad_input_exits_2_with_one_line(cli, tmp_path, extra, word):
     code, _out, err = cli.run("attractors", *extra, "--n", "3", "--grid", "plane:3", "--out", tmp_path / "x.nc")
     assert code == 2 and word in err and "Traceback" not in err
-    assert not (tmp_path / "x.nc").exists()
+    assert list(tmp_path.iterdir()) == []  # neither the file nor a folder of chunks
+
+
+def test_one_value_with_equal_ends(cli, tmp_path):
+    data = cli.json("attractors", "--param", "gamma", "--from", "0.1", "--to", "0.1", "--n", "1", "--grid",
+                    "plane:3", "--no-lyapunov", "--no-progress", "--out", tmp_path / "a.nc")
+    assert data["values"] == [0.1] and all(len(a["count"]) == 1 for a in data["attractors"])

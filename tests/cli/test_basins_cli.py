@@ -68,7 +68,7 @@ def test_bad_grid_from_the_shell_has_no_traceback(tmp_path, cli):
     "extra, message",
     [
         (["--gamma", "0.05", "--grid", "shock:3"], "virtual"),
-        (["--grid", "plane:3", "--match-tol", "-1"], "match_tol"),
+        (["--grid", "plane:3", "--match-tol", "-1"], "--match-tol"),
         (["--grid", "plane:3", "--transient", "-5"], "--transient"),
         (["--grid", "plane:3", "--n-jobs", "zero"], "--n-jobs"),
         (["--grid", "plane:3", "--gamma", "nan"], "--gamma"),

@@ -140,3 +140,9 @@ def test_a_machine_scan_gives_each_value_its_own_time_scale(cli, param, start, s
         assert data["values_rpm"] == pytest.approx([1500.0, 3000.0], rel=1e-12)
     else:
         assert "values_rpm" not in data
+
+
+def test_a_scan_of_one_value_with_equal_ends(cli):
+    data = cli.json("lyapunov", "--param", "gamma", "--from", "0.1", "--to", "0.1", "--n", "1", "--t-end", "300",
+                    "--no-progress")
+    assert data["values"] == [0.1] and len(data["exponents"]) == 1

@@ -679,6 +679,16 @@ def test_second_derivative_bound_of_r_rdot_holds():
             assert np.all(np.abs(f2) <= bound)
 
 
+def test_the_searchable_t_max_is_the_smallest_of_the_request_the_period_limit_and_the_bound():
+    for gamma, t_max in ((0.1, 12.0), (100.0, 12.0), (0.1, 5e4), (1e-9, 2e4)):
+        p = REF.replace(gamma=gamma)
+        growth = abs(gamma) / 2.0 + math.sqrt(max(gamma**2 / 4.0 - p.omega**2, 0.0))
+        expected = min(t_max, 300.0 / growth, 1e4)
+        assert im.searchable_t_max(p, t_max) == pytest.approx(expected, rel=1e-14)
+    with pytest.raises(ParameterError, match="t_max"):
+        im.searchable_t_max(REF, 0.0)
+
+
 def test_orbits_impacting_faster_than_the_simulator_follows_are_refused_naming_rho():
     # the orbits' impact speeds scale with the unbalance rho: at rho = 1e6 one is above MAX_VELOCITY
     from rotorcontact.model.params import MAX_VELOCITY

@@ -161,6 +161,15 @@ def test_machine_speed_in_si_and_bad_input():
         attractors(REF, "gamma", [0.1], "plane:3", lyapunov="False", progress=False)
 
 
+@pytest.mark.parametrize("match_tol", [4.0, 0.0, -1e-3, float("nan")])
+def test_a_match_tolerance_outside_zero_to_pi_is_refused_before_anything_is_computed(match_tol, tmp_path):
+    # a rubbing point is named by its angle alone: a tolerance beyond pi matches every angle
+    with pytest.raises(ParameterError, match=r"^match_tol = "):
+        attractors(REF, "gamma", [0.1, 0.12], "plane:3", match_tol=match_tol, out=tmp_path / "a.nc",
+                   progress=False)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_labels_and_intervals():
     assert attractor_label("irregular", 0.1, 0.01) == "chaotic"
     assert attractor_label("irregular", 0.1, 0.01, settles=True) == "transient"

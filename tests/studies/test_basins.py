@@ -81,6 +81,21 @@ def test_named_orbit_is_the_fixed_point_it_is_named_after():
     assert ds.orbit_T.values[j] == o.T and ds.orbit_stable.values[j] == 1
 
 
+@pytest.mark.parametrize("rho", [REF.rho, 300.0])
+def test_strong_damping_names_the_orbits_it_can_search(rho):
+    # at gamma = 100 the flight decays like e^{-50 T}: orbits are searched up to period_limit (3.0), not the
+    # default 12, which f1_zeros refuses there; the study completes and names what that search finds
+    from rotorcontact.maps.impact_map import period_limit
+
+    p = REF.replace(gamma=100.0, rho=rho)
+    limit = period_limit(p)
+    assert limit == pytest.approx(300.0 / (50.0 + math.sqrt(50.0**2 - p.omega**2)), rel=1e-12) and limit < 12.0
+    res = basins(p, "x=-0.5:0.5:3,y=-0.5:0.5:3", n_transient=20, n_record=5, progress=False)
+    named = [o.label for o in one_impact_orbits(p, limit) if o.admissible]
+    assert list(res.dataset.orbit.values) == named
+    assert sum(res.fractions.values()) == pytest.approx(1.0, abs=1e-12)
+
+
 def test_small_kicks_from_the_contact_free_whirl_die_away():
     p = REF.replace(gamma=0.2)
     res = basins(p, shock_grid((0.0, 0.02, 3), (-math.pi, math.pi, 4)), progress=False)

@@ -93,7 +93,8 @@ def run(args: argparse.Namespace) -> int:
     settings = batch_settings(args, n_keep=1)
     rows, cols = grid.shape
     check_study_size(n_values * rows * cols, settings, f"--n {n_values} x --grid {cols} x {rows}")
-    match_tol = parse_float("match-tol", args.match_tol, low=0.0, low_open=True)
+    match_tol = parse_float("match-tol", args.match_tol, low=0.0, high=math.pi, low_open=True,
+                            why="a rubbing point is matched by its angle")
     t_lyapunov = parse_float("t-lyapunov", args.t_lyapunov, low=0.0, high=MAX_T_LYAPUNOV, low_open=True,
                              why="the tangent propagation through contact would take minutes per attractor")
     if args.plot is not None:

@@ -82,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
     settings = batch_settings(args, n_keep=1)
     rows, cols = grid.shape
     check_study_size(rows * cols, settings, f"--grid {cols} x {rows}")
-    match_tol = parse_float("match-tol", args.match_tol)
+    match_tol = parse_float("match-tol", args.match_tol, low=0.0, low_open=True)
     if args.plot is not None:
         check_plot_path(args.plot)
     check_output_file("--out", args.out, (".nc",))

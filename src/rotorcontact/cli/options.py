@@ -348,7 +348,7 @@ def parameter_values(args: argparse.Namespace, params: Parameters, machine: Mach
                              f"{args.stop_value} differ; allowed: --n >= 2, or --from = --to")
     values = np.linspace(a, b, n_values)
     try:
-        parameter_path(params, param, values[[0, -1]], machine)
+        parameter_path(params, param, np.unique(values[[0, -1]]), machine)
     except ParameterError as exc:
         raise ParameterError(f"--from/--to: {exc}") from None
     return unit, values

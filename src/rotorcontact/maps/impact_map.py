@@ -167,6 +167,7 @@ __all__ = [
     "flight_extrema",
     "flight_growth",
     "period_limit",
+    "searchable_t_max",
     "check_growth",
     "one_impact_orbits",
     "orbit_stability",
@@ -980,6 +981,16 @@ def _check_period(params: Parameters, name: str, value) -> float:
 #: Longest search for zeros of F1 and one-impact orbits: the orbits up to t_max grow like t_max^2 near the
 #: undamped resonance (about 10^4 of them in minutes at 1e4), and the impact model's periods are of order 10.
 MAX_T_MAX = 1e4
+
+
+def searchable_t_max(params: Parameters, t_max: float) -> float:
+    """The longest search for one-impact orbits up to ``t_max`` that `f1_zeros` accepts at ``params``:
+    ``min(t_max, period_limit(params), MAX_T_MAX)``. For naming the orbits a study reached, where a strong
+    damping (a short `period_limit`) must not refuse a search the user did not ask for; orbits of longer
+    period are left unnamed."""
+    check_params(params)
+    t_max = check_range("t_max", t_max, low=0.0, low_open=True)
+    return min(t_max, period_limit(params), MAX_T_MAX)
 
 
 def _check_t_max(params: Parameters, t_max) -> float:

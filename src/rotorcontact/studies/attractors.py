@@ -361,9 +361,8 @@ def attractors(
         raise ParameterError(f"param = {param!r} is not a name")
     vals = path_values(param, values)
     path = parameter_path(params, param, vals, machine)
-    match_tol = float(check_finite("match_tol", match_tol))
-    if match_tol <= 0:
-        raise ParameterError(f"match_tol = {match_tol!r} must be > 0")
+    # rubbing points are matched by their angle alone (`identity_names`): a tolerance up to pi
+    match_tol = check_float("match_tol", match_tol, 0.0, math.pi, low_open=True)
     lyapunov = check_bool("lyapunov", lyapunov)
     t_lyapunov = float(check_finite("t_lyapunov", t_lyapunov))
     if not 0.0 < t_lyapunov <= 1e5:

@@ -174,9 +174,11 @@ class BasinResult:
 
 
 def _orbit_table(params: Parameters, t_max: float):
-    from ..maps.impact_map import one_impact_orbits
+    """The admissible one-impact orbits with periods up to ``t_max``, or as far as they can be searched at
+    ``params`` (`rotorcontact.maps.impact_map.searchable_t_max`: strong damping shortens it)."""
+    from ..maps.impact_map import one_impact_orbits, searchable_t_max
 
-    return [o for o in one_impact_orbits(params, t_max=t_max) if o.admissible]
+    return [o for o in one_impact_orbits(params, t_max=searchable_t_max(params, t_max)) if o.admissible]
 
 
 def classify(result: BatchResult, orbits, match_tol: float) -> tuple[np.ndarray, np.ndarray]:
@@ -377,7 +379,8 @@ def name_points(result: BatchResult, params: Parameters, inside: np.ndarray, mat
     """Class codes of the points of a batch (0, ``"outside"``, where not ``inside``) and the orbits named.
 
     The one-impact orbits are those of the impact map at ``params`` with periods up to 1.25 times the
-    longest period found (at least 12); codes index `class_names` of their labels.
+    longest period found (at least 12), as far as they can be searched (`_orbit_table`); codes index
+    `class_names` of their labels.
     """
     one = (result.regime == PERIODIC) & (result.impacts_per_period == 1) & inside
     t_max = 12.0

@@ -151,9 +151,9 @@ def start_state(params: Parameters, start: str) -> tuple[complex, complex]:
                 f"(|k| = {abs(k):.6g} >= 1)"
             )
         return complex(k), 0j
-    from ..maps.impact_map import one_impact_orbits
+    from ..maps.impact_map import one_impact_orbits, searchable_t_max
 
-    orbits = [o for o in one_impact_orbits(params) if o.admissible]
+    orbits = [o for o in one_impact_orbits(params, searchable_t_max(params, 12.0)) if o.admissible]
     for o in orbits:
         if o.label == start:
             u0, du0 = o.initial_condition()
@@ -498,8 +498,9 @@ def _dataset(result: BatchResult, params: Parameters, param: str, vals: np.ndarr
 def one_impact_overlay(params: Parameters, param: str, values: Any, *, max_values: int = 200, t_max: float = 12.0):
     """The one-impact fixed points B_n,m at parameter values, for overlaying on a diagram.
 
-    Every fixed point of the impact map (`rotorcontact.maps.impact_map.one_impact_orbits`)
-    is computed at up to ``max_values`` of the values (evenly subsampled).
+    Every fixed point of the impact map (`rotorcontact.maps.impact_map.one_impact_orbits`) with period up to
+    ``t_max``, or as far as it can be searched there (`rotorcontact.maps.impact_map.searchable_t_max`), is
+    computed at up to ``max_values`` of the values (evenly subsampled).
 
     Returns
     -------
@@ -510,7 +511,7 @@ def one_impact_overlay(params: Parameters, param: str, values: Any, *, max_value
     """
     import xarray as xr
 
-    from ..maps.impact_map import one_impact_orbits
+    from ..maps.impact_map import one_impact_orbits, searchable_t_max
 
     check_params(params)
     if param not in SWEEP_PARAMETERS:
@@ -521,7 +522,8 @@ def one_impact_overlay(params: Parameters, param: str, values: Any, *, max_value
         vals = vals[np.unique(np.linspace(0, vals.size - 1, max_values).round().astype(int))]
     found: dict[str, dict[int, Any]] = {}
     for i, v in enumerate(vals):
-        for o in one_impact_orbits(params.replace(**{param: float(v)}), t_max=t_max):
+        at = params.replace(**{param: float(v)})
+        for o in one_impact_orbits(at, t_max=searchable_t_max(at, t_max)):
             found.setdefault(o.label, {})[i] = o
     labels = sorted(found, key=lambda s: (int(s[1:].split(",")[0]), s.split(",")[1]))
     shape = (vals.size, len(labels))
