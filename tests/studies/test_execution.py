@@ -82,6 +82,33 @@ def test_executors_count_the_workers_that_take_chunks():
         assert joblib.workers == workers
 
 
+class _Ones:
+    """A task of another kind (`run_task`): a block of ones, under its own key."""
+
+    def __init__(self, key: str) -> None:
+        self.key, self.n_items = key, 1
+
+    def compute(self, parallel: bool) -> dict[str, np.ndarray]:
+        return {"summary": np.ones((64, 64))}
+
+
+def test_dask_lets_go_of_each_chunk_once_it_is_handed_over():
+    """The cluster keeps a chunk's result only until the study has it: after all but one chunk are handed
+    over, at most that one is held in the workers' memory."""
+    import time
+
+    n = 12
+    with make_executor(n_jobs=1, scheduler="local", processes=False) as dask:
+        chunks = dask.run([_Ones(f"c{i}") for i in range(n)])
+        for _ in range(n - 1):
+            assert next(chunks)[1]["summary"].sum() == 64 * 64
+        deadline = time.monotonic() + 20.0
+        while (held := len(dask.client.who_has())) > 1 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert held <= 1
+        assert len(list(chunks)) == 1
+
+
 def test_a_local_cluster_leaves_port_8787_alone():
     """Another cluster's dashboard on 8787 neither warns nor is taken: the local cluster has no dashboard."""
     import socket

@@ -531,6 +531,9 @@ class DaskExecutor(_Executor):
                     f"the Dask cluster ({self._where}) cancelled the study's chunks ({exc}); the chunks already "
                     "written are resumed when the study is run again"
                 ) from None
+            # the caller writes the chunk away: the workers need not keep it (a wave would otherwise hold the
+            # whole study's results on the cluster until its end)
+            fut.release()
             yield result
         for fut in futures:
             fut.release()
