@@ -84,6 +84,18 @@ def test_drop_map_json_figure_and_netcdf(cli, machine_file, tmp_path):
     assert code == 2 and "--speed" in err and len(err.strip().splitlines()) == 1
 
 
+def test_drop_map_says_when_it_reads_a_finished_map_back_and_no_resume_computes_it_again(cli, machine_file,
+                                                                                          tmp_path):
+    argv = ("drop-map", machine_file, "--speed", "3000:9000rpm", "--n", "2", "--t-end", "0.01s", "--no-progress",
+            "--out", str(tmp_path / "a"))
+    code, first, err = cli.run(*argv)
+    assert code == 0 and "read back" not in err
+    code, again, err = cli.run(*argv)
+    assert code == 0 and again == first and "already holds this finished study; it was read back" in err
+    code, fresh, err = cli.run(*argv, "--no-resume")
+    assert code == 0 and fresh == first and "read back" not in err
+
+
 def test_drop_map_no_progress_hides_the_progress_bar(cli, machine_file, tmp_path):
     argv = ("drop-map", machine_file, "--speed", "3000:9000rpm", "--n", "2", "--t-end", "0.01s")
     code, out, err = cli.run(*argv, "--out", str(tmp_path / "a"))

@@ -38,6 +38,28 @@ def test_each_point_is_a_drop_and_executors_agree(tmp_path):
         np.testing.assert_array_equal(ds[name].values, again.dataset[name].values)
 
 
+def test_a_finished_map_of_another_version_is_computed_again(tmp_path, monkeypatch):
+    import rotorcontact.studies.drop_map as module
+
+    out = tmp_path / "map.nc"
+    drop_map(M, SPEEDS[:2], FRICTIONS[:1], t_end=T_END, out=out)
+    assert drop_map(M, SPEEDS[:2], FRICTIONS[:1], t_end=T_END, out=out).reused_file
+    monkeypatch.setattr(module, "__version__", module.__version__ + ".other")
+    again = drop_map(M, SPEEDS[:2], FRICTIONS[:1], t_end=T_END, out=out)
+    assert not again.reused_file and again.chunks_computed > 0
+
+
+def test_the_file_s_variables_have_units_and_the_counts_are_integers(tmp_path):
+    ds = drop_map(M, SPEEDS[:2], FRICTIONS[:1], t_end=T_END, out=tmp_path / "map.nc").dataset
+    units = {"regime": "1", "backward_whirl_onset_s": "s", "max_normal_impulse_Ns": "N s", "energy_dissipated_J": "J",
+             "final_spin_rpm": "rpm", "n_impacts": "1", "speed_rpm": "rpm", "friction": "1"}
+    with xr.open_dataset(tmp_path / "map.nc") as back:
+        for name, unit in units.items():
+            assert back[name].attrs["units"] == unit and back[name].attrs["long_name"]
+        assert back["regime"].dtype == np.int32 and back["n_impacts"].dtype == np.int32
+        np.testing.assert_array_equal(back["regime"].values, ds["regime"].values)
+
+
 def test_dask_executor_agrees():
     pytest.importorskip("dask.distributed")
     base = drop_map(M, SPEEDS[:2], FRICTIONS[:1], t_end=T_END, chunk_size=1)

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..model.params import load_machine
-from .outputs import check_output_folder
+from .outputs import check_output_folder, note_reuse
 from .options import parse_float, parse_int, print_json
 from .scale import add_executor_options, executor_kwargs
 
@@ -33,6 +33,9 @@ def register(sub) -> None:
     p.add_argument("--chunk-size", dest="chunk_size", default="16", metavar="N", help="drops per chunk")
     p.add_argument("--json", action="store_true", help="print the map as JSON on stdout")
     g = add_executor_options(p)
+    g.add_argument("--no-resume", dest="resume", action="store_false",
+                   help="compute afresh: neither a finished drop_map.nc nor the chunks of an interrupted run are "
+                        "reused")
     g.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar on stderr")
     p.set_defaults(func=run)
 
@@ -68,7 +71,9 @@ def run(args: argparse.Namespace) -> int:
     out = check_output_folder("--out", args.out)
     out.mkdir(parents=True, exist_ok=True)
     run_ = drop_map(machine, speeds, frictions, fail_at=fail_at, t_end=t_end, chunk_size=chunk,
-                    out=Path(out) / "drop_map.nc", progress=args.progress and not args.json, **executor_kwargs(args))
+                    out=Path(out) / "drop_map.nc", resume=args.resume, progress=args.progress and not args.json,
+                    **executor_kwargs(args))
+    note_reuse(run_, chunk)
     ds = run_.dataset
     from ..plotting.drop_map import save_drop_map_figure
 

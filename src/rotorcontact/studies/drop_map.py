@@ -23,6 +23,7 @@ from ..model.validation import check_length, check_machine
 from ..simulation.drop_run import MAX_T_END, check_drop_speed, check_failure_before_end, drop
 from .datasets import check_dataset, study_dataset
 from .driver import StudyRun, run_study
+from .. import __version__
 from .execution import check_chunk_size, study_digest
 
 __all__ = ["REGIMES", "FAILED", "DropTask", "drop_map", "failed_points"]
@@ -36,6 +37,17 @@ REGIMES = ("levitated", "bouncing", "contact", "backward-whirl", "failed")
 FAILED = REGIMES.index("failed")
 _FIELDS = ("regime", "backward_whirl_onset_s", "max_normal_impulse_Ns", "energy_dissipated_J", "final_spin_rpm",
            "n_impacts")
+#: Attributes of the map's variables in its file: (long_name, units).
+_ATTRS = {
+    "regime": ("regime after the drop (codes into the attribute regimes)", "1"),
+    "backward_whirl_onset_s": ("onset of backward whirl (nan: none)", "s"),
+    "max_normal_impulse_Ns": ("largest normal impulse of an impact", "N s"),
+    "energy_dissipated_J": ("energy dissipated", "J"),
+    "final_spin_rpm": ("spin speed at the end", "rpm"),
+    "n_impacts": ("impacts", "1"),
+}
+#: Variables that are whole numbers at every point (a failed drop included).
+_COUNTS = ("regime", "n_impacts")
 
 
 @dataclass(frozen=True)
@@ -138,16 +150,21 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
         parts = [load(k) for k in keys(size)]
         data = {name: np.concatenate([p[name] for p in parts]).reshape(grid_speed.shape) for name in _FIELDS}
         ds = xr.Dataset(
-            {name: (("friction", "speed_rpm"), data[name]) for name in _FIELDS},
+            {name: (("friction", "speed_rpm"), data[name].astype(np.int32) if name in _COUNTS else data[name],
+                    {"long_name": _ATTRS[name][0], "units": _ATTRS[name][1]}) for name in _FIELDS},
             coords={"friction": frictions, "speed_rpm": speeds / RPM},
         )
+        ds["speed_rpm"].attrs.update(long_name="spin speed at the start", units="rpm")
+        ds["friction"].attrs.update(long_name="friction coefficient", units="1")
         ds["transient_impacts"] = (("friction", "speed_rpm"), np.zeros(grid_speed.shape))
         ds.attrs.update({"regimes": ",".join(REGIMES), "fail_at_s": fail_at, "t_end_s": t_end,
                          "chunk_size": size})
         ds.attrs.update({f"machine_{k}": v for k, v in machine.as_dict().items()})
         return ds, int(data["n_impacts"].sum())
 
-    return run_study(manifest, study_digest(manifest), keys=keys, waves=waves, assemble=assemble, n_items=n,
+    # the finished file depends on the version too: a file of another version is computed again
+    digest = study_digest({**manifest, "version": __version__})
+    return run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n,
                      desc="drop-map", chunk_size=chunk_size, out=out, resume=resume, n_jobs=n_jobs,
                      scheduler=scheduler, processes=processes, progress=progress)
 
