@@ -373,7 +373,7 @@ def attractors(
         try:
             states.append(grid.initial_states(p))
         except ParameterError as exc:
-            raise ParameterError(f"{param} = {v!r}: {exc}") from None
+            raise ParameterError(f"{param} = {float(v)!r}: {exc}") from None
     inside = states[0][2]
     if not inside.any():
         raise ParameterError("grid: no initial state lies inside the clearance (|U(0)| <= 1); nothing to simulate")
