@@ -51,6 +51,24 @@ def test_ratios_approach_feigenbaum(cascade):
     assert v[-1] - gap / 2 < cascade.accumulation < v[-1]
 
 
+def test_deep_in_the_cascade_the_doublings_go_on_at_feigenbaum_s_ratio():
+    """Five levels deep the 64-impact orbit's largest multiplier is about 1e11: its doubling is still told (the
+    tolerance widens to the eigenvalues' rounding), at Feigenbaum's ratio, and the 64-impact branch is not taken
+    for one that passes through its own doubling. A level deeper the multipliers are rounding: the cascade ends
+    unresolved, with the same accumulation estimate."""
+    found = cascades(REF.replace(gamma=0.0845), "gamma", 0.0836, 0.0865, impacts=2, depth=5)
+    (deep,) = [c for c in found if len(c.points) >= 5]
+    v = [e.value for e in deep.points]
+    assert [e.impacts for e in deep.points] == [2, 4, 8, 16, 32, 64]
+    assert all(a > b for a, b in itertools.pairwise(v))
+    assert abs(deep.ratios[-1] - FEIGENBAUM_DELTA) < 0.1
+    assert deep.end == "accumulation" and v[-1] - (v[-2] - v[-1]) / 2 < deep.accumulation < v[-1]
+    deeper = cascades(REF.replace(gamma=0.0845), "gamma", 0.0836, 0.0865, impacts=2, depth=6)
+    (c6,) = [c for c in deeper if len(c.points) >= 5]
+    assert [e.value for e in c6.points] == v and c6.end == "unresolved"
+    assert c6.accumulation == deep.accumulation == c6.end_value
+
+
 def test_the_first_doublings_have_a_multiplier_minus_one(cascade, power_newton):
     for e in cascade.points[:3]:
         _x, z = power_newton(e.orbit.params, e.orbit.states[0], e.impacts)

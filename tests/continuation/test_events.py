@@ -83,6 +83,27 @@ def test_multiplier_kind_refuses_a_misspelt_test_or_bad_multipliers(kw, match):
         multiplier_kind(args["name"], args["z"], args["tol"])
 
 
+def test_multipliers_beside_a_large_one_are_typed_within_their_rounding():
+    # eigenvalues of an orthogonally similar matrix with multipliers 1e11, -1, 0.3 (the large one's row coupled
+    # to the others, as the expanding direction of a long orbit's map): numpy gives -1 to within
+    # EIGENVALUE_ROUNDING eps 1e11 (the bound multiplier_kind takes), not to 1e-6
+    rng = np.random.default_rng(3)
+    worst = 0.0
+    for _ in range(200):
+        q, _r = np.linalg.qr(rng.standard_normal((3, 3)))
+        upper = np.zeros((3, 3))
+        upper[0, 1:] = rng.standard_normal(2) * 1e10
+        m = q @ (np.diag([1e11, -1.0, 0.3]) + upper) @ q.T
+        z = np.linalg.eigvals(m)
+        worst = max(worst, float(np.min(np.abs(z + 1.0))))
+        assert events.multiplier_kind("minus-one", z) == "period-doubling"
+    assert worst > 1e-6  # beyond the plain tolerance: the widening is needed
+    assert events.multiplier_kind("minus-one", [1e11, -1.0 + 5e-3, 0.3]) is None
+    assert events.multiplier_kind("plus-one", [1e11, 1.0 + 1e-4, 0.3]) == "plus-one"
+    assert events.multipliers_resolved([7e11, 0.5]) and not events.multipliers_resolved([1e13, -1.0])
+    assert events.multiplier_kind("minus-one", [1e13, -1.0, 0.3]) is None  # not resolved: not typed
+
+
 def test_multiplier_kind_takes_numpy_scalars():
     assert multiplier_kind("minus-one", [np.float64(-1.0), 0.3], np.float32(1e-6)) == "period-doubling"
     assert multiplier_kind("torus", [np.exp(0.5j), np.exp(-0.5j), 0.1], np.float64(1e-6)) == "neimark-sacker"

@@ -89,6 +89,20 @@ def test_a_branch_that_reaches_its_own_period_doubling_stops_and_says_so():
     assert not [e for e in branch.events if e.kind == "fold"]
 
 
+@pytest.mark.parametrize("label", ["M2-3", "B1,d/PD2"])
+def test_the_parent_of_an_own_doubling_is_named_whatever_the_branch_s_label(label):
+    # a period-2 orbit found on a grid is labelled M2-<j>, not B1,d/PD: its parent is the one-impact orbit it
+    # returns onto, found among the one-impact orbits there; a second doubling's label names it too
+    import dataclasses
+
+    from rotorcontact.maps.multi_impact import find_period_doubling, period_doubled_orbit
+
+    pd = find_period_doubling(REF.replace(gamma=0.1), "B1,d", "gamma", lo=0.08, hi=0.09)
+    start = dataclasses.replace(period_doubled_orbit(pd, -3e-4), label=label)
+    ev = continue_multi_impact(start, "gamma", 0.09).events[-1]
+    assert ev.kind == "period-doubling" and ev.orbits == ("B1,d", label)
+
+
 def test_a_turning_point_with_a_complex_pair_near_one_is_no_neimark_sacker():
     from rotorcontact.continuation.events import multiplier_kind
 

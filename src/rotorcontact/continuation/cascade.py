@@ -20,6 +20,11 @@ Where it ends
   three doublings are known);
 * ``"grazing"`` or ``"fold"``: the last branch reaches a grazing (P_I is not
   smooth there) or turns back at a fold before doubling again;
+* ``"unresolved"``: the last branch is so unstable that its multipliers beside
+  the largest are rounding (`rotorcontact.continuation.events.multipliers_resolved`:
+  a largest multiplier beyond about 7e11, 128 impacts deep in a cascade), so its
+  doublings cannot be told; the accumulation point is estimated as above from the
+  doublings found;
 * otherwise the end of the last branch's continuation (``"range"``: it left the
   parameter range; ``"step-failure"``; ``"period-doubling"``).
 """
@@ -44,6 +49,7 @@ from .multi_impact_families import (
     multi_impact_branches,
     one_impact_seed,
 )
+from .events import multipliers_resolved
 from .results import BranchEvent, check_events, check_param_range
 
 __all__ = ["FEIGENBAUM_DELTA", "Cascade", "cascades", "cascades_of", "feigenbaum_ratios"]
@@ -68,12 +74,12 @@ class Cascade:
         delta_k of successive intervals (empty with fewer than three points; None where an interval is
         zero).
     end : str
-        ``"accumulation"``, ``"grazing"``, ``"fold"``, ``"range"``, ``"step-failure"`` or
+        ``"accumulation"``, ``"unresolved"``, ``"grazing"``, ``"fold"``, ``"range"``, ``"step-failure"`` or
         ``"period-doubling"`` (module docstring).
     end_value : float or None
         The parameter where it ends (the accumulation estimate, the grazing or the fold).
     accumulation : float or None
-        The accumulation estimate (``end == "accumulation"``).
+        The accumulation estimate (``end`` ``"accumulation"`` or ``"unresolved"``).
     """
 
     param: str
@@ -127,13 +133,13 @@ def feigenbaum_ratios(values) -> tuple[float | None, ...]:
 
 
 def _end(branch, doublings_left: BranchEvent | None, values: list[float], ratios: tuple[float | None, ...]):
+    delta = ratios[-1] if ratios and ratios[-1] is not None and ratios[-1] > 1.0 else FEIGENBAUM_DELTA
+    acc = values[-1] + (values[-1] - values[-2]) / (delta - 1.0) if len(values) >= 2 else None
     if doublings_left is not None:
-        delta = ratios[-1] if ratios and ratios[-1] is not None and ratios[-1] > 1.0 else FEIGENBAUM_DELTA
-        if len(values) >= 2:
-            acc = values[-1] + (values[-1] - values[-2]) / (delta - 1.0)
-        else:
-            acc = None
         return "accumulation", acc, acc
+    if any(o.multipliers and not multipliers_resolved(o.multipliers) for o in branch.orbits):
+        # so unstable that its multipliers beside the largest are rounding: a doubling there cannot be told
+        return "unresolved", acc, acc
     for kind in ("fold", "grazing"):
         ev = [e for e in branch.events if e.kind == kind]
         if ev:

@@ -43,6 +43,12 @@ __all__ = ["BranchAnalyser", "at_turning_point", "bialternate_product", "branch_
 
 # How close a multiplier must be to +-1 or to the unit circle at a located test-function zero.
 _MULTIPLIER_TOL = 1e-6
+#: Multiples of eps times the largest multiplier within which `multiplier_kind` takes a multiplier as +-1 or on
+#: the unit circle: the rounding of the eigenvalues of a Jacobian whose norm is at least that multiplier.
+EIGENVALUE_ROUNDING = 64.0
+#: Above this rounding of the multipliers (`EIGENVALUE_ROUNDING` eps times the largest: a largest multiplier
+#: beyond about 7e11) the others are not resolved, and `multiplier_kind` types no zero of a test function.
+UNRESOLVED = 1e-2
 # |k|^2 - 1 at a located rdot = 0 for it to be at the boundary equilibrium.
 _BOUNDARY_TOL = 1e-7
 
@@ -219,6 +225,23 @@ def bialternate_product(z: np.ndarray) -> float:
     return float(prod.real)
 
 
+def _rounding(z: np.ndarray) -> float:
+    """The rounding of multipliers computed beside the largest of ``z``: `EIGENVALUE_ROUNDING` eps times it."""
+    return EIGENVALUE_ROUNDING * np.finfo(float).eps * float(np.max(np.abs(z)))
+
+
+def multipliers_resolved(z: np.ndarray) -> bool:
+    """Whether the multipliers ``z`` (eigenvalues of one Jacobian) are resolved beside the largest: their
+    rounding, `EIGENVALUE_ROUNDING` eps times the largest, is at most `UNRESOLVED`.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``z`` is a sequence of at least one number.
+    """
+    return _rounding(_multipliers(z)) <= UNRESOLVED
+
+
 def multiplier_kind(name: str, z: np.ndarray, tol: float = 1e-6) -> str | None:
     """What a located zero of a multiplier test function is, from the multipliers z there.
 
@@ -227,7 +250,10 @@ def multiplier_kind(name: str, z: np.ndarray, tol: float = 1e-6) -> str | None:
     multiplier is within ``tol`` of +1, ``"period-doubling"`` when one is
     within ``tol`` of -1, ``"neimark-sacker"`` when a complex pair is within
     ``tol`` of the unit circle, and None otherwise (a sign change through a
-    pole, or a real pair with product 1: not a bifurcation).
+    pole, or a real pair with product 1: not a bifurcation). ``tol`` is
+    widened to `EIGENVALUE_ROUNDING` eps times the largest multiplier, the
+    rounding of the others beside it; where that exceeds `UNRESOLVED`, None
+    (the multipliers cannot tell).
 
     Raises
     ------
@@ -238,6 +264,11 @@ def multiplier_kind(name: str, z: np.ndarray, tol: float = 1e-6) -> str | None:
     name = check_choice("name", name, MULTIPLIER_TESTS)
     z = _multipliers(z)
     tol = check_float("tol", tol, 0.0, low_open=True)
+    # the eigenvalues of J are computed to about eps |J|, and the largest multiplier is at most |J|: beside a
+    # strongly unstable one (a long orbit deep in a cascade, 1e11) no multiplier is known to tol
+    if not multipliers_resolved(z):
+        return None  # the multipliers beside the largest are rounding: no bifurcation can be told
+    tol = max(tol, _rounding(z))
     if name == "plus-one":
         return "plus-one" if np.min(np.abs(z - 1.0)) <= tol else None
     if name == "minus-one":

@@ -35,7 +35,8 @@ from typing import Sequence
 import numpy as np
 
 from ..errors import ParameterError
-from ..maps.impact_map import SLIP_BOUNDED, ImpactOrbit, _check_t_max, flight_extrema, one_impact_orbits
+from ..maps.impact_map import (SLIP_BOUNDED, ImpactOrbit, _check_t_max, flight_extrema, one_impact_orbits,
+                               searchable_t_max)
 from ..maps.multi_impact import (
     MAX_GRID_POINTS,
     MAX_ORBIT_IMPACTS,
@@ -92,6 +93,9 @@ GRAZING_MARGIN = 1e-2
 MULTIPLIER_TOL = 1e-6
 #: The branch's own period doubling is looked for while max |x_0 - x_{p/2}| is below this.
 HALF_PERIOD_MARGIN = 0.05
+#: Across its own period doubling x_0 - x_{p/2} of a branch reverses: the cosine of its two sides' angle is
+#: below minus this.
+PITCHFORK_COSINE = 0.8
 #: Smallest step of the scaled arclength of `continue_multi_impact`, below which a step counts as failed.
 MIN_STEP = 1e-9
 #: Largest step of the scaled arclength of `continue_multi_impact`: the unknowns are of order one (angles in
@@ -226,6 +230,16 @@ class _System(MultiplierTests):
         self._mult[key] = z
         return z
 
+    def half_difference(self, y: np.ndarray) -> np.ndarray | None:
+        """x_0 - x_{p/2} (the angle's difference wrapped) near the orbit of p/2 impacts that this one doubles:
+        None where a component exceeds `HALF_PERIOD_MARGIN`, or p is odd."""
+        if self.p % 2 or self.direction_half is None:
+            return None
+        x = y[:-1].reshape(self.p, 3)
+        diff = x[0] - x[self.p // 2]
+        diff[0] = math.remainder(diff[0], 2.0 * math.pi)
+        return None if np.max(np.abs(diff)) > HALF_PERIOD_MARGIN else diff
+
     def asymmetry(self, y: np.ndarray) -> float | None:
         """e . (x_0 - x_{p/2}) near the orbit of p/2 impacts that this one doubles (None elsewhere, or p odd).
 
@@ -233,14 +247,8 @@ class _System(MultiplierTests):
         doubling: there x_0 = x_{p/2}, and beyond it the same orbits come again
         with their points shifted by p/2.
         """
-        if self.p % 2 or self.direction_half is None:
-            return None
-        x = y[:-1].reshape(self.p, 3)
-        diff = x[0] - x[self.p // 2]
-        diff[0] = math.remainder(diff[0], 2.0 * math.pi)
-        if np.max(np.abs(diff)) > HALF_PERIOD_MARGIN:
-            return None
-        return float(self.direction_half @ diff)
+        diff = self.half_difference(y)
+        return None if diff is None else float(self.direction_half @ diff)
 
     def grazing(self, y: np.ndarray) -> float | None:
         params = self.params_at(y[-1])
@@ -383,7 +391,7 @@ def continue_multi_impact(
         i, value, accuracy = own
         located.append(_event("period-doubling", value, param, orbit.label, None, p,
                               "the branch returns onto the orbit it doubles from; continuation stops", accuracy,
-                              (_parent_label(orbit.label), orbit.label)))
+                              (_parent_label(orbit.label, system, result.points[i], value), orbit.label)))
         status = "period-doubling"
         message = (f"the branch returned onto the orbit it doubles from, at its period doubling "
                    f"{param} = {value:.12g}; beyond it come the same orbits with their points shifted by {p // 2}")
@@ -412,16 +420,39 @@ def _turns(result, index: int) -> bool:
     return bool(t[index][-1] * t[index + 1][-1] < 0.0)
 
 
-def _parent_label(label: str) -> str:
-    """The label of the orbit a period-doubled branch is born from (``"B1,d"`` for ``"B1,d/PD"``)."""
-    return label[:-3] if label.endswith("/PD") else f"{label}:half"
+def _parent_label(label: str, system: _System, y: np.ndarray, value: float) -> str:
+    """The label of the orbit a branch doubles from, where it returns onto it at ``value`` (``y`` the point
+    before): ``"B1,d"`` for ``"B1,d/PD"`` (or ``/PD2``, ...); for a branch found otherwise with two impacts,
+    the one-impact orbit at ``value`` whose impact state is nearest y's first (within `HALF_PERIOD_MARGIN`
+    in each component, with half y's period within 10 %); else ``"<p/2>-impact orbit"``."""
+    stem, sep, tail = label.rpartition("/PD")
+    if sep and (tail == "" or tail.isdigit()):
+        return stem
+    unnamed = f"{system.p // 2}-impact orbit"
+    if system.p != 2:
+        return unnamed
+    params = system.params_at(value)
+    x = y[:-1].reshape(system.p, 3)
+    try:
+        half = 0.5 * float(np.sum(_chain(system.params_at(y[-1]), x)[1]))
+        found = one_impact_orbits(params, searchable_t_max(params, 1.25 * half))
+    except (_MapFailure, ParameterError):
+        return unnamed
+    best, nearest = unnamed, HALF_PERIOD_MARGIN
+    for o in found:
+        gap = max(abs(math.remainder(o.theta - x[0, 0], 2.0 * math.pi)), abs(o.rdot - x[0, 1]),
+                  abs(o.thetadot - x[0, 2]))
+        if gap <= nearest and abs(o.T - half) <= 0.1 * half:
+            best, nearest = o.label, gap
+    return best
 
 
 def _own_doubling(result, system: _System) -> tuple[int, float, float] | None:
     """Where the branch passes through its own period doubling: (index before it, parameter, accuracy).
 
     Between two consecutive points near the orbit of p/2 impacts (max |x_0 - x_{p/2}| below
-    `HALF_PERIOD_MARGIN`) e . (x_0 - x_{p/2}) changes sign: the branch has passed through the pitchfork
+    `HALF_PERIOD_MARGIN`) e . (x_0 - x_{p/2}) changes sign and x_0 - x_{p/2} reverses (the cosine of the
+    angle between its values is below -`PITCHFORK_COSINE`): the branch has passed through the pitchfork
     of P_I^p where it meets the orbit it doubles from. The curve is singular there (two branches cross), so
     the point is not corrected onto it; the parameter is that of the pitchfork from a least-squares fit
     lambda = lambda_0 + c_1 a + c_2 a^2 to the nearest points (a the signed asymmetry), and its accuracy
@@ -429,10 +460,16 @@ def _own_doubling(result, system: _System) -> tuple[int, float, float] | None:
     """
     if system.p % 2:
         return None
+    diffs = [system.half_difference(y) for y in result.points]
     asym = [system.asymmetry(y) for y in result.points]
     for i in range(len(asym) - 1):
         a0, a1 = asym[i], asym[i + 1]
         if a0 is None or a1 is None or not a0 * a1 < 0.0:
+            continue
+        d0, d1 = diffs[i], diffs[i + 1]
+        if not d0 @ d1 <= -PITCHFORK_COSINE * np.linalg.norm(d0) * np.linalg.norm(d1):
+            # through the pitchfork x_0 - x_{p/2} shrinks to 0 along one direction and comes back reversed; a
+            # projection that changes sign while the difference turns aside is no passage through it
             continue
         near = [j for j in range(max(0, i - 2), min(len(asym), i + 4)) if asym[j] is not None]
         a = np.array([asym[j] for j in near])
