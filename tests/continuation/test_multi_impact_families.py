@@ -63,6 +63,24 @@ def test_doubled_branches_start_at_the_parent_doubling(family):
         assert 1e-5 < np.max(np.abs(d)) < 1e-1
 
 
+def test_a_branch_ending_where_an_impact_becomes_tangential_ends_at_a_grazing():
+    """Three-impact branches whose continuation fails as one impact's velocity falls to 0 end at a grazing: the
+    grazing of the two-impact orbit B1,d/PD, seen from the side where the orbit has a third impact (the engine
+    locates that one on the two-impact branch, where an interior maximum of r reaches 1)."""
+    from rotorcontact.continuation.multi_impact_branches import GRAZING_MARGIN, continue_multi_impact
+    from rotorcontact.maps.multi_impact import find_period_doubling, period_doubled_orbit
+
+    base = REF.replace(gamma=0.0845)
+    three = multi_impact_branches(base, 3, "gamma", 0.07, 0.1, grid=(6, 3, 3))
+    for b in three.branches:  # no end where an impact is all but tangential is left a step failure
+        assert not (b.status == "step-failure" and np.min(b.orbits[-1].states[:, 1]) < GRAZING_MARGIN)
+    tangential = [e.value for e in three.events if e.kind == "grazing" and "tangential" in e.detail]
+    pd = find_period_doubling(REF.replace(gamma=0.1), "B1,d", "gamma", lo=0.08, hi=0.09)
+    two = continue_multi_impact(period_doubled_orbit(pd, -3e-4), "gamma", 0.07)
+    (g,) = [e.value for e in two.events if e.kind == "grazing"]
+    assert any(0.0 < value - g < 1e-4 for value in tangential)
+
+
 def test_a_seed_given_twice_is_followed_once():
     seeds = orbits_from_grid(BASE, 2)[:1]
     res = multi_impact_branches(BASE, 2, "gamma", 0.08, 0.083, seeds=seeds * 2)

@@ -87,7 +87,8 @@ __all__ = [
 
 #: Weight of the parameter in the arclength (the unknowns are of order one), so that steps move it.
 PARAMETER_WEIGHT = 100.0
-#: A failed step with an interior maximum of r within this of 1 is reported as a grazing.
+#: A failed step with an interior maximum of r within this of 1, or an impact velocity below it, is reported as a
+#: grazing.
 GRAZING_MARGIN = 1e-2
 #: How close a multiplier must be to +-1 or to the unit circle at a located test-function zero.
 MULTIPLIER_TOL = 1e-6
@@ -372,16 +373,21 @@ def continue_multi_impact(
     located = _typed_events(result, system, orbit.label)
     status, message = result.status, result.message
     if status == "step-failure" and orbits:
-        # the map is continuous but not smooth at a grazing (square-root singularity): steps
-        # fail as an interior maximum of r approaches 1
+        # the map is continuous but not smooth at a grazing (square-root singularity): steps fail as an
+        # interior maximum of r approaches 1, or as an impact's velocity falls to 0 (the impact becomes
+        # tangential: the same grazing, seen from the side where the orbit has that impact)
         last = orbits[-1]
+        slowest = float(np.min(last.states[:, 1]))
+        how = None
         if last.r_max_interior is not None and 1.0 - last.r_max_interior < GRAZING_MARGIN:
-            located.append(_event("grazing", values[-1], param, orbit.label, last, p))
+            how = f"interior maximum r = {last.r_max_interior:.6g}"
+        elif slowest < GRAZING_MARGIN:
+            how = f"an impact at rdot = {slowest:.3g}, becoming tangential"
+        if how is not None:
+            located.append(_event("grazing", values[-1], param, orbit.label, last, p,
+                                  f"the branch's last point ({how}): the grazing lies just beyond it"))
             status = "grazing"
-            message = (
-                f"the branch approaches a grazing at {param} = {values[-1]:.10g} "
-                f"(interior maximum r = {last.r_max_interior:.6g}); {message}"
-            )
+            message = f"the branch approaches a grazing at {param} = {values[-1]:.10g} ({how}); {message}"
     grazings = [e.value for e in located if e.kind == "grazing"]
     # P_I is not smooth at a grazing (a square-root singularity): a multiplier +1 located there is the
     # grazing, where the branch may turn, not a smooth fold
