@@ -106,6 +106,24 @@ def test_neimark_sacker_curve_of_a_six_impact_orbit(power_newton):
         assert len(pair) == 2 and all(abs(abs(m) - 1.0) < 1e-5 for m in pair)
 
 
+def test_a_neimark_sacker_curve_ends_at_its_strong_resonance(power_newton):
+    """The curve of M3-3 runs with a complex pair on the unit circle until the pair meets at -1 (1:2 resonance)
+    and ends there; beyond, the bialternate product vanishes for a real pair with product 1 (a neutral saddle),
+    which is no Neimark-Sacker curve. Multipliers from central differences of the simulator's map."""
+    base = REF.replace(gamma=0.0845)
+    curve = orbit_curve(orbit_by_label(base, "M3-3"), "neimark-sacker", ("gamma", "omega"))
+    (piece,) = curve.pieces
+    assert any("strong-resonance" in end for end in curve.ends)
+    for y in piece[1:-1:max(1, len(piece) // 6)]:
+        _x, z = power_newton(base.replace(gamma=y[-2], omega=y[-1]), y[:3], 3)
+        pair = [m for m in z if abs(m.imag) > 1e-3]
+        assert len(pair) == 2 and all(abs(abs(m) - 1.0) < 1e-5 for m in pair)
+    end = piece[-1] if piece[-1][-1] > piece[0][-1] else piece[0]
+    _x, z = power_newton(base.replace(gamma=end[-2], omega=end[-1]), end[:3], 3)
+    assert sorted(abs(m + 1.0) for m in z)[1] < 1e-3  # two multipliers at -1
+    assert end[-1] < 1.06  # not on into the neutral saddles, up to omega = 1.16
+
+
 def test_orbit_labels_and_kinds():
     with pytest.raises(ParameterError, match="invalid"):
         orbit_by_label(SET, "X1")

@@ -104,6 +104,17 @@ def test_multipliers_beside_a_large_one_are_typed_within_their_rounding():
     assert events.multiplier_kind("minus-one", [1e13, -1.0, 0.3]) is None  # not resolved: not typed
 
 
+def test_the_unit_pair_discriminant_changes_sign_where_the_pair_leaves_the_unit_circle():
+    for theta in (0.3, 2.0, 3.1):
+        z = [np.exp(1j * theta), np.exp(-1j * theta), 0.2]
+        assert events.unit_pair_discriminant(z) == pytest.approx(4.0 * math.cos(theta) ** 2 - 4.0, abs=1e-14)
+    for x in (-3.0, -1.2, 2.5):  # a real pair with product 1: positive
+        assert events.unit_pair_discriminant([0.2, x, 1.0 / x]) == pytest.approx((x - 1.0 / x) ** 2, rel=1e-14)
+    assert abs(events.unit_pair_discriminant([-1.0, -1.0, 0.4])) < 1e-15
+    with pytest.raises(ParameterError, match="at least 2"):
+        events.unit_pair_discriminant([0.5])
+
+
 def test_multiplier_kind_takes_numpy_scalars():
     assert multiplier_kind("minus-one", [np.float64(-1.0), 0.3], np.float32(1e-6)) == "period-doubling"
     assert multiplier_kind("torus", [np.exp(0.5j), np.exp(-0.5j), 0.1], np.float64(1e-6)) == "neimark-sacker"

@@ -6,8 +6,10 @@ of the periodic-orbit equations G(x) = 0 of `rotorcontact.maps.multi_impact`
 
 * ``period-doubling``: det(M + I) = 0, M the Jacobian of P_I^p;
 * ``neimark-sacker``: the bialternate product prod_{i<j}(z_i z_j - 1) = 0 of
-  the multipliers z of M (a complex pair on the unit circle; the curve may go on
-  where a real pair has product 1, which is not a bifurcation);
+  the multipliers z of M (a complex pair on the unit circle); the curve ends
+  where that pair turns real, at a 1:2 (z = -1, -1) or 1:1 (z = 1, 1) strong
+  resonance (`rotorcontact.continuation.events.unit_pair_discriminant`), beyond
+  which the product vanishes for a real pair with product 1, no bifurcation;
 * ``fold``: det(M - I) = 0.
 
 Grazing curves (`grazing_curve_of`) use the orbit equations with the flight
@@ -59,7 +61,7 @@ from .engine import (
     continue_both_ways,
     correct_fixed,
 )
-from .events import bialternate_product, det_minus_identity, det_plus_identity
+from .events import bialternate_product, det_minus_identity, det_plus_identity, unit_pair_discriminant
 from .multi_impact_branches import check_orbit, continue_multi_impact
 from .multi_impact_families import seed_orbits
 
@@ -179,7 +181,19 @@ def orbit_curve(
             raise ParameterError(f"the impact map failed: {exc}") from None
         return np.concatenate([g, extra])
 
-    return _continued(residual, y0, plane, name, curve_kind, p, [], settings)
+    events = []
+    if kind == "neimark-sacker":
+
+        def resonance(y):
+            try:
+                return unit_pair_discriminant(multipliers_at(plane.at(y[-2], y[-1]), y[: 3 * p].reshape(p, 3)))
+            except (_MapFailure, ParameterError):
+                return None
+
+        # the bialternate product also vanishes where a real pair has product 1 (a neutral saddle, no
+        # bifurcation): the curve ends where its pair leaves the unit circle, at a 1:2 (-1, -1) or 1:1 resonance
+        events.append(EventFunction("strong-resonance", resonance, terminal=True))
+    return _continued(residual, y0, plane, name, curve_kind, p, events, settings)
 
 
 def _continued(residual, y0: np.ndarray, plane: _Plane, name: str, kind: str, p: int,

@@ -38,8 +38,8 @@ from ..model.validation import check_bool, check_choice, check_float, check_type
 from .results import BranchEvent, check_interval
 
 __all__ = ["BranchAnalyser", "at_turning_point", "bialternate_product", "branch_event_functions", "classify_event",
-           "det_minus_identity", "det_plus_identity", "multiplier_kind", "report_events", "rotation_angle",
-           "turning_points"]
+           "det_minus_identity", "det_plus_identity", "multiplier_kind", "multipliers_resolved", "report_events",
+           "rotation_angle", "turning_points", "unit_pair_discriminant"]
 
 # How close a multiplier must be to +-1 or to the unit circle at a located test-function zero.
 _MULTIPLIER_TOL = 1e-6
@@ -240,6 +240,23 @@ def multipliers_resolved(z: np.ndarray) -> bool:
         Unless ``z`` is a sequence of at least one number.
     """
     return _rounding(_multipliers(z)) <= UNRESOLVED
+
+
+def unit_pair_discriminant(z: np.ndarray) -> float:
+    """(z_i + z_j)^2 - 4 z_i z_j of the pair of multipliers whose product is nearest 1: negative for a complex
+    pair (on the unit circle: 4 cos^2 theta - 4), positive for a real pair, zero where the pair meets on the real
+    axis (at -1 or +1 on a Neimark-Sacker curve: a strong resonance).
+
+    Raises
+    ------
+    ParameterError
+        Unless ``z`` is a sequence of at least two numbers.
+    """
+    z = _multipliers(z, 2)
+    i, j = min(((i, j) for i in range(len(z)) for j in range(i + 1, len(z))),
+               key=lambda ij: abs(z[ij[0]] * z[ij[1]] - 1.0))
+    s, q = z[i] + z[j], z[i] * z[j]
+    return float((s * s - 4.0 * q).real)
 
 
 def multiplier_kind(name: str, z: np.ndarray, tol: float = 1e-6) -> str | None:
