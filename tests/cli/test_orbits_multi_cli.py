@@ -50,6 +50,14 @@ def test_no_orbit_is_an_empty_list(cli):
     assert cli.json("orbits", "--impacts", "2", "--gamma", "0.1")["orbits"] == []
 
 
+def test_no_orbit_found_says_how_it_was_looked_for(cli):
+    code, out, _err = cli.run("orbits", "--impacts", "2", "--gamma", "0.1")
+    assert code == 0 and "found by simulation (stable orbits reached from its starts) or at a period doubling" in out
+    assert "--grid NT,NR,ND also searches" in out
+    code, out, _err = cli.run("orbits", "--impacts", "2", "--gamma", "0.1", "--grid", "1,1,1")
+    assert code == 0 and "found from the grid of impact states, by simulation or at a period doubling" in out
+
+
 def test_text_table(cli):
     code, out, err = cli.run("orbits", "--impacts", "2", "--gamma", "0.083")
     assert code == 0, err

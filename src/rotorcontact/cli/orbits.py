@@ -104,9 +104,14 @@ def _impacts(text: str) -> int:
                      why="the longest period, in impacts, that the simulations recognise")
 
 
-def _multi_table(orbits: tuple[MultiImpactOrbit, ...], p: int, machine: Machine | None = None) -> list[str]:
+def _multi_table(orbits: tuple[MultiImpactOrbit, ...], p: int, machine: Machine | None = None,
+                 grid: bool = False) -> list[str]:
     if not orbits:
-        return [f"no periodic orbit with {p} impacts per period found"]
+        doubling = " or at a period doubling of a one-impact orbit" if p == 2 else ""
+        how = f"from the grid of impact states, by simulation{doubling}" if grid else \
+            (f"by simulation (stable orbits reached from its starts){doubling}; --grid NT,NR,ND also searches by "
+             "Newton's method from a grid of impact states, unstable orbits included")
+        return [f"no periodic orbit with {p} impacts per period found {how}"]
     lines = []
     for o in orbits:
         mult = format(max(abs(m) for m in o.multipliers), ".6g")
@@ -153,7 +158,7 @@ def _run_multi(args: argparse.Namespace, params, machine, t_max: float, p: int) 
     else:
         print(f"periodic orbits with {p} impacts per period at gamma = {params.gamma:g}, "
               f"omega = {params.omega:g}, rho = {params.rho:g}, mu = {params.mu:g}, d = {params.d:g}")
-        for line in _multi_table(orbits, p, machine):
+        for line in _multi_table(orbits, p, machine, grid is not None):
             print(line)
     return 0
 
