@@ -331,7 +331,7 @@ def basins(
             ))
         yield tasks
 
-    def assemble(size: int, load):
+    def batch_result(size: int, load) -> BatchResult:
         n_all = inside.size
         sections = np.full((n_all, settings.keep, 4), np.nan)
         summary = np.zeros((n_all, NSUM))
@@ -341,8 +341,12 @@ def basins(
             sections[idx] = res["sections"][:, 0]
             summary[idx] = res["summary"][:, 0]
         shape = grid.shape
-        result = BatchResult.from_arrays(sections.reshape(shape + (settings.keep, 4)),
-                                         summary.reshape(shape + (NSUM,)), settings)
+        # the result copies what it needs of the summary, which is let go on return
+        return BatchResult.from_arrays(sections.reshape(shape + (settings.keep, 4)),
+                                       summary.reshape(shape + (NSUM,)), settings)
+
+    def assemble(size: int, load):
+        result = batch_result(size, load)
         return _classified(result, params, grid, inside, u0, du0, match_tol, size, machine), result.impacts_simulated
 
     run = run_study(manifest, digest, keys=keys, waves=waves, assemble=assemble, n_items=n_valid, desc="basins",

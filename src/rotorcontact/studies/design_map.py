@@ -342,13 +342,10 @@ def recovery_probabilities(
     def assemble(size: int, load):
         import xarray as xr
 
-        recovered = np.concatenate([
-            BatchResult.from_arrays(res["sections"], res["summary"], settings).regime[:, 0] == NO_CONTACT
-            for res in map(load, keys(size))
-        ]).reshape(n, directions)
+        chunks = [BatchResult.from_arrays(res["sections"], res["summary"], settings) for res in map(load, keys(size))]
+        recovered = np.concatenate([chunk.regime[:, 0] == NO_CONTACT for chunk in chunks]).reshape(n, directions)
         fraction = recovered.sum(axis=1) / directions
-        impacts = sum(BatchResult.from_arrays(res["sections"], res["summary"], settings).impacts_simulated
-                      for res in map(load, keys(size)))
+        impacts = sum(chunk.impacts_simulated for chunk in chunks)
         return xr.Dataset({"recovery_probability": (("machine",), fraction)}), impacts
 
     if n == 0:

@@ -115,7 +115,8 @@ def run_study(
         ``waves(chunk_size, sink)``: the waves of chunk tasks (`rotorcontact.studies.execution.run_waves`).
     assemble : callable
         ``assemble(chunk_size, load)``: the dataset and the impacts simulated, where ``load(key)``
-        gives the arrays of a finished chunk.
+        gives the arrays of a finished chunk, once for each key (without ``out`` the chunk held in memory is
+        let go as it is loaded).
     n_items : int
         Simulations of the study (the length of the progress bar).
     desc : str
@@ -182,8 +183,9 @@ def run_study(
         sink = {} if store is None else StoredChunks(store, keys(chunk_size))
         with progress_bar(n_items, desc, progress) as bar:
             computed = run_waves(executor, waves(chunk_size, sink), store, bar, sink)
-    # assemble from the chunk files when there are any, so that a resumed run is identical
-    ds, impacts = assemble(chunk_size, store.load if store is not None else sink.__getitem__)
+    # assemble from the chunk files when there are any, so that a resumed run is identical; held in memory, each
+    # chunk is let go as it is assembled (each is loaded once), so the study is not held twice
+    ds, impacts = assemble(chunk_size, store.load if store is not None else sink.pop)
     ds.attrs["study_digest"] = digest
     if backend != "cpu":
         ds.attrs["backend"] = backend  # the GPU's results differ from the CPU's in rounding
