@@ -58,6 +58,8 @@ def main() -> None:
         "shock": shock_grid((0.0, 1.0, args.n), (-3.141592653589793, 3.141592653589793, args.n)),
         "plane": displacement_grid((-1.0, 1.0, args.n), (-1.0, 1.0, args.n)),
     }
+    if args.out_dir is not None:
+        Path(args.out_dir).mkdir(parents=True, exist_ok=True)
     for name in args.grids.split(","):
         out = None if args.out_dir is None else Path(args.out_dir) / f"basins_{name}.nc"
         t0, c0 = time.perf_counter(), time.process_time()
