@@ -161,6 +161,25 @@ def test_machine_speed_in_si_and_bad_input():
         attractors(REF, "gamma", [0.1], "plane:3", lyapunov="False", progress=False)
 
 
+@pytest.mark.parametrize("lyapunov", [False, True])
+def test_a_study_held_in_memory_lets_its_chunks_go(monkeypatch, lyapunov):
+    # without an output file the chunks are held in memory; each is let go once assembled, also where the
+    # exponents' wave assembles the simulations first and the assembly reuses them
+    import rotorcontact.studies.driver as driver
+
+    sinks = []
+
+    def recording(executor, waves, store, bar, sink):
+        sinks.append(sink)
+        return run_waves(executor, waves, store, bar, sink)
+
+    run_waves = driver.run_waves
+    monkeypatch.setattr(driver, "run_waves", recording)
+    res = attractors(REF, "gamma", [0.1, 0.12], "plane:3", lyapunov=lyapunov, t_lyapunov=50.0, chunk_size=2,
+                     progress=False)
+    assert res.attractors and len(sinks) == 1 and len(sinks[0]) == 0
+
+
 @pytest.mark.parametrize("match_tol", [4.0, 0.0, -1e-3, float("nan")])
 def test_a_match_tolerance_outside_zero_to_pi_is_refused_before_anything_is_computed(match_tol, tmp_path):
     # a rubbing point is named by its angle alone: a tolerance beyond pi matches every angle

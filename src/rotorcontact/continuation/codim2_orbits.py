@@ -186,12 +186,13 @@ def orbit_curve(
 
         def resonance(y):
             try:
-                return unit_pair_discriminant(multipliers_at(plane.at(y[-2], y[-1]), y[: 3 * p].reshape(p, 3)))
+                return -unit_pair_discriminant(multipliers_at(plane.at(y[-2], y[-1]), y[: 3 * p].reshape(p, 3)))
             except (_MapFailure, ParameterError):
                 return None
 
         # the bialternate product also vanishes where a real pair has product 1 (a neutral saddle, no
         # bifurcation): the curve ends where its pair leaves the unit circle, at a 1:2 (-1, -1) or 1:1 resonance
+        # (the event is >= 0 on the curve, as every terminal event inside its domain)
         events.append(EventFunction("strong-resonance", resonance, terminal=True))
     return _continued(residual, y0, plane, name, curve_kind, p, events, settings)
 

@@ -385,7 +385,7 @@ def continue_multi_impact(
             how = f"an impact at rdot = {slowest:.3g}, becoming tangential"
         if how is not None:
             located.append(_event("grazing", values[-1], param, orbit.label, last, p,
-                                  f"the branch's last point ({how}): the grazing lies just beyond it"))
+                                  f"where the continuation ends ({how}): the grazing lies just beyond it"))
             status = "grazing"
             message = f"the branch approaches a grazing at {param} = {values[-1]:.10g} ({how}); {message}"
     grazings = [e.value for e in located if e.kind == "grazing"]

@@ -438,8 +438,9 @@ def attractors(
         yield tasks
         if not lyapunov:
             return
-        # the largest exponent of each attractor at each value, from the end state of the first point reaching it
-        result, ident = classified(size, sink.__getitem__)
+        # the largest exponent of each attractor at each value, from the end state of the first point reaching it;
+        # chunks held in memory are let go once assembled (the assembly reuses the result), those of a store stay
+        result, ident = classified(size, getattr(sink, "pop", None) or sink.__getitem__)
         spectra = []
         for i in range(vals.size):
             first = [j for _name, j in _representatives(ident[i])]
