@@ -96,6 +96,13 @@ def test_strong_damping_names_the_orbits_it_can_search(rho):
     assert sum(res.fractions.values()) == pytest.approx(1.0, abs=1e-12)
 
 
+def test_parameters_beyond_the_simulators_range_are_refused_before_anything_runs(tmp_path):
+    # the forced response |k| = 2.2e6 clearances at rho = 1e6 (the simulator's bound: 1000), as for a sweep
+    with pytest.raises(ParameterError, match=r"^rho = 1000000.0, .*forced response"):
+        basins(REF.replace(rho=1e6), "plane:3", out=tmp_path / "b.nc", progress=False)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_small_kicks_from_the_contact_free_whirl_die_away():
     p = REF.replace(gamma=0.2)
     res = basins(p, shock_grid((0.0, 0.02, 3), (-math.pi, math.pi, 4)), progress=False)

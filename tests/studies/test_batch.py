@@ -494,3 +494,15 @@ def test_the_lane_stages_refuse_what_is_not_lanes_by_name():
     for bad in ((None, summary, st), (sections, summary[..., :3], st), (sections, summary, None)):
         with pytest.raises(ParameterError):
             BatchResult.from_arrays(*bad)
+
+
+@pytest.mark.parametrize("given", ["one", "list", "array"])
+def test_a_forced_response_beyond_the_simulators_range_is_refused_however_the_parameters_come(given):
+    # |k| = rho / |omega^2 - 1 + i gamma| = 2.2e6 clearances at rho = 1e6: one set of parameters is checked as
+    # every row of a list or an array
+    far = REF.replace(rho=1e6)
+    assert abs(far.k) > 1e3
+    value = {"one": far, "list": [REF, far], "array": np.array([[getattr(q, n) for n in PARAMETER_ORDER]
+                                                                  for q in (REF, far)])}[given]
+    with pytest.raises(ParameterError, match=r"forced response \|k\| = .* is beyond the simulator's accurate range"):
+        parameter_array(value)

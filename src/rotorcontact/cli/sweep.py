@@ -155,6 +155,13 @@ def run(args: argparse.Namespace) -> int:
                              "allowed: with --overlay-impacts P")
     check_output_file("--out", args.out, (".nc",))
     execution = scale_kwargs(args)
+    overlay_kind = None
+    if args.plot is not None:
+        # the figure's orbits first: what cannot be computed there is refused before the sweep runs
+        from ..studies.sweep import overlay_for
+
+        overlay, overlay_kind = overlay_for(params, args.param, values) if args.overlay else (None, None)
+        family, found = _multi_overlay(args, params, values)
     t0 = time.perf_counter()
     res = sweep(params, args.param, values, mode=args.mode, start=args.start, u0=u0, du0=du0, settings=settings,
                 out=args.out, machine=machine, **execution)
@@ -162,13 +169,9 @@ def run(args: argparse.Namespace) -> int:
     note_reuse(res, execution.get("chunk_size"))
     ds = res.dataset
     regimes = res.regime_counts()
-    overlay_kind = None
     if args.plot is not None:
         from ..plotting.sweep import save_sweep_figure
-        from ..studies.sweep import overlay_for
 
-        overlay, overlay_kind = overlay_for(params, args.param, values) if args.overlay else (None, None)
-        family, found = _multi_overlay(args, params, values)
         layers = [x for x in (overlay, family) if x is not None]
         save_sweep_figure(ds, args.plot, args.section or "theta", overlay=layers or None, cascades=found)
     summary = {

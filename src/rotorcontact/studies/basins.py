@@ -301,6 +301,7 @@ def basins(
     row = parameter_array(params)
     flat = np.flatnonzero(inside.ravel())
     n_valid = flat.size
+    _orbit_table(params, 12.0)  # orbits that cannot be named are refused before the simulations run
     manifest = {
         "study": "basins",
         "params": params.as_dict(),

@@ -603,6 +603,7 @@ def parameter_array(params: Parameters | Sequence[Parameters] | np.ndarray) -> n
         If any row is not a valid set of parameters.
     """
     if isinstance(params, Parameters):
+        check_forced_response(params)  # as every row of an array below
         return np.array([getattr(params, n) for n in PARAMETER_ORDER], dtype=float)
 
     def rows(obj):
