@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import os
 from types import SimpleNamespace
 
 import mpmath as mp
@@ -26,6 +27,9 @@ import numpy as np
 import pytest
 import scipy.linalg
 from scipy.integrate import solve_ivp
+
+# figures are drawn to files: no display, whatever the machine
+os.environ.setdefault("MPLBACKEND", "Agg")
 
 DPS = 40
 

@@ -143,6 +143,22 @@ def test_fig5b_local_estimate_hook(branches):
         plot_rdot(REF, branches=branches, local=3.0)
 
 
+@pytest.mark.parametrize("local, name", [
+    ({"B1,a": 5}, r"local\['B1,a'\] = 5"),
+    ({"B1,a": ([0.0, 1.0], [0.0])}, r"local\['B1,a'\] = "),
+    ({"B1,a": ([0.0, float("nan")], [0.0, 1.0])}, r"local\['B1,a'\] = "),
+    (lambda label, x: x[:-1], r"local\('B1,a', x\) = "),
+    (lambda label, x: "x", r"local\('B1,a', x\) = 'x'"),
+])
+def test_a_bad_local_estimate_is_refused_before_a_figure_is_opened(branches, local, name):
+    import matplotlib.pyplot as plt
+
+    before = plt.get_fignums()
+    with pytest.raises(ParameterError, match=rf"^{name}.* is invalid; allowed: "):
+        plot_rdot(REF, branches=branches, labels=("B1,a",), local=local)
+    assert plt.get_fignums() == before
+
+
 def test_fig6b_max_multiplier_only_where_admissible(branches):
     fig, ax = plot_max_multiplier(REF, branches=branches)
     assert ax.get_yscale() == "log"

@@ -92,3 +92,14 @@ def test_a_figure_left_open_by_a_refused_call_is_reported(refused):
     with pytest.raises(AssertionError, match="left a figure open"):
         refused(r"^x = 1", leaky)
     assert not plt.get_fignums()
+
+
+def test_importing_the_figures_leaves_the_users_backend_alone():
+    # a researcher's interactive backend (here pdf, chosen before the import) is kept: plt.show() must work
+    import subprocess
+    import sys
+
+    code = ("import matplotlib; matplotlib.use('pdf'); import rotorcontact.plotting.sweep, "
+            "rotorcontact.plotting.branches; print(matplotlib.get_backend())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "pdf"

@@ -57,6 +57,7 @@ def test_the_file_s_variables_have_units_and_the_counts_are_integers(tmp_path):
         for name, unit in units.items():
             assert back[name].attrs["units"] == unit and back[name].attrs["long_name"]
         assert back["regime"].dtype == np.int32 and back["n_impacts"].dtype == np.int32
+        assert set(back.data_vars) == set(units) - {"speed_rpm", "friction"}  # nothing else, nothing unlabelled
         np.testing.assert_array_equal(back["regime"].values, ds["regime"].values)
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from .. import __version__
@@ -77,6 +78,9 @@ def main(argv: list[str] | None = None) -> int:
     process has been ended.
     """
     command = "rotorcontact"
+    # the commands write their figures to files and never show a window: no display is needed (a backend the
+    # user chose with MPLBACKEND is kept); the Python API leaves matplotlib's choice alone
+    os.environ.setdefault("MPLBACKEND", "Agg")
     try:
         argv = sys.argv[1:] if argv is None else list(argv)
         parser = build_parser(argv)

@@ -198,16 +198,19 @@ def plot_branch_quantity(
     check_choice("quantity", quantity, tuple(_QUANTITIES))
     _check_options(labels, ax, xlim, ylim, local, events=events, legend=legend)
     ylabel, getter = _QUANTITIES[quantity]
-    fig, ax = new_axes(ax)
     drawn = _check_labels(branches, labels)
+    lines = {label: branches.branch(label) for label in drawn}
+    # the local estimates are checked before a figure is opened
+    estimates = {label: _local_curve(label, b, local) for label, b in lines.items()} if local is not None else {}
+    fig, ax = new_axes(ax)
     estimated = []
-    for label in drawn:
-        b = branches.branch(label)
+    for label, b in lines.items():
         color = BRANCH_COLORS.get(label.split(",")[1], "k")
         y = getter(b)
         for sl in b.pieces():
             _draw_styled(ax, label, b.values, y, b, color, sl)
-        if local is not None and _draw_local(ax, label, b, local, color):
+        if estimates.get(label) is not None:
+            ax.plot(*estimates[label], color=color, gid=f"{label}:local", **_LOCAL)
             estimated.append(label)
     view = xlim or (branches.start, branches.stop)
     marked = _mark_events(ax, branches, drawn, quantity, view) if events else []
@@ -228,20 +231,27 @@ def plot_branch_quantity(
 _LOCAL = dict(ls="-.", lw=1.3, alpha=0.75)
 
 
-def _draw_local(ax, label: str, b: LabelBranch, local, color: str) -> bool:
-    """Draw the local estimate of ``label`` (True when there is one)."""
+def _local_curve(label: str, b: LabelBranch, local) -> tuple[np.ndarray, np.ndarray] | None:
+    """The local estimate of ``label`` as (x, y), None where there is none; a `ParameterError` naming
+    ``local[label]`` or ``local(label, x)`` unless it gives two equally long 1-d arrays of finite numbers."""
     if isinstance(local, Mapping):
         if label not in local:
-            return False
-        x, y = (np.asarray(v, dtype=float) for v in local[label])
+            return None
+        name, value = f"local[{label!r}]", local[label]
+        pair = value if isinstance(value, (tuple, list)) and len(value) == 2 else (None, None)
+        x, y = (real_array(v) for v in pair)
     else:
         x = np.sort(b.values[np.isfinite(b.values)])
-        y = local(label, x)
-        if y is None:
-            return False
-        y = np.asarray(y, dtype=float)
-    ax.plot(x, y, color=color, gid=f"{label}:local", **_LOCAL)
-    return True
+        name, value = f"local({label!r}, x)", local(label, x)
+        if value is None:
+            return None
+        y = real_array(value)
+    if x is None or y is None or x.ndim != 1 or x.shape != y.shape or not (np.all(np.isfinite(x))
+                                                                             and np.all(np.isfinite(y))):
+        allowed = "(x, y), two equally long 1-d arrays of finite numbers" if isinstance(local, Mapping) else \
+            "a 1-d array of finite numbers as long as x (the branch's parameter values), or None"
+        raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {allowed}")
+    return x, y
 
 
 def _at_event(b: LabelBranch, e, y: np.ndarray) -> float | None:

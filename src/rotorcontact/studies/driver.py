@@ -77,8 +77,10 @@ class StudyRun:
 
 
 def dataset_impacts(ds) -> int:
-    """Impacts simulated for a study's dataset: its windows' and its transients' (``n_impacts``, ``transient_impacts``)."""
-    return int(ds["n_impacts"].values.sum() + ds["transient_impacts"].values.sum())
+    """Impacts simulated for a study's dataset: its windows' and its transients' (``n_impacts``, and
+    ``transient_impacts`` where a study has transients)."""
+    transient = ds["transient_impacts"].values.sum() if "transient_impacts" in ds else 0
+    return int(ds["n_impacts"].values.sum() + transient)
 
 
 def run_study(

@@ -156,7 +156,6 @@ def drop_map(machine: Machine, speeds, frictions=None, *, fail_at: float = 0.0, 
         )
         ds["speed_rpm"].attrs.update(long_name="spin speed at the start", units="rpm")
         ds["friction"].attrs.update(long_name="friction coefficient", units="1")
-        ds["transient_impacts"] = (("friction", "speed_rpm"), np.zeros(grid_speed.shape))
         ds.attrs.update({"regimes": ",".join(REGIMES), "fail_at_s": fail_at, "t_end_s": t_end,
                          "chunk_size": size})
         ds.attrs.update({f"machine_{k}": v for k, v in machine.as_dict().items()})
