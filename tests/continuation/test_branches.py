@@ -86,6 +86,36 @@ def test_labels_and_values_agree_with_the_guaranteed_zero_search(ref_branches):
     assert checked > 200
 
 
+def test_refined_branches_add_the_orbits_of_the_guaranteed_zero_search(ref_branches):
+    """Points put between the continuation's inside a view are the orbits the global search finds at their
+    parameter (label, T, rdot, multipliers, stability); the continuation's own points and events stay."""
+    from rotorcontact.continuation.branches import refine_branches
+
+    lo, hi, points = 0.05, 0.1, 100
+    refined = refine_branches(ref_branches, (lo, hi), points)
+    checked = 0
+    for old, new in zip(ref_branches.curves, refined.curves):
+        kept = {float(v) for v in new.values}
+        assert {float(v) for v in old.values} <= kept
+        assert [(float(old.values[i]), k) for i, k in old.event_index] == \
+            [(float(new.values[i]), k) for i, k in new.event_index]
+        inside = [(v, o) for v, o in zip(new.values, new.orbits) if lo <= v <= hi and v not in set(old.values)]
+        for v, o in inside[::7]:
+            r = {x.label: x for x in im.one_impact_orbits(o.params, 12.0)}[o.label]
+            assert abs(r.T - o.T) < 1e-9 * (1 + o.T) and abs(r.rdot - o.rdot) < 1e-9 * (1 + abs(o.rdot))
+            if r.multipliers is not None:
+                assert max(map(abs, r.multipliers)) == pytest.approx(max(map(abs, o.multipliers)), rel=1e-9)
+            assert r.stable == o.stable and r.plausible == o.plausible
+            checked += 1
+        # inside the view, consecutive points of a monotone stretch are at most (hi - lo) / points apart
+        v = new.values
+        gaps = np.abs(np.diff(v))[(v[:-1] >= lo) & (v[1:] <= hi)]
+        assert gaps.size == 0 or np.mean(gaps <= (hi - lo) / points * (1 + 1e-9)) > 0.95
+    assert checked > 20
+    with pytest.raises(ParameterError, match=r"^view = \(0.1, 0.05\) is invalid"):
+        refine_branches(ref_branches, (0.1, 0.05))
+
+
 def test_branches_pass_through_the_smooth_fold(ref_branches):
     # one computed curve holds B1,a and B1,b, joined at the fold gamma_F,1 (and B1,c, B1,d)
     curve = next(c for c in ref_branches.curves if {"B1,a", "B1,b", "B1,c", "B1,d"} <= set(c.labels))

@@ -93,10 +93,19 @@ def test_fig4d_schematic_shows_the_boundary_equilibrium_and_small_orbits():
     assert any(t.startswith(r"$x_B$") for t in texts)
 
 
+def _drawn(branches):
+    """The branches as drawn over their whole range: refined to `REFINED_POINTS` across it."""
+    from rotorcontact.continuation.branches import refine_branches
+    from rotorcontact.plotting.branches import REFINED_POINTS
+
+    return refine_branches(branches, (branches.start, branches.stop), REFINED_POINTS)
+
+
 def test_fig5_rdot_and_thetadot_are_the_branch_data(branches):
     fig, ax = plot_rdot(REF, branches=branches)
+    refined = _drawn(branches)
     for label in ("B1,a", "B1,b", "B1,c", "B1,d"):
-        b = branches.branch(label)
+        b = refined.branch(label)
         drawn = lines(ax, label + ":")
         assert drawn
         xs = np.concatenate([ln.get_xdata() for ln in drawn])
@@ -115,7 +124,7 @@ def test_fig5_rdot_and_thetadot_are_the_branch_data(branches):
     unstable = lines(ax, "B1,c:plausible-unstable")
     assert stable and unstable and stable[0].get_linewidth() > unstable[0].get_linewidth()
     fig, ax = plot_thetadot(REF, branches=branches, labels=("B1,a", "B1,b"))
-    b = branches.branch("B1,b")
+    b = refined.branch("B1,b")
     ys = np.concatenate([ln.get_ydata() for ln in lines(ax, "B1,b:")])
     assert set(ys) <= set(b.thetadot[np.isfinite(b.thetadot)])
     assert not lines(ax, "B1,c")
@@ -163,12 +172,28 @@ def test_fig6b_max_multiplier_only_where_admissible(branches):
     fig, ax = plot_max_multiplier(REF, branches=branches)
     assert ax.get_yscale() == "log"
     for label in ("B1,c", "B1,d"):
-        b = branches.branch(label)
+        b = _drawn(branches).branch(label)
         for ln in lines(ax, label + ":"):
             assert ln.get_gid().split(":")[1] != "virtual" or np.all(np.isnan(ln.get_ydata()))
             y = ln.get_ydata()
             y = y[np.isfinite(y)]
             assert set(y) <= set(b.max_multiplier[np.isfinite(b.max_multiplier)])
+
+
+def test_fig6b_b1d_is_drawn_stable_from_its_period_doubling_on(branches):
+    # B1,d gains stability as gamma increases through its period doubling (one_impact_orbits says so just past
+    # it); the figure draws it so there, without a gap, however coarse the continuation's steps
+    (pd,) = [e.value for e in branches.events if e.type == "period-doubling" and "B1,d" in e.orbits]
+    past = pd + 2e-3
+    (orbit,) = [o for o in im.one_impact_orbits(REF.replace(gamma=past)) if o.label == "B1,d"]
+    assert orbit.stable
+    fig, ax = plot_max_multiplier(REF, branches=branches, xlim=(0.0, 0.2), log=False)
+    stable = np.concatenate([ln.get_xdata() for ln in lines(ax, "B1,d:plausible-stable")])
+    unstable = np.concatenate([ln.get_xdata() for ln in lines(ax, "B1,d:plausible-unstable")])
+    assert np.any((stable > pd) & (stable < pd + 1e-3)) and not np.any(unstable > pd + 1e-3)
+    xs = np.sort(np.concatenate([ln.get_xdata() for ln in lines(ax, "B1,d:")]))
+    near = xs[(xs > pd - 0.01) & (xs < pd + 0.01)]
+    assert np.max(np.diff(near)) <= 0.2 / 400 * 1.01
 
 
 def test_a_log_axis_of_multipliers_refuses_limits_at_or_below_zero(branches):

@@ -54,7 +54,7 @@ and on admissible orbits (rdot > 0):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -93,6 +93,7 @@ __all__ = [
     "LabelBranch",
     "OrbitBranches",
     "orbit_branches",
+    "refine_branches",
     "default_settings",
     "default_seeds",
     "DEFAULT_RANGES",
@@ -353,3 +354,66 @@ def _assemble(system: OneImpactSystem, runs: list[ContinuationResult], weights: 
     return curve, all_events
 
 
+#: Most points `refine_branches` puts between two points of a curve.
+MAX_REFINE = 2000
+
+
+def refine_branches(branches: OrbitBranches, view: tuple[float, float], points: int = 400) -> OrbitBranches:
+    """``branches`` with points added inside ``view`` so that consecutive points are at most (hi - lo) / points
+    apart in the parameter: for drawing, where the continuation's steps are coarse beside a bifurcation.
+
+    Each point added is corrected onto its curve at its parameter value (Newton's method on the fixed-point
+    equations from the chord between its neighbours) and computed as the continuation computes its points
+    (`rotorcontact.maps.orbit_system.orbit_with_extrema`); one that does not converge, or lands farther from the
+    chord than the two neighbours are from each other, is left out.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``branches`` is an `OrbitBranches`, ``view`` two finite numbers lo < hi and ``points`` a whole
+        number from 2 to 100,000.
+    """
+    from ..model.validation import check_type, quoted, real_array
+
+    check_type("branches", branches, OrbitBranches, "the OrbitBranches of orbit_branches")
+    ends = real_array(view) if isinstance(view, (tuple, list)) else None
+    if ends is None or ends.shape != (2,) or not np.all(np.isfinite(ends)) or not ends[0] < ends[1]:
+        raise ParameterError(f"view = {quoted(view)} is invalid; allowed: (lo, hi), two finite numbers lo < hi")
+    lo, hi = float(ends[0]), float(ends[1])
+    points = check_int("points", points, 2, 100_000)
+    system = OneImpactSystem(branches.base, branches.param)
+    step = (hi - lo) / points
+    curves = []
+    for curve in branches.curves:
+        values, orbits, extrema, where = [], [], [], {}
+        for i in range(len(curve.values)):
+            where[i] = len(values)
+            values.append(float(curve.values[i]))
+            orbits.append(curve.orbits[i])
+            extrema.append(curve.extrema[i])
+            if i + 1 == len(curve.values):
+                break
+            a, b = float(curve.values[i]), float(curve.values[i + 1])
+            if max(a, b) < lo or min(a, b) > hi:
+                continue
+            inserts = min(math.ceil(abs(b - a) / step) - 1, MAX_REFINE)
+            ya = np.array([curve.orbits[i].T, curve.orbits[i].rdot, a])
+            yb = np.array([curve.orbits[i + 1].T, curve.orbits[i + 1].rdot, b])
+            span = float(np.max(np.abs(yb[:2] - ya[:2])))
+            for j in range(1, inserts + 1):
+                chord = ya + (yb - ya) * (j / (inserts + 1))
+                try:
+                    y = correct_fixed(system.residual, chord, 2, jacobian=system.jacobian)
+                    if np.max(np.abs(y[:2] - chord[:2])) > span:
+                        continue  # onto another curve
+                    o, ext = orbit_with_extrema(system.params_at(y[2]), float(y[0]), float(y[1]))
+                except (CorrectionError, ZeroDivisionError, ParameterError, RuntimeError):
+                    continue
+                values.append(float(y[2]))
+                orbits.append(o)
+                extrema.append((ext.radii.copy(), ext.maxima.copy()))
+        curves.append(OrbitCurve(param=curve.param, values=np.array(values), orbits=tuple(orbits),
+                                 extrema=tuple(extrema), event_index=tuple((where[k], kind)
+                                                                           for k, kind in curve.event_index),
+                                 ends=curve.ends))
+    return replace(branches, curves=tuple(curves))

@@ -22,7 +22,7 @@ from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
-from ..continuation.branches import BRANCH_PARAMETERS, LabelBranch, OrbitBranches, orbit_branches
+from ..continuation.branches import BRANCH_PARAMETERS, LabelBranch, OrbitBranches, orbit_branches, refine_branches
 from ..analysis.equilibria import boundary_gamma
 from ..errors import ParameterError
 from ..maps.impact_map import ORBIT_LABEL
@@ -198,6 +198,8 @@ def plot_branch_quantity(
     check_choice("quantity", quantity, tuple(_QUANTITIES))
     _check_options(labels, ax, xlim, ylim, local, events=events, legend=legend)
     ylabel, getter = _QUANTITIES[quantity]
+    view = xlim or (branches.start, branches.stop)
+    branches = refine_branches(branches, (min(view), max(view)), REFINED_POINTS)
     drawn = _check_labels(branches, labels)
     lines = {label: branches.branch(label) for label in drawn}
     # the local estimates are checked before a figure is opened
@@ -212,7 +214,6 @@ def plot_branch_quantity(
         if estimates.get(label) is not None:
             ax.plot(*estimates[label], color=color, gid=f"{label}:local", **_LOCAL)
             estimated.append(label)
-    view = xlim or (branches.start, branches.stop)
     marked = _mark_events(ax, branches, drawn, quantity, view) if events else []
     level = {"rdot": 0.0, "thetadot": 0.0, "max_multiplier": 1.0, "r_max_interior": 1.0}.get(quantity)
     if level is not None:
@@ -229,6 +230,9 @@ def plot_branch_quantity(
 
 #: Style of the local estimate of an orbit (in the orbit's colour).
 _LOCAL = dict(ls="-.", lw=1.3, alpha=0.75)
+#: Points across the view at least, where the branches are drawn (`refine_branches`): the continuation's steps
+#: are coarse beside a bifurcation, and a chord there would misdraw the curve and its style.
+REFINED_POINTS = 400
 
 
 def _local_curve(label: str, b: LabelBranch, local) -> tuple[np.ndarray, np.ndarray] | None:
@@ -517,8 +521,9 @@ def plot_extrema(
     _check_inputs(params, branches)
     _check_options(labels, ax, xlim, ylim, regular=regular, legend=legend)
     branches = branches or orbit_branches(params, param, start, stop)
-    fig, ax = new_axes(ax)
     view = xlim or (branches.start, branches.stop)
+    branches = refine_branches(branches, (min(view), max(view)), REFINED_POINTS)
+    fig, ax = new_axes(ax)
     drawn = _check_labels(branches, labels)
     for label in drawn:
         b = branches.branch(label)
@@ -530,7 +535,10 @@ def plot_extrema(
             i0 = 0
             for i in range(1, len(idx) + 1):
                 if i == len(idx) or counts[i] != counts[i0] or styles[i] != styles[i0]:
-                    run = idx[i0:i]
+                    # a change of style alone: the runs share their end point (no gap); a change of the
+                    # number of extrema: the curves of extrema themselves change there
+                    joined = i < len(idx) and counts[i] == counts[i0]
+                    run = idx[i0 : i + 1 if joined else i]
                     for j in range(counts[i0]):
                         x = b.values[run]
                         y = np.array([b.extrema[m][0][j] for m in run])
