@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 
@@ -101,7 +102,6 @@ def test_bad_machine_files_are_rejected(tmp_path, old, new, fragment):
         ("50 Hz", "rpm", 3000.0),
         ("3000 rev/min", "rad/s", 100 * math.pi),
         ("50 rev/s", "rpm", 3000.0),
-        ("3000 / minute", "rad/s", 100 * math.pi),
         ("360 deg/s", "rad/s", 2 * math.pi),        # an angular speed stays one
         ("3 krpm", "rpm", 3000.0),                  # prefixed angular speeds stay ones too
         ("3 krpm", "rad/s", 100 * math.pi),
@@ -112,6 +112,15 @@ def test_bad_machine_files_are_rejected(tmp_path, old, new, fragment):
 )
 def test_rotation_frequencies_count_revolutions(text, unit, expected):
     assert quantity_in("speed", text, unit) == pytest.approx(expected, rel=1e-14)
+
+
+@pytest.mark.parametrize("text", ["184.2 1/s", "184.2 / s", "184.2 s**-1", "3000 / minute", "3000/min"])
+@pytest.mark.parametrize("unit", ["rad/s", "rpm"])
+def test_a_rate_without_an_angle_or_hertz_is_refused_as_ambiguous(text, unit):
+    # 1/s is rad/s in SI, but as often meant as revolutions per second: a 2 pi error either way
+    with pytest.raises(ParameterError, match=rf"^speed = '{re.escape(text)}' is a rate without an angle: rad/s or "
+                                             r"revolutions per second\? allowed: "):
+        quantity_in("speed", text, unit)
 
 
 @pytest.mark.parametrize("unit", ["rad/s", "rpm"])
@@ -171,3 +180,25 @@ def test_a_machine_value_that_is_not_a_quantity_is_named_first():
 
     with pytest.raises(ParameterError, match=r"^speed = 'abc' has no number"):
         Machine(**{**reference_machine().as_dict(), "speed": "abc"})
+
+
+@pytest.mark.parametrize("text", ["0.15 deg", "0.95 rad", "1 rev"])
+def test_an_angle_is_no_plain_number(text):
+    # pint counts angles as dimensionless: a friction coefficient of "0.15 deg" would silently be 0.0026
+    with pytest.raises(ParameterError, match=rf"^friction = '{re.escape(text)}' is an angle; allowed: a plain number"):
+        quantity_in("friction", text, "1")
+    assert quantity_in("friction", "15 %", "1") == pytest.approx(0.15, rel=1e-15)
+
+
+def test_a_contact_stiffness_with_units_is_converted_with_the_machines_exponent():
+    # the exponent, given as text too, is read before K_c, whose unit N/m^n depends on it
+    from rotorcontact import Machine, reference_machine
+
+    base = {**reference_machine().as_dict(), "contact": "compliant"}
+    assert Machine(**base, contact_stiffness="1 kN/mm", contact_exponent="1").contact_stiffness == \
+        pytest.approx(1e6, rel=1e-15)
+    assert Machine(**base, contact_stiffness="1 kN/mm**2", contact_exponent="2").contact_stiffness == \
+        pytest.approx(1e9, rel=1e-15)
+    with pytest.raises(ParameterError, match=r"^contact_stiffness = '1 kN/mm\*\*1.5' has units of .* expected units "
+                                             r"convertible to N/m\*\*1.0"):
+        Machine(**base, contact_stiffness="1 kN/mm**1.5", contact_exponent="1")

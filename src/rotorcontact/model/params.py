@@ -510,7 +510,8 @@ class Machine:
 
     def __post_init__(self) -> None:
         self._check_contact()
-        for f in fields(self):
+        # the exponent first: a K_c given with units is converted to N/m^n with this machine's n
+        for f in sorted(fields(self), key=lambda f: f.name != "contact_exponent"):
             if f.name == "contact":
                 continue
             value = getattr(self, f.name)

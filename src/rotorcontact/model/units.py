@@ -50,8 +50,10 @@ def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False)
     """Parse ``text`` (for example ``"0.7 mm"``) and return its magnitude in ``unit``.
 
     A bare number is taken to be in ``unit`` already, unless ``unit_required``.
-    For an angular speed (``unit`` rad/s or rpm), a frequency without an angle
-    (``"50 Hz"``, ``"3000/min"``) counts revolutions.
+    For an angular speed (``unit`` rad/s or rpm), a frequency in hertz
+    (``"50 Hz"``) counts revolutions; any other rate without an angle
+    (``"184.2 1/s"``, ``"3000/min"``) is refused, being as often meant in
+    rad/s as in revolutions.
 
     Raises
     ------
@@ -88,8 +90,17 @@ def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False)
             q = ureg.Quantity(q, target)
         elif q.dimensionless and q.units == ureg.dimensionless and target != "dimensionless":
             q = ureg.Quantity(q.magnitude, target)
+        if target == "dimensionless" and isinstance(q, pint.Quantity) and _has_angle(q):
+            # pint counts an angle as dimensionless: "0.15 deg" would be a friction coefficient of 0.0026
+            raise ParameterError(f"{name} = {text!r} is an angle; allowed: a plain number (or a ratio such as %)")
         if target in _ANGULAR_SPEEDS and q.check("1/[time]") and not _has_angle(q):
-            # a frequency such as "50 Hz" or "3000 / minute" counts revolutions
+            if "hertz" not in str(q.units):
+                # "184.2 1/s" is rad/s in SI, but as often meant as revolutions: ambiguous, as a bare number is
+                raise ParameterError(
+                    f"{name} = {text!r} is a rate without an angle: rad/s or revolutions per second? allowed: an "
+                    "angular speed with its unit (rpm, rev/min, rev/s, rad/s) or a frequency of rotation in Hz"
+                )
+            # a frequency of rotation such as "50 Hz" counts revolutions
             q = q * ureg.revolution
         value = float(q.to(target).magnitude)
     except pint.errors.DimensionalityError:
