@@ -96,6 +96,19 @@ def test_drop_map_says_when_it_reads_a_finished_map_back_and_no_resume_computes_
     assert code == 0 and fresh == first and "read back" not in err
 
 
+@pytest.mark.parametrize("stiffness, warned", [("1e10 N/m**1.5", True), ("1e13 N/m**1.5", False)])
+def test_a_compliant_contact_deeper_than_a_clearance_is_warned_of(cli, tmp_path, stiffness, warned):
+    # a soft contact at 12000 rpm presses the rotor several clearances in (the run's own max_penetration_m says
+    # so): beyond the compliant law's range, said in one line on stderr; a stiff one stays shallow, unwarned
+    path = tmp_path / "c.toml"
+    path.write_text(GENERAL + f'contact = "compliant"\ncontact_stiffness = "{stiffness}"\n')
+    code, out, err = cli.run("drop", str(path), "--speed", "12000rpm", "--t-end", "0.05s", "--json")
+    assert code == 0
+    deepest = max(i["max_penetration_m"] or 0.0 for i in cli.loads(out)["impacts"]) / 0.7e-3
+    assert (deepest > 1.0) == warned
+    assert ("warning: a contact pressed" in err) == warned and err.count("\n") == int(warned)
+
+
 def test_drop_map_no_progress_hides_the_progress_bar(cli, machine_file, tmp_path):
     argv = ("drop-map", machine_file, "--speed", "3000:9000rpm", "--n", "2", "--t-end", "0.01s")
     code, out, err = cli.run(*argv, "--out", str(tmp_path / "a"))

@@ -86,6 +86,24 @@ def parse_drop_times(args: argparse.Namespace) -> tuple[float, float]:
     return fail_at, t_end
 
 
+def warn_deep_contact(machine, result, command: str) -> None:
+    """One warning line on stderr where a compliant contact pressed more than `MAX_START_DEPTH` clearances into
+    the touchdown bearing: beyond the compliant law's range (the rotor's centre that far out is no longer a
+    contact of two surfaces), so the run's forces there are the law's, not the machine's."""
+    import numpy as np
+
+    from ..simulation.drop_run import MAX_START_DEPTH
+
+    if not machine.compliant or not len(result.impacts):
+        return
+    deepest = result.column("max_penetration_m")
+    deepest = float(np.nanmax(deepest)) / machine.clearance if np.any(np.isfinite(deepest)) else 0.0
+    if deepest > MAX_START_DEPTH:
+        print(f"rotorcontact {command}: warning: a contact pressed {deepest:.3g} clearances into the touchdown "
+              f"bearing, beyond the compliant law's range ({MAX_START_DEPTH:g}): its forces there are the law's, "
+              "not a bearing's; a stiffer contact_stiffness keeps the contact shallow", file=sys.stderr)
+
+
 def run(args: argparse.Namespace) -> int:
     from ..simulation.drop_run import RPM, check_drop_speed, drop
 
@@ -98,6 +116,7 @@ def run(args: argparse.Namespace) -> int:
     if args.plot is not None:
         check_plot_path(args.plot)
     result = drop(machine, speed, fail_at, t_end, max_events=max_events)
+    warn_deep_contact(machine, result, "drop")
     if args.plot is not None:
         from ..plotting.drop import save_drop_figure
 

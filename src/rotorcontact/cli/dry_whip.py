@@ -48,8 +48,8 @@ def run(args: argparse.Namespace) -> int:
     depth = whip.penetration / machine.clearance
     if depth > MAX_START_DEPTH:
         print(f"rotorcontact dry-whip: warning: the whip presses {depth:.3g} clearances into the stator, beyond "
-              f"the compliant law's range ({MAX_START_DEPTH:g}): no motion of this machine reaches it, and the "
-              "simulator cannot start on it", file=sys.stderr)
+              f"the compliant law's range ({MAX_START_DEPTH:g}), and the simulator cannot start on it",
+              file=sys.stderr)
     if args.json:
         print_json(out)
         return 0

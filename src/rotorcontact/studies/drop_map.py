@@ -41,7 +41,7 @@ _FIELDS = ("regime", "backward_whirl_onset_s", "max_normal_impulse_Ns", "energy_
 _ATTRS = {
     "regime": ("regime after the drop (codes into the attribute regimes)", "1"),
     "backward_whirl_onset_s": ("onset of backward whirl (nan: none)", "s"),
-    "max_normal_impulse_Ns": ("largest normal impulse of an impact", "N s"),
+    "max_normal_impulse_Ns": ("largest normal impulse of an impact (compliant: of a contact episode)", "N s"),
     "energy_dissipated_J": ("energy dissipated", "J"),
     "final_spin_rpm": ("spin speed at the end", "rpm"),
     "n_impacts": ("impacts", "1"),
