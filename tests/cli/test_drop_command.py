@@ -173,10 +173,10 @@ def test_drop_names_the_static_sag_not_the_speed(cli, tmp_path):
 
 def test_drop_whirl_outside_a_tiny_clearance_names_the_clearance(cli, tmp_path):
     path = _file(tmp_path, "nm.toml")
-    text = open(path).read().replace('clearance = "0.7 mm"', "clearance = 1e-9")
+    text = open(path).read().replace('clearance = "0.7 mm"', "clearance = 1e-7")
     open(path, "w").write(text)
     code, _out, err = cli.run("drop", path)
-    assert code == 2 and "clearance = 1e-09 m" in err and "speed = 1759 rpm" in err and "--speed" not in err
+    assert code == 2 and "clearance = 1e-07 m" in err and "speed = 1759 rpm" in err and "--speed" not in err
     code, _out, err = cli.run("drop", path, "--speed", "1000rpm")
     assert code == 2 and "--speed = 1000 rpm" in err
 

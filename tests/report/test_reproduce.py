@@ -332,10 +332,14 @@ def test_report_renders_in_headless_chromium(reproduction):
 def test_reproduce_finishes_where_some_panels_do_not_exist(tmp_path):
     """At omega = 1 x_R is virtual at gamma = 0.3 and at rho = 0.05 there is no boundary equilibrium:
     the run still writes every figure and a report, with those panels marked as not defined."""
-    for change in (dict(omega=1.0), dict(rho=0.05)):
+    for change in (dict(omega=1.0), dict(rho=0.05), dict(omega=0.8)):
         out = tmp_path / "_".join(f"{k}{v}" for k, v in change.items())
         rep = reproduce(out, paper_parameters().replace(**change), progress=False)
         assert len(rep.figures) == 6 and (out / "report.json").is_file() and (out / "report.html").is_file()
+        # no gamma*, or one beyond Fig. 5's zoom (0.43 at omega = 1, 0.23 at 0.8): no local estimate is drawn,
+        # and Fig. 5 does not claim one
+        caption = next(c for name, c, _png, _svg in rep.figures if name == "fig5_branches")
+        assert "local estimate" not in caption
 
 
 def test_reproduce_refuses_what_are_not_parameters_before_it_makes_the_folder(tmp_path):

@@ -217,6 +217,21 @@ def test_energy_balance_of_a_drop_with_free_spin(race):
     np.testing.assert_allclose(r.column("energy_lost_J"), expected, rtol=1e-9, atol=1e-12 * e0)
 
 
+def test_a_rotor_without_radius_drops_with_its_spin_untouched_and_its_energy_balanced():
+    """R = 0: friction has no lever on the spin (Omega stays exactly), and the contact integrator, whose error
+    scale of the spin divided by R, runs through the contact phases; the energy falls by what is dissipated."""
+    m = machine(eccentricity=0.0, rotor_radius=0.0, gravity=G, polar_inertia=0.04, restitution=0.5)
+    speed = 3000 * RPM
+    r = drop(m, speed=speed, t_end=0.4)
+    assert r.status in ("completed", "at-rest") and len(r.impacts) >= 3 and len(r.contacts) >= 1
+    z0, v0 = levitated_state(m, speed)
+    _t, x, y, vx, vy, spin, race_end, dissipated = r.final_state[:8]
+    assert spin == speed
+    e0 = _mechanical_energy(m, z0, v0, speed, 0.0)
+    e1 = _mechanical_energy(m, complex(x, y), complex(vx, vy), spin, race_end)
+    assert dissipated == pytest.approx(e0 - e1, rel=1e-7)
+
+
 def test_a_rotor_rolling_on_a_race_comes_to_rest_and_the_run_stops_there():
     """The race's viscous drag takes the energy of the roll: the run stops where the rotor's energy above
     rest (kinetic, and potential above the bottom) falls to REST_FRACTION of its kinetic energy at the start."""

@@ -36,6 +36,7 @@ __all__ = [
     "MAX_GRAVITY",
     "MAX_CONTACT_FORCE",
     "MAX_MAGNITUDE",
+    "MIN_CLEARANCE",
     "MAX_VELOCITY",
     "OPTIONAL_MACHINE_KEYS",
     "PAPER_MACHINE_KEYS",
@@ -291,6 +292,9 @@ MAX_SPEED = 1e6
 #: Largest gravity, m/s^2 (about 1e5 g): beyond any shock test; far beyond it (1e15 m/s^2) the drop's contact
 #: phases no longer end, and at 1e300 it fails at t = 0.
 MAX_GRAVITY = 1e6
+#: Smallest clearance of a machine, m (1 nm): far below it a drop's squared positions underflow (1e-200 m ran
+#: without end).
+MIN_CLEARANCE = 1e-9
 #: Largest force of the compliant law at a penetration of one clearance, K_c c_r^n, N (steel on steel: about
 #: 1e5 N). Beyond it the penetrations (below 1e-7 of the clearance at 1e15 N) near the rounding of |z| and the
 #: episodes' steps grow without end; at K_c = 1e300 the forces overflow into nan. The rigid law is that limit.
@@ -301,7 +305,7 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "damping": dict(low=0.0, unit="N s/m"),
     "stiffness": dict(low=0.0, low_open=True, unit="N/m"),
     "eccentricity": dict(low=0.0, unit="m"),
-    "clearance": dict(low=0.0, low_open=True, unit="m"),
+    "clearance": dict(low=MIN_CLEARANCE, unit="m"),  # (`MIN_CLEARANCE`)
     "rotor_radius": dict(low=0.0, unit="m"),
     "unbalance_phase": dict(unit="rad"),
     "speed": dict(low=0.0, low_open=True, high=MAX_SPEED, unit="rad/s",
@@ -520,6 +524,15 @@ class Machine:
             if isinstance(value, str):  # a quantity with units, as in machine files: "12000 rpm"
                 value = to_si(f.name, value, self._unit(f.name), source="")
             object.__setattr__(self, f.name, check_machine_value(f.name, value))
+        for key in ("rotor_radius", "eccentricity"):
+            # the lengths in clearances are the model's groups r_ratio and rho, bounded as in Parameters: far
+            # beyond, positions are not resolved (a clearance of 1e-300 m ran without end)
+            ratio = getattr(self, key) / self.clearance
+            if not ratio <= MAX_MAGNITUDE:
+                raise ParameterError(
+                    f"{key} = {getattr(self, key)!r} m is {ratio:.3g} clearances (clearance = {self.clearance!r} m); "
+                    f"allowed: at most {MAX_MAGNITUDE:g} clearances, as the groups r_ratio and rho of the model"
+                )
         given = [key for key in RACE_KEYS if getattr(self, key) is not None]
         if given and len(given) < len(RACE_KEYS):
             missing = [key for key in RACE_KEYS if getattr(self, key) is None][0]

@@ -305,31 +305,36 @@ def _plausible(gid: str) -> bool:
 
 def _fig5(p: Parameters, rep: Reproduction, out: Path, branches) -> Figure:
     fig, axes = plt.subplots(2, 2, figsize=(13, 10))
-    estimate = _local_overlay(p)
+    (zoom_b, _), (zoom_d, _) = PAPER_VIEWS["fig5b"], PAPER_VIEWS["fig5d"]
+    # the local estimate, about gamma*, where gamma* exists and lies in the zoomed views (MODEL.md §6)
+    g_star = boundary_gamma(p)
+    in_view = g_star is not None and all(lo <= g_star <= hi for lo, hi in (zoom_b, zoom_d))
+    estimate = _local_overlay(p) if in_view else None
     local_r = None if estimate is None else (lambda lab, g: estimate(lab, g, "rdot"))
     local_t = None if estimate is None else (lambda lab, g: estimate(lab, g, "thetadot"))
-    (zoom_b, _), (zoom_d, _) = PAPER_VIEWS["fig5b"], PAPER_VIEWS["fig5d"]
     # the wide views: fitted to the plausible orbits (the virtual ends run to |rdot| = rdot_max), with room
     # around them for the virtual and implausible parts nearby
     _panel(axes[0, 0], lambda: (plot_rdot(p, branches=branches, ax=axes[0, 0]),
                                 _autoscale_y(axes[0, 0], 0.5, _plausible)),
            r"(a) $\dot r^-$ of $B_{1,a}$–$B_{1,d}$")
+    with_estimate = "" if estimate is None else " with the local estimate"
     _panel(axes[0, 1], lambda: (plot_rdot(p, branches=branches, ax=axes[0, 1], labels=("B1,a", "B1,b"),
                                           xlim=zoom_b, local=local_r), _autoscale_y(axes[0, 1])),
-           r"(b) $B_{1,a}$ and $B_{1,b}$ with the local estimate")
+           r"(b) $B_{1,a}$ and $B_{1,b}$" + with_estimate)
     _panel(axes[1, 0], lambda: (plot_thetadot(p, branches=branches, ax=axes[1, 0]),
                                 _autoscale_y(axes[1, 0], 0.5, _plausible)),
            r"(c) $\dot\theta^-$ of $B_{1,a}$–$B_{1,d}$")
     _panel(axes[1, 1], lambda: (plot_thetadot(p, branches=branches, ax=axes[1, 1], labels=("B1,a", "B1,b"),
                                               xlim=zoom_d, local=local_t), _autoscale_y(axes[1, 1])),
-           r"(d) $\dot\theta^-$ of $B_{1,a}$ and $B_{1,b}$ with the local estimate")
+           r"(d) $\dot\theta^-$ of $B_{1,a}$ and $B_{1,b}$" + with_estimate)
     fig.tight_layout()
     caption = (
         "Fig. 5. Impact velocities of the one-impact orbits B1,a to B1,d against γ (solid: admissible and "
         "plausible, thick where stable; dotted: not plausible; dashed: virtual; markers: the events along the"
         " branches): (a) ṙ⁻ and (c) θ̇⁻ over the whole range including negative γ; (b), (d) B1,a and B1,b for"
-        " γ from 0 to 0.2, through the non-smooth fold–Hopf point γ* and the fold γ_F,1, with the first-order"
-        " local estimate of MODEL.md §6 of each overlaid."
+        " γ from 0 to 0.2"
+        + ("." if estimate is None else ", through the non-smooth fold–Hopf point γ* and the fold γ_F,1, with the"
+           " first-order local estimate of MODEL.md §6 of each overlaid.")
     )
     return _save(rep, out, fig, "fig5_branches", caption)
 

@@ -94,7 +94,8 @@ def _step(y, h, p, rolling, sgn):
     # the rates are measured against the fastest surface speed of the state (c_r theta', R Omega, R_b
     # Omega_b): a rate passing through 0 (a race stopping) keeps the tolerance of the motion it is part of
     speed = max(abs(p[1] * y[1]), abs(p[3] * y[3]), abs(p[4] * y[4]))
-    floor = (1e-3, speed / p[1], 1e-3, speed / p[3], speed / p[4])
+    # a rotor without radius (R = 0) has a spin no contact changes: no floor binds it
+    floor = (1e-3, speed / p[1], 1e-3, speed / p[3] if p[3] > 0.0 else math.inf, speed / p[4])
     err = 0.0
     for i in range(5):  # E_d, a quadrature of the others, is left out of the error control
         scale = CONTACT_TOL * max(1e-3 + max(abs(y[i]), abs(yn[i])), floor[i])

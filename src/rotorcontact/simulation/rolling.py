@@ -135,9 +135,10 @@ def _largest_force_at_end(xa, fa, xb, fb, panel, search):
 @njit(cache=True)
 def fast_rolling_applies(p) -> bool:
     """Rolling of parameters ``p`` (`general_contact.NP`) reduces to theta: free speed, fixed stator (no race,
-    not even one held by its bearing, which could let it slip), no bearing stiffness or damping."""
-    return (p[11] > 0.0 and p[12] == 0.0 and p[13] == 0.0 and p[6] == 0.0 and p[7] == 0.0 and p[8] == 0.0
-            and p[9] == 0.0)
+    not even one held by its bearing, which could let it slip), no bearing stiffness or damping, and a rotor
+    with a radius (its reduction divides by R)."""
+    return (p[3] > 0.0 and p[11] > 0.0 and p[12] == 0.0 and p[13] == 0.0 and p[6] == 0.0 and p[7] == 0.0
+            and p[8] == 0.0 and p[9] == 0.0)
 
 
 @njit(cache=True)
