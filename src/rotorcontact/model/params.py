@@ -305,7 +305,7 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "damping": dict(low=0.0, unit="N s/m"),
     "stiffness": dict(low=0.0, low_open=True, unit="N/m"),
     "eccentricity": dict(low=0.0, unit="m"),
-    "clearance": dict(low=MIN_CLEARANCE, unit="m"),  # (`MIN_CLEARANCE`)
+    "clearance": dict(low=MIN_CLEARANCE, unit="m"),
     "rotor_radius": dict(low=0.0, unit="m"),
     "unbalance_phase": dict(unit="rad"),
     "speed": dict(low=0.0, low_open=True, high=MAX_SPEED, unit="rad/s",
