@@ -202,3 +202,18 @@ def test_a_contact_stiffness_with_units_is_converted_with_the_machines_exponent(
     with pytest.raises(ParameterError, match=r"^contact_stiffness = '1 kN/mm\*\*1.5' has units of .* expected units "
                                              r"convertible to N/m\*\*1.0"):
         Machine(**base, contact_stiffness="1 kN/mm**1.5", contact_exponent="1")
+
+
+@pytest.mark.parametrize("text, spelt", [("12000 RPM", "rpm"), ("50 hz", "Hz"), ("3 KRPM", "krpm"),
+                                          ("0.05 KHZ", "kHz")])
+def test_a_unit_in_the_wrong_case_is_refused_with_its_spelling(text, spelt):
+    unit = text.split()[1]
+    with pytest.raises(ParameterError, match=rf"^speed = '{text}': unknown unit '{unit}' \('{unit}' is written "
+                                             rf"'{spelt}'\); expected a quantity in rad/s$"):
+        quantity_in("speed", text, "rad/s")
+    assert quantity_in("speed", text.replace(unit, spelt), "rad/s") > 0.0
+
+
+def test_a_temperature_is_refused_as_a_unit_with_an_offset():
+    with pytest.raises(ParameterError, match=r"^speed = '20 degC' has a unit with an offset \(a temperature\)"):
+        quantity_in("speed", "20 degC", "rad/s")

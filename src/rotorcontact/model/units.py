@@ -46,6 +46,18 @@ def _has_angle(q) -> bool:
     return any(name == "radian" for name, _ in q.to_root_units().to_tuple()[1])
 
 
+def _spelling(ureg, name: str) -> str | None:
+    """How an unknown unit written in the wrong case is spelt (``RPM`` -> ``rpm``, ``hz`` -> ``Hz``), or None."""
+    for variant in dict.fromkeys((name.lower(), name[:-2].lower() + "Hz" if name.lower().endswith("hz") else "")):
+        if variant and variant != name:
+            try:
+                ureg.parse_units(variant)
+            except Exception:  # not a unit either
+                continue
+            return variant
+    return None
+
+
 def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False) -> float:
     """Parse ``text`` (for example ``"0.7 mm"``) and return its magnitude in ``unit``.
 
@@ -82,7 +94,13 @@ def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False)
     try:
         q = ureg.Quantity(text.strip())
     except pint.errors.UndefinedUnitError as exc:
-        raise ParameterError(f"{name} = {text!r}: unknown unit {', '.join(map(str, exc.unit_names))!r}; expected a quantity in {unit}") from None
+        names = [str(n) for n in exc.unit_names] if isinstance(exc.unit_names, (list, tuple)) else [str(exc.unit_names)]
+        hint = "".join(f" ({n!r} is written {_spelling(ureg, n)!r})" for n in names if _spelling(ureg, n))
+        raise ParameterError(f"{name} = {text!r}: unknown unit {', '.join(names)!r}{hint}; expected a quantity in "
+                             f"{unit}") from None
+    except pint.errors.OffsetUnitCalculusError:
+        raise ParameterError(f"{name} = {text!r} has a unit with an offset (a temperature); expected a number with "
+                             f"units of {unit}") from None
     except Exception:  # pint raises several parser errors for malformed text
         raise ParameterError(f"{name} = {text!r} is not a quantity; expected a number with units of {unit}") from None
     try:
