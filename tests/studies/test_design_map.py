@@ -100,6 +100,16 @@ def test_plane_map_shapes_and_points():
     ds = dmap.to_xarray()
     assert ds["regime"].dims == ("stiffness", "damping")
     assert ds["stiffness"].attrs["units"] == "N/m"
+    # CF: every variable and coordinate named, flags as values of the variable's own type
+    for name in list(ds.data_vars) + list(ds.coords):
+        assert ds[name].attrs["long_name"], name
+    flags = ds["regime"].attrs["flag_values"]
+    assert flags.dtype == ds["regime"].dtype and list(flags) == list(range(len(ds["regime"].attrs["flag_meanings"]
+                                                                                .split())))
+    for text, pt in zip(ds["coexisting"].values.ravel(), dmap.points):  # labels hold commas: ';' between them
+        assert (text.split(";") if text else []) == list(pt.coexisting)
+    assert all(k[len("machine_"):-len("_units")] in m.as_dict() for k in ds.attrs if k.endswith("_units"))
+    assert ds.attrs["source"].startswith("rotorcontact ")
 
 
 def test_recovery_from_a_small_shock_is_certain():

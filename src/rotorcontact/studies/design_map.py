@@ -441,8 +441,12 @@ class DesignMap:
         """The map as an xarray Dataset, settings as coordinates and units as attributes."""
         import xarray as xr
 
+        from .. import __version__
+
         units = {"speed_rpm": "rpm", "stiffness": "N/m", "damping": "N s/m"}
-        coords = {name: (name, vals, {"units": units[name]}) for name, vals in zip(self.axes, self.values)}
+        names = {"speed_rpm": "spin speed", "stiffness": "bearing stiffness", "damping": "bearing damping"}
+        coords = {name: (name, vals, {"units": units[name], "long_name": names[name]})
+                  for name, vals in zip(self.axes, self.values)}
         dims = self.axes
         shape = self.shape
 
@@ -454,17 +458,25 @@ class DesignMap:
         ).reshape(shape)
         ds = xr.Dataset(
             {
-                "regime": (dims, self.regime_codes(), {"flag_values": "0 1 2", "flag_meanings": " ".join(OUTCOMES)}),
-                "gamma": (dims, grid("gamma"), {"units": "1"}),
-                "omega": (dims, grid("omega"), {"units": "1"}),
-                "whirl_admissible": (dims, grid("whirl_admissible", np.int8), {"units": "1"}),
-                "coexisting": (dims, np.array([",".join(pt.coexisting) for pt in self.points]).reshape(shape)),
-                "recovery_probability": (dims, recovery, {"units": "1"}),
+                "regime": (dims, self.regime_codes().astype(np.int8), {
+                    "long_name": "outcome of the setting", "flag_values": np.arange(len(OUTCOMES), dtype=np.int8),
+                    "flag_meanings": " ".join(OUTCOMES)}),
+                "gamma": (dims, grid("gamma"), {"units": "1", "long_name": "damping group gamma"}),
+                "omega": (dims, grid("omega"), {"units": "1", "long_name": "stiffness group omega"}),
+                "whirl_admissible": (dims, grid("whirl_admissible", np.int8), {
+                    "units": "1", "long_name": "contact-free whirl admissible and stable (1) or not (0)"}),
+                # orbit labels hold commas ("B1,d"): the motions are joined by semicolons
+                "coexisting": (dims, np.array([";".join(pt.coexisting) for pt in self.points]).reshape(shape), {
+                    "long_name": "stable contact motions beside the whirl, separated by ';'"}),
+                "recovery_probability": (dims, recovery, {
+                    "units": "1", "long_name": "fraction of shocks after which the whirl returns (nan: not simulated)"}),
             },
             coords=coords,
         )
-        ds.attrs.update({f"machine_{k}": v for k, v in self.machine.as_dict().items()})
-        ds.attrs.update({f"machine_{k}_units": u for k, u in Machine.units().items()})
+        given = self.machine.as_dict()
+        ds.attrs.update({"title": "rotorcontact design map", "source": f"rotorcontact {__version__}"})
+        ds.attrs.update({f"machine_{k}": v for k, v in given.items()})
+        ds.attrs.update({f"machine_{k}_units": u for k, u in Machine.units().items() if k in given})
         if self.shock is not None:
             ds.attrs["shock_m_per_s"] = self.shock
         return ds
