@@ -469,7 +469,8 @@ class DesignMap:
                 "coexisting": (dims, np.array([";".join(pt.coexisting) for pt in self.points]).reshape(shape), {
                     "long_name": "stable contact motions beside the whirl, separated by ';'"}),
                 "recovery_probability": (dims, recovery, {
-                    "units": "1", "long_name": "fraction of shocks after which the whirl returns (nan: not simulated)"}),
+                    "units": "1",
+                    "long_name": "fraction of shocks after which the whirl returns (nan: not simulated)"}),
             },
             coords=coords,
         )
