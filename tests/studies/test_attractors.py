@@ -334,3 +334,11 @@ def test_identity_names_takes_one_value_s_result_and_its_class_codes_only():
     for args, words in cases:
         with pytest.raises(ParameterError, match=words):
             identity_names(*args)
+
+
+def test_every_variable_and_coordinate_of_the_file_has_a_long_name_and_the_numbers_units():
+    ds = attractors(REF, "gamma", [0.1, 0.12], "plane:3", lyapunov=False, progress=False).dataset
+    for name in list(ds.data_vars) + list(ds.coords):
+        assert ds[name].attrs.get("long_name"), name
+        if ds[name].dtype.kind == "f" and "flag_values" not in ds[name].attrs:
+            assert "units" in ds[name].attrs, name

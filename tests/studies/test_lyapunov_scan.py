@@ -61,3 +61,12 @@ def test_params_that_are_not_the_machines_are_refused():
     m = reference_machine()
     with pytest.raises(ParameterError, match=r"^params are not the machine's \(omega = "):
         lyapunov_scan(m.parameters().replace(omega=0.5), "gamma", [0.1], machine=m, progress=False)
+
+
+def test_the_final_regime_flags_cover_every_code_it_holds():
+    # -1 (unsettled) is a code of the variable: CF flag_values name it too
+    ds = lyapunov_scan(REF, "gamma", [0.1], t_end=200.0, progress=False).dataset
+    attrs = ds["final_regime"].attrs
+    flags = dict(zip(attrs["flag_values"].tolist(), attrs["flag_meanings"].split()))
+    assert flags == {-1: "unsettled", **{i: name for i, name in enumerate(FINAL_NAMES)}}
+    assert set(ds["final_regime"].values.tolist()) <= set(flags)

@@ -540,17 +540,19 @@ def _dataset(result, ident, spectra, path, param, vals, grid, inside, flat, u_al
         "du0_re": (("value", "point"), du_all.real.copy(), {"long_name": "initial U', real part", "units": "1"}),
         "du0_im": (("value", "point"), du_all.imag.copy(), {"long_name": "initial U', imaginary part", "units": "1"}),
     }
+    from .attributes import PARAMETER_UNITS, SUMMARY_ATTRS, parameter_attrs, settings_attrs
+    from .grids import AXIS_ATTRS
+
     for name in PARAMETER_ORDER:
         data[f"param_{name}"] = (("value",), np.array([getattr(p, name) for p in path]),
-                                 {"long_name": f"model parameter {name} at each value"})
+                                 {"long_name": f"model parameter {name} at each value", "units": PARAMETER_UNITS[name]})
     unit = "1" if machine is None or param in PARAMETER_ORDER else Machine.units()[param]
     coords = {
         "value": ("value", vals, {"long_name": param, "units": unit}),
-        "attractor": ("attractor", np.array(names if names else [""], dtype=str)[:n_a]),
-        a0: (a0, grid.axis0),
-        a1: (a1, grid.axis1),
+        "attractor": ("attractor", np.array(names if names else [""], dtype=str)[:n_a], {"long_name": "attractor"}),
+        a0: (a0, grid.axis0, AXIS_ATTRS[a0]),
+        a1: (a1, grid.axis1, AXIS_ATTRS[a1]),
     }
-    from .attributes import parameter_attrs, settings_attrs
 
     attrs: dict[str, Any] = {
         "title": "attractors against a parameter",
@@ -568,8 +570,9 @@ def _dataset(result, ident, spectra, path, param, vals, grid, inside, flat, u_al
     attrs.update(parameter_attrs(params, skip=param if param in PARAMETER_ORDER else None, machine=machine))
     attrs.update(settings_attrs(result.settings))
     ds = xr.Dataset(data, coords=coords, attrs=attrs)
-    ds["n_impacts"] = (("value", "point"), result.n_impacts.astype(np.int32))
-    ds["transient_impacts"] = (("value", "point"), result.transient_impacts.astype(np.int32))
+    ds["n_impacts"] = (("value", "point"), result.n_impacts.astype(np.int32), SUMMARY_ATTRS["n_impacts"])
+    ds["transient_impacts"] = (("value", "point"), result.transient_impacts.astype(np.int32),
+                               SUMMARY_ATTRS["transient_impacts"])
     return ds
 
 

@@ -50,7 +50,7 @@ from .attributes import RATE_UNITS, REGIME_COMMENT, parameter_attrs, settings_at
 from .driver import run_study
 from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
 from .grids import (  # noqa: F401  (offered here too, where they were first defined)
-    _AXIS_ATTRS,
+    AXIS_ATTRS,
     GRID_KINDS,
     GRID_SYNTAX,
     MAX_GRID_POINTS,
@@ -437,8 +437,8 @@ def _dataset(result, codes, inside, u0, du0, grid, params, names, counts, fracti
     }
     data.update(summary_variables(result, dims))
     coords = {
-        a0: (a0, grid.axis0, _AXIS_ATTRS[a0]),
-        a1: (a1, grid.axis1, _AXIS_ATTRS[a1]),
+        a0: (a0, grid.axis0, AXIS_ATTRS[a0]),
+        a1: (a1, grid.axis1, AXIS_ATTRS[a1]),
         "class": ("class", np.arange(len(names), dtype=np.int32)),
         "class_name": ("class", np.array(names, dtype=str)),
         "orbit": ("orbit", np.array([o.label for o in orbits], dtype=str)),

@@ -17,12 +17,13 @@ from ..errors import ParameterError
 from ..model.params import MAX_VELOCITY, Parameters, check_finite
 from ..model.validation import check_int, real_array
 
-__all__ = ["GRID_KINDS", "GRID_SYNTAX", "MAX_GRID_POINTS", "BasinGrid", "displacement_grid", "shock_grid",
-           "parse_grid"]
+__all__ = ["AXIS_ATTRS", "GRID_KINDS", "GRID_SYNTAX", "MAX_GRID_POINTS", "BasinGrid", "displacement_grid",
+           "shock_grid", "parse_grid"]
 
 GRID_KINDS = ("displacement", "shock")
 _AXES = {"displacement": ("x", "y"), "shock": ("amplitude", "direction")}
-_AXIS_ATTRS = {
+#: The NetCDF attributes of each grid axis.
+AXIS_ATTRS = {
     "x": dict(long_name="initial displacement, real part of U(0)", units="1"),
     "y": dict(long_name="initial displacement, imaginary part of U(0)", units="1"),
     "amplitude": dict(long_name="amplitude of the velocity kick |U'(0)| applied at x_R", units="1"),

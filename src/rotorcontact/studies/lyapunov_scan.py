@@ -263,8 +263,8 @@ def _dataset(a, param, vals, path, params, machine, chunk_size, u0, du0, t_end, 
         "regime_change": (("value",), a["regime_change"],
                           {"long_name": "the run settled on its final regime inside the averaging window"}),
         "final_regime": (("value",), a["final_regime"], {
-            "long_name": "final regime of the run (-1: unsettled)",
-            "flag_values": np.arange(len(FINAL_NAMES), dtype=np.int32), "flag_meanings": " ".join(FINAL_NAMES)}),
+            "long_name": "final regime of the run", "flag_values": np.arange(-1, len(FINAL_NAMES), dtype=np.int32),
+            "flag_meanings": " ".join(("unsettled",) + tuple(FINAL_NAMES))}),
         "regime_start": (("value",), a["regime_start"],
                          {"long_name": "time at which the final regime began (NaN: unsettled)", "units": "1"}),
         "regime": (("value",), a["regime"], {
