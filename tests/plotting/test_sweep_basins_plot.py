@@ -147,3 +147,29 @@ def test_a_studys_result_draws_as_its_dataset(sweep_result, basins_result, same_
         assert same_drawing(ax_a, ax_b)
         plt.close(fig_a)
         plt.close(fig_b)
+
+
+def test_continued_branches_are_drawn_without_gaps_and_with_their_plausibility():
+    """Over gamma in [0.06, 0.1]: B1,d is drawn stable from just past its period doubling (no gap where the
+    stability changes), dotted below its grazing (no orbit of the simulator there: r > 1 between impacts),
+    and events of several orbits at one value are one mark."""
+    from rotorcontact.maps.impact_map import one_impact_orbits
+    from rotorcontact.studies.sweep import continued_branches
+
+    values = sweep_values(0.06, 0.1, 3)
+    ds = sweep(REF, "gamma", values, mode="independent", n_transient=20, n_record=5, progress=False).dataset
+    overlay = continued_branches(REF, "gamma", values)
+    (pd,) = [e.value for e in overlay.events if e.type == "period-doubling" and "B1,d" in e.orbits]
+    (graze,) = [e.value for e in overlay.events if e.type == "grazing" and "B1,d" in e.orbits]
+    fig, ax = plot_sweep(ds, "rdot", overlay=overlay)
+    xs = {kind: np.concatenate([ln.get_xdata() for ln in ax.get_lines() if ln.get_gid() == f"branch:B1,d:{kind}"])
+          for kind in ("stable", "unstable", "implausible")}
+    assert np.any((xs["stable"] > pd) & (xs["stable"] < pd + 1e-3))
+    assert np.all(xs["implausible"] <= graze + 1e-9) and np.any(xs["implausible"] < graze - 1e-3)
+    (below,) = [o for o in one_impact_orbits(REF.replace(gamma=graze - 2e-3)) if o.label == "B1,d"]
+    assert not below.plausible
+    drawn = np.sort(np.concatenate(list(xs.values())))
+    assert np.max(np.diff(drawn[(drawn > graze) & (drawn < 0.1)])) <= 0.04 / 400 * 1.01
+    marks = [(t.get_text().split()[0], round(t.xy[0], 12)) for t in ax.texts]
+    assert marks and len(marks) == len(set(marks))  # one mark per kind and value, however many orbits
+    plt.close(fig)

@@ -198,29 +198,56 @@ MARKED_EVENTS = {"fold": "fold", "period-doubling": "PD", "neimark-sacker": "NS"
                  "branch-point": "BP", "nsfh": "NSFH"}
 
 
+#: Line style of a continued one-impact orbit on a sweep, by its kind where admissible.
+_BRANCH_STYLES = {"stable": "-", "unstable": "--", "implausible": ":"}
+
+
+def _branch_kind(b, i: int) -> str | None:
+    """The kind of point i of a label's branch: None where virtual, ``"implausible"`` where it is no orbit of the
+    simulator (r > 1 between impacts, or no forward slip), else stable or unstable."""
+    if not b.admissible[i]:
+        return None
+    if not b.plausible[i]:
+        return "implausible"
+    return "stable" if b.stable[i] is True else "unstable"
+
+
 def _draw_branches(ax, branches, variable: str) -> None:
+    from ..continuation.branches import refine_branches
+    from .branches import REFINED_POINTS
+
     lo, hi = branches.start, branches.stop
+    # beside a bifurcation the continuation's steps are coarse: refined, the runs of each kind meet there
+    branches = refine_branches(branches, (lo, hi), REFINED_POINTS)
     for j, label in enumerate(branches.labels):
         b = branches.branch(label)
         y = getattr(b, variable)
         color = ORBIT_COLORS[j % len(ORBIT_COLORS)]
         first = True
-        stable = np.array([s is True for s in b.stable])
-        unstable = np.array([s is False for s in b.stable])
-        for want, sel, ls in (("stable", stable, "-"), ("unstable", unstable, "--")):
-            mask = sel & b.admissible
-            if not mask.any():
-                continue
-            yy = np.where(mask, y, np.nan)
-            ax.plot(b.values, yy, ls=ls, lw=0.9, color=color, zorder=2, gid=f"branch:{label}:{want}",
-                    label=f"{label} (continued)" if first else None)
-            first = False
+        for sl in b.pieces():
+            idx = np.arange(sl.start, sl.stop)
+            kinds = [_branch_kind(b, i) for i in idx]
+            start = 0
+            for k in range(1, len(idx) + 1):
+                if k < len(idx) and kinds[k] == kinds[start]:
+                    continue
+                if kinds[start] is not None:
+                    # a run of one kind ends on the first point of the next (no gap), not on a virtual one
+                    run = idx[start : k + 1 if k < len(idx) and kinds[k] is not None else k]
+                    ax.plot(b.values[run], y[run], ls=_BRANCH_STYLES[kinds[start]], lw=0.9, color=color, zorder=2,
+                            gid=f"branch:{label}:{kinds[start]}", label=f"{label} (continued)" if first else None)
+                    first = False
+                start = k
+    # events at one value (the NSFH of B1,a and B1,b) get one mark, naming every orbit
+    marks: dict[tuple[str, float], list[str]] = {}
     for e in branches.events:
         if e.type in MARKED_EVENTS and e.rdot > 0 and lo <= e.value <= hi:
-            ax.axvline(e.value, color="0.5", lw=0.6, ls=":", zorder=1, gid=f"event:{e.type}")
-            ax.annotate(f"{MARKED_EVENTS[e.type]} {','.join(e.orbits)}", (e.value, 1.0),
-                        xycoords=("data", "axes fraction"), rotation=90, va="top", ha="right",
-                        fontsize="x-small", color="0.35")
+            marks.setdefault((e.type, round(e.value, 12)), []).extend(e.orbits)
+    for (kind, value), orbits in marks.items():
+        ax.axvline(value, color="0.5", lw=0.6, ls=":", zorder=1, gid=f"event:{kind}")
+        ax.annotate(f"{MARKED_EVENTS[kind]} {', '.join(dict.fromkeys(orbits))}", (value, 1.0),
+                    xycoords=("data", "axes fraction"), rotation=90, va="top", ha="right", fontsize="x-small",
+                    color="0.35", bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.8), zorder=3)
 
 
 def _draw_multi_branches(ax, family, variable: str) -> None:
