@@ -94,11 +94,14 @@ def plot_f1(
             if z.T < lo:
                 continue
             ax.plot([z.T], [0.0], "o", ms=4, color=_pair_color(z.n), gid=f"zero:{z.n}:{z.kind}")
+            # F1 falls through a zero of kind a and rises through one of kind b: the curve is above the axis
+            # left of an a and right of a b, so the label goes below the axis there, outward of the pair
             ax.annotate(
                 rf"$T_{{0,{z.n},{z.kind}}}$",
                 (z.T, 0.0),
                 textcoords="offset points",
-                xytext=(-6 if z.kind == "a" else 2, -13 if z.kind == "a" else 6),
+                xytext=(-3 if z.kind == "a" else 3, -12),
+                ha="right" if z.kind == "a" else "left",
                 fontsize=8,
                 color=_pair_color(z.n),
             )
