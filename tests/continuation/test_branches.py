@@ -112,6 +112,13 @@ def test_refined_branches_add_the_orbits_of_the_guaranteed_zero_search(ref_branc
         gaps = np.abs(np.diff(v))[(v[:-1] >= lo) & (v[1:] <= hi)]
         assert gaps.size == 0 or np.mean(gaps <= (hi - lo) / points * (1 + 1e-9)) > 0.95
     assert checked > 20
+    # a narrow view gets its points and no others: none is computed outside it
+    narrow = refine_branches(ref_branches, (0.087, 0.08701), 10)
+    for old, new in zip(ref_branches.curves, narrow.curves):
+        added = np.setdiff1d(new.values, old.values)
+        assert np.all((added >= 0.087) & (added <= 0.08701))
+        assert added.size <= 11 * max(1, np.sum((old.values[:-1] < 0.08701) & (old.values[1:] > 0.087)
+                                                | (old.values[:-1] > 0.087) & (old.values[1:] < 0.08701)))
     with pytest.raises(ParameterError, match=r"^view = \(0.1, 0.05\) is invalid"):
         refine_branches(ref_branches, (0.1, 0.05))
 

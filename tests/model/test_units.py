@@ -205,7 +205,7 @@ def test_a_contact_stiffness_with_units_is_converted_with_the_machines_exponent(
 
 
 @pytest.mark.parametrize("text, spelt", [("12000 RPM", "rpm"), ("50 hz", "Hz"), ("3 KRPM", "krpm"),
-                                          ("0.05 KHZ", "kHz")])
+                                          ("0.05 KHZ", "kHz"), ("0.001 MHZ", "MHz"), ("0.003 MRPM", "Mrpm")])
 def test_a_unit_in_the_wrong_case_is_refused_with_its_spelling(text, spelt):
     unit = text.split()[1]
     with pytest.raises(ParameterError, match=rf"^speed = '{text}': unknown unit '{unit}' \('{unit}' is written "

@@ -156,6 +156,7 @@ def test_fig5b_local_estimate_hook(branches):
     ({"B1,a": 5}, r"local\['B1,a'\] = 5"),
     ({"B1,a": ([0.0, 1.0], [0.0])}, r"local\['B1,a'\] = "),
     ({"B1,a": ([0.0, float("nan")], [0.0, 1.0])}, r"local\['B1,a'\] = "),
+    ({"B1,a": ([0.0, 1.0], [0.0, float("inf")])}, r"local\['B1,a'\] = "),
     (lambda label, x: x[:-1], r"local\('B1,a', x\) = "),
     (lambda label, x: "x", r"local\('B1,a', x\) = 'x'"),
 ])
@@ -166,6 +167,19 @@ def test_a_bad_local_estimate_is_refused_before_a_figure_is_opened(branches, loc
     with pytest.raises(ParameterError, match=rf"^{name}.* is invalid; allowed: "):
         plot_rdot(REF, branches=branches, labels=("B1,a",), local=local)
     assert plt.get_fignums() == before
+
+
+def test_a_local_estimate_with_nan_is_drawn_with_a_gap(branches):
+    # an estimate that holds on one side only (a square root beyond gamma*): nan elsewhere, a gap in its line
+    gs = boundary_gamma(REF)
+
+    def local(label, x):
+        return np.where(x >= gs, np.sqrt(np.clip(x - gs, 0.0, None)), np.nan)
+
+    fig, ax = plot_rdot(REF, branches=branches, labels=("B1,a",), xlim=(0.0, 0.2), local=local)
+    (est,) = lines(ax, "B1,a:local")
+    y = np.asarray(est.get_ydata(), dtype=float)
+    assert np.any(np.isnan(y)) and np.all(np.isnan(y) == (np.asarray(est.get_xdata()) < gs))
 
 
 def test_fig6b_max_multiplier_only_where_admissible(branches):

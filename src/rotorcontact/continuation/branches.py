@@ -360,7 +360,8 @@ MAX_REFINE = 2000
 
 def refine_branches(branches: OrbitBranches, view: tuple[float, float], points: int = 400) -> OrbitBranches:
     """``branches`` with points added inside ``view`` so that consecutive points are at most (hi - lo) / points
-    apart in the parameter: for drawing, where the continuation's steps are coarse beside a bifurcation.
+    apart in the parameter there (none outside it): for drawing, where the continuation's steps are coarse
+    beside a bifurcation.
 
     Each point added is corrected onto its curve at its parameter value (Newton's method on the fixed-point
     equations from the chord between its neighbours) and computed as the continuation computes its points
@@ -394,14 +395,21 @@ def refine_branches(branches: OrbitBranches, view: tuple[float, float], points: 
             if i + 1 == len(curve.values):
                 break
             a, b = float(curve.values[i]), float(curve.values[i + 1])
-            if max(a, b) < lo or min(a, b) > hi:
+            # the part of the segment inside the view, cut into pieces of at most `step`
+            v0, v1 = max(min(a, b), lo), min(max(a, b), hi)
+            if not v0 < v1:
                 continue
-            inserts = min(math.ceil(abs(b - a) / step) - 1, MAX_REFINE)
+            pieces = min(math.ceil((v1 - v0) / step), MAX_REFINE)
+            fractions = [(v - a) / (b - a) for v in np.linspace(v0, v1, pieces + 1)]
+            if b < a:
+                fractions.reverse()
             ya = np.array([curve.orbits[i].T, curve.orbits[i].rdot, a])
             yb = np.array([curve.orbits[i + 1].T, curve.orbits[i + 1].rdot, b])
             span = float(np.max(np.abs(yb[:2] - ya[:2])))
-            for j in range(1, inserts + 1):
-                chord = ya + (yb - ya) * (j / (inserts + 1))
+            for s in fractions:
+                if not 0.0 < s < 1.0:
+                    continue  # the segment's own ends
+                chord = ya + (yb - ya) * s
                 try:
                     y = correct_fixed(system.residual, chord, 2, jacobian=system.jacobian)
                     if np.max(np.abs(y[:2] - chord[:2])) > span:

@@ -47,8 +47,15 @@ def _has_angle(q) -> bool:
 
 
 def _spelling(ureg, name: str) -> str | None:
-    """How an unknown unit written in the wrong case is spelt (``RPM`` -> ``rpm``, ``hz`` -> ``Hz``), or None."""
-    for variant in dict.fromkeys((name.lower(), name[:-2].lower() + "Hz" if name.lower().endswith("hz") else "")):
+    """How an unknown unit written in the wrong case is spelt (``RPM`` -> ``rpm``, ``MHZ`` -> ``MHz``), or None.
+
+    The prefix keeps its case where that is a unit (``MRPM`` -> ``Mrpm``, not milli-rpm), else is lowered
+    (``KRPM`` -> ``krpm``)."""
+    if name.lower().endswith("hz"):
+        variants = (name[:-2] + "Hz", name[:-2].lower() + "Hz")
+    else:
+        variants = (name[:1] + name[1:].lower(), name.lower())
+    for variant in dict.fromkeys(variants):
         if variant and variant != name:
             try:
                 ureg.parse_units(variant)

@@ -176,7 +176,8 @@ def plot_branch_quantity(
         A local estimate to overlay (dash-dotted, in the orbit's colour, with
         its own legend entry per orbit): either a mapping
         ``label -> (x, y)`` of arrays, or a callable ``local(label, x)``
-        returning y at the parameter values x of the branch (or None).
+        returning y at the parameter values x of the branch (or None); y may be nan where the estimate
+        does not hold (a gap).
     events : bool
         Mark the events of the drawn orbits (`EVENT_MARKERS`), each kind with a legend entry.
     legend : bool
@@ -237,7 +238,8 @@ REFINED_POINTS = 400
 
 def _local_curve(label: str, b: LabelBranch, local) -> tuple[np.ndarray, np.ndarray] | None:
     """The local estimate of ``label`` as (x, y), None where there is none; a `ParameterError` naming
-    ``local[label]`` or ``local(label, x)`` unless it gives two equally long 1-d arrays of finite numbers."""
+    ``local[label]`` or ``local(label, x)`` unless it gives two equally long 1-d arrays, x finite and y finite
+    or nan (a gap where the estimate does not hold)."""
     if isinstance(local, Mapping):
         if label not in local:
             return None
@@ -250,10 +252,12 @@ def _local_curve(label: str, b: LabelBranch, local) -> tuple[np.ndarray, np.ndar
         if value is None:
             return None
         y = real_array(value)
+    # y may hold nan where the estimate does not hold (a gap in its line), not an infinity
     if x is None or y is None or x.ndim != 1 or x.shape != y.shape or not (np.all(np.isfinite(x))
-                                                                             and np.all(np.isfinite(y))):
-        allowed = "(x, y), two equally long 1-d arrays of finite numbers" if isinstance(local, Mapping) else \
-            "a 1-d array of finite numbers as long as x (the branch's parameter values), or None"
+                                                                             and not np.any(np.isinf(y))):
+        allowed = "(x, y), two equally long 1-d arrays, x finite and y finite or nan" \
+            if isinstance(local, Mapping) else \
+            "a 1-d array as long as x (the branch's parameter values), finite or nan, or None"
         raise ParameterError(f"{name} = {quoted(value)} is invalid; allowed: {allowed}")
     return x, y
 
