@@ -103,3 +103,13 @@ def test_importing_the_figures_leaves_the_users_backend_alone():
             "rotorcontact.plotting.branches; print(matplotlib.get_backend())")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "pdf"
+
+
+def test_style_runs_split_a_line_by_style_and_join_the_runs_where_asked():
+    from rotorcontact.plotting.style import style_runs
+
+    keys = ["a", "a", "b", None, None, "a"]
+    assert style_runs(keys) == [("a", 0, 3), ("b", 2, 4), (None, 3, 6), ("a", 5, 6)]
+    assert style_runs(keys, lambda key, following: following is not None) == \
+        [("a", 0, 3), ("b", 2, 3), (None, 3, 6), ("a", 5, 6)]
+    assert style_runs([]) == [] and style_runs(["x"]) == [("x", 0, 1)]

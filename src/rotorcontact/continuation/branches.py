@@ -330,15 +330,12 @@ def _assemble(system: OneImpactSystem, runs: list[ContinuationResult], weights: 
     extrema = []
     index = []
     for i in keep:
-        y = pts[i]
-        p = system.params_at(y[2])
-        try:
-            o, ext = orbit_with_extrema(p, float(y[0]), float(y[1]))
-        except (ZeroDivisionError, ParameterError, RuntimeError):
+        point = _curve_point(system, pts[i])
+        if point is None:
             continue  # a singular end point (the undamped resonance at gamma = 0 exactly)
         index.append(i)
-        orbits.append(o)
-        extrema.append((ext.radii.copy(), ext.maxima.copy()))
+        orbits.append(point[0])
+        extrema.append(point[1])
     new_pos = {old: new for new, old in enumerate(index)}
     pts = [pts[i] for i in index]
     event_index = tuple((new_pos[i], k) for i, k in enumerate(kinds)
@@ -352,6 +349,16 @@ def _assemble(system: OneImpactSystem, runs: list[ContinuationResult], weights: 
         ends=(ends[1], ends[0]),
     )
     return curve, all_events
+
+
+def _curve_point(system: OneImpactSystem, y: np.ndarray):
+    """The orbit at the point y = (T, rdot, lambda) of a curve and the interior extrema of r along its flight
+    (radii, which are maxima), or None where it cannot be computed (a singular point)."""
+    try:
+        o, ext = orbit_with_extrema(system.params_at(y[2]), float(y[0]), float(y[1]))
+    except (ZeroDivisionError, ParameterError, RuntimeError):
+        return None
+    return o, (ext.radii.copy(), ext.maxima.copy())
 
 
 #: Most points `refine_branches` puts between two points of a curve.
@@ -412,14 +419,14 @@ def refine_branches(branches: OrbitBranches, view: tuple[float, float], points: 
                 chord = ya + (yb - ya) * s
                 try:
                     y = correct_fixed(system.residual, chord, 2, jacobian=system.jacobian)
-                    if np.max(np.abs(y[:2] - chord[:2])) > span:
-                        continue  # onto another curve
-                    o, ext = orbit_with_extrema(system.params_at(y[2]), float(y[0]), float(y[1]))
-                except (CorrectionError, ZeroDivisionError, ParameterError, RuntimeError):
+                except CorrectionError:
                     continue
+                point = None if np.max(np.abs(y[:2] - chord[:2])) > span else _curve_point(system, y)
+                if point is None:
+                    continue  # onto another curve, or singular
                 values.append(float(y[2]))
-                orbits.append(o)
-                extrema.append((ext.radii.copy(), ext.maxima.copy()))
+                orbits.append(point[0])
+                extrema.append(point[1])
         curves.append(OrbitCurve(param=curve.param, values=np.array(values), orbits=tuple(orbits),
                                  extrema=tuple(extrema), event_index=tuple((where[k], kind)
                                                                            for k, kind in curve.event_index),

@@ -31,7 +31,7 @@ from ..model.validation import (check_bool, check_choice, check_float, check_par
                                 real_array)
 from .equilibria import PARAM_LABELS
 from .style import (CLEARANCE_COLOR, MAX_FIGURE_INCHES, check_ax, check_keywords, check_limits, check_names, new_axes,
-                    orbit_tex)
+                    orbit_tex, style_runs)
 
 __all__ = [
     "BRANCH_COLORS",
@@ -106,12 +106,9 @@ def _draw_styled(ax, label: str, x: np.ndarray, y: np.ndarray, b: LabelBranch, c
     if idx.size == 0:
         return
     styles = [_style(bool(b.admissible[i]), bool(b.plausible[i]), b.stable[i]) for i in idx]
-    i0 = 0
-    for i in range(1, len(idx) + 1):
-        if i == len(idx) or styles[i] != styles[i0]:
-            run = idx[i0 : min(i + 1, len(idx))]
-            ax.plot(x[run], y[run], color=color, gid=f"{label}:{styles[i0]}", **_LINE[styles[i0]])
-            i0 = i
+    for style, start, stop in style_runs(styles):
+        run = idx[start:stop]
+        ax.plot(x[run], y[run], color=color, gid=f"{label}:{style}", **_LINE[style])
 
 
 def _check_labels(branches: OrbitBranches, labels: Sequence[str]) -> list[str]:
@@ -534,23 +531,18 @@ def plot_extrema(
         color = BRANCH_COLORS.get(label.split(",")[1], "k")
         for sl in b.pieces():
             idx = np.arange(sl.start, sl.stop)
-            counts = [len(b.extrema[i][0]) for i in idx]
-            styles = [_style(bool(b.admissible[i]), bool(b.plausible[i]), b.stable[i]) for i in idx]
-            i0 = 0
-            for i in range(1, len(idx) + 1):
-                if i == len(idx) or counts[i] != counts[i0] or styles[i] != styles[i0]:
-                    # a change of style alone: the runs share their end point (no gap); a change of the
-                    # number of extrema: the curves of extrema themselves change there
-                    joined = i < len(idx) and counts[i] == counts[i0]
-                    run = idx[i0 : i + 1 if joined else i]
-                    for j in range(counts[i0]):
-                        x = b.values[run]
-                        y = np.array([b.extrema[m][0][j] for m in run])
-                        is_max = bool(b.extrema[run[0]][1][j])
-                        kw = dict(ls=_LINE[styles[i0]]["ls"], lw=1.8 if is_max else 0.9)
-                        ax.plot(x, y, color=color, gid=f"{label}:{styles[i0]}:{'max' if is_max else 'min'}",
-                                **kw)
-                    i0 = i
+            keys = [(len(b.extrema[i][0]), _style(bool(b.admissible[i]), bool(b.plausible[i]), b.stable[i]))
+                    for i in idx]
+            # a change of style alone: the runs share their end point (no gap); a change of the number of
+            # extrema: the curves of extrema themselves change there
+            for (count, style), start, stop in style_runs(keys, lambda key, following: key[0] == following[0]):
+                run = idx[start:stop]
+                for j in range(count):
+                    x = b.values[run]
+                    y = np.array([b.extrema[m][0][j] for m in run])
+                    is_max = bool(b.extrema[run[0]][1][j])
+                    kw = dict(ls=_LINE[style]["ls"], lw=1.8 if is_max else 0.9)
+                    ax.plot(x, y, color=color, gid=f"{label}:{style}:{'max' if is_max else 'min'}", **kw)
     if regular:
         v = np.linspace(*view, 801)
         rk = np.array([_radius_of_x_R(branches.params_at(x)) for x in v])

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -156,6 +157,21 @@ def check_figure_path(path: Any) -> Path:
         raise ParameterError(f"path = {str(path)!r} has an unsupported suffix; allowed: {', '.join(FIGURE_SUFFIXES)}")
     check_output_folder(path)
     return path
+
+
+def style_runs(keys: Sequence[Any], join: Callable[[Any, Any], bool] = lambda key, following: True
+               ) -> list[tuple[Any, int, int]]:
+    """Runs of equal consecutive ``keys`` (the style of each point of a line) as (key, start, stop), the points
+    start..stop-1. A run also takes the first point of the next where ``join(key, following key)``, so that the
+    lines of the two meet there (by default always)."""
+    out = []
+    start = 0
+    for k in range(1, len(keys) + 1):
+        if k < len(keys) and keys[k] == keys[start]:
+            continue
+        out.append((keys[start], start, k + 1 if k < len(keys) and join(keys[start], keys[k]) else k))
+        start = k
+    return out
 
 
 def new_axes(ax=None, **subplot_kw):

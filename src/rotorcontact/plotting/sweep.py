@@ -20,7 +20,7 @@ from ..studies.batch import REGIME_NAMES
 from ..errors import ParameterError
 from ..model.validation import check_choice, check_float, check_type, quoted
 from ..studies.datasets import check_dataset, study_dataset
-from .style import check_figure_path, new_axes, save_figure
+from .style import check_figure_path, new_axes, save_figure, style_runs
 
 __all__ = ["plot_sweep", "plot_regimes", "save_sweep_figure", "SECTION_LABELS", "REGIME_COLORS"]
 
@@ -227,17 +227,14 @@ def _draw_branches(ax, branches, variable: str) -> None:
         for sl in b.pieces():
             idx = np.arange(sl.start, sl.stop)
             kinds = [_branch_kind(b, i) for i in idx]
-            start = 0
-            for k in range(1, len(idx) + 1):
-                if k < len(idx) and kinds[k] == kinds[start]:
+            # a run of one kind ends on the first point of the next (no gap), not on a virtual one
+            for kind, start, stop in style_runs(kinds, lambda key, following: following is not None):
+                if kind is None:
                     continue
-                if kinds[start] is not None:
-                    # a run of one kind ends on the first point of the next (no gap), not on a virtual one
-                    run = idx[start : k + 1 if k < len(idx) and kinds[k] is not None else k]
-                    ax.plot(b.values[run], y[run], ls=_BRANCH_STYLES[kinds[start]], lw=0.9, color=color, zorder=2,
-                            gid=f"branch:{label}:{kinds[start]}", label=f"{label} (continued)" if first else None)
-                    first = False
-                start = k
+                run = idx[start:stop]
+                ax.plot(b.values[run], y[run], ls=_BRANCH_STYLES[kind], lw=0.9, color=color, zorder=2,
+                        gid=f"branch:{label}:{kind}", label=f"{label} (continued)" if first else None)
+                first = False
     # events at one value (the NSFH of B1,a and B1,b) get one mark, naming every orbit
     marks: dict[tuple[str, float], list[str]] = {}
     for e in branches.events:
