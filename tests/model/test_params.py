@@ -430,3 +430,31 @@ def test_lengths_beyond_what_the_model_resolves_are_refused(changes, match):
     with pytest.raises(ParameterError, match=match):
         Machine(**{**reference_machine().as_dict(), **changes})
     Machine(**{**reference_machine().as_dict(), "clearance": 1e-9, "rotor_radius": 1e-3, "eccentricity": 0.0})
+
+
+def test_rows_checked_as_arrays_are_refused_exactly_where_the_constructor_refuses_and_with_its_message():
+    from dataclasses import fields
+
+    from rotorcontact.model.params import _PARAMETER_RULES, check_parameter_rows
+
+    names = [f.name for f in fields(Parameters)]
+    assert names == list(_PARAMETER_RULES)  # the rows' column order
+    base = [getattr(REF, n) for n in names]
+    for j, name in enumerate(names):
+        rule = _PARAMETER_RULES[name]
+        for bound in (rule.get("low"), rule.get("high")):
+            if bound is None:
+                continue
+            # each bound, its neighbouring doubles and a value well beyond it on either side
+            for value in (bound, np.nextafter(bound, -np.inf), np.nextafter(bound, np.inf), bound - 1.0, bound + 1.0):
+                row = list(base)
+                row[j] = float(value)
+                rows = np.array([base, row, base])
+                try:
+                    Parameters(*row)
+                except ParameterError as exc:
+                    with pytest.raises(ParameterError) as got:
+                        check_parameter_rows(rows)
+                    assert str(got.value) == str(exc)
+                else:
+                    check_parameter_rows(rows)

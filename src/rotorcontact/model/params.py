@@ -30,6 +30,7 @@ __all__ = [
     "load_machine",
     "check_finite",
     "check_range",
+    "check_parameter_rows",
     "check_velocity",
     "check_machine_value",
     "MAX_SPEED",
@@ -138,8 +139,7 @@ def check_range(
         message names ``name``, the value and the allowed interval.
     """
     v = check_finite(name, value)
-    lo_bad = low is not None and (v <= low if low_open else v < low)
-    hi_bad = high is not None and (v >= high if high_open else v > high)
+    lo_bad, hi_bad = _beyond(v, low, high, low_open, high_open)
     if lo_bad or hi_bad:
         left = "(" if low_open else "["
         right = ")" if high_open else "]"
@@ -154,6 +154,13 @@ def check_range(
         shown = f"{v!r}" if given is None else f"{given!r} ({v:g}{units})"
         raise ParameterError(f"{name} = {shown} is out of range; allowed: {left}{lo}, {hi}{right}{units}{reason}")
     return v
+
+
+def _beyond(value: Any, low: float | None, high: float | None, low_open: bool, high_open: bool) -> tuple[Any, Any]:
+    """Whether ``value`` (a float, or elementwise an array) lies below the interval, and whether above it."""
+    lo_bad = False if low is None else (value <= low if low_open else value < low)
+    hi_bad = False if high is None else (value >= high if high_open else value > high)
+    return lo_bad, hi_bad
 
 
 def check_velocity(name: str, value: complex) -> complex:
@@ -190,6 +197,26 @@ _PARAMETER_RULES: dict[str, dict[str, Any]] = {
     "phi": dict(low=-MAX_MAGNITUDE, high=MAX_MAGNITUDE, why=_WHY),
     "r_ratio": dict(low=0.0, high=MAX_MAGNITUDE, why=_WHY),
 }
+
+
+
+def check_parameter_rows(rows: np.ndarray) -> None:
+    """Raise the `ParameterError` of the `Parameters` constructor for the first of ``rows`` that holds a value
+    out of its range.
+
+    ``rows`` is a finite float array of shape (n, 7), the fields in the order of `Parameters`. Checked as
+    arrays, so that many parameter sets (a sweep's, a basin's) cost no more than a few.
+    """
+    bad = np.zeros(rows.shape[0], dtype=bool)
+    for j, name in enumerate(_PARAMETER_RULES):
+        rule = _PARAMETER_RULES[name]
+        lo_bad, hi_bad = _beyond(rows[:, j], rule.get("low"), rule.get("high"), rule.get("low_open", False),
+                                 rule.get("high_open", False))
+        bad |= lo_bad | hi_bad
+    if bad.any():
+        Parameters(*rows[int(np.argmax(bad))].tolist())  # raises, naming the parameter
+        raise AssertionError("a row out of range passed the constructor")  # pragma: no cover
+
 
 #: The parameters a branch, a curve or a scan may be followed in (phi and r_ratio enter the model too, but no
 #: continuation varies them).

@@ -460,11 +460,17 @@ def check_forced_response(params: Parameters) -> None:
     """Raise `ParameterError` where the forced response |k| = rho / |omega^2 - 1 + i gamma| (MODEL.md §3)
     exceeds `K_MAX` clearances, beyond which the closed form loses its accuracy; the message names rho, omega
     and gamma and the bound on rho."""
-    k_abs = abs(params.k) if call_kernel(has_regular_equilibrium, params.gamma, params.omega) else math.inf
+    check_forced_response_of(params.gamma, params.omega, params.rho, params.phi)
+
+
+def check_forced_response_of(gamma: float, omega: float, rho: float, phi: float) -> None:
+    """`check_forced_response` of the parameters given by value (no `Parameters` made: for many rows)."""
+    regular = call_kernel(has_regular_equilibrium, gamma, omega)
+    k_abs = abs(call_kernel(equilibrium_point, gamma, omega, rho, phi)) if regular else math.inf
     if k_abs > K_MAX:
-        distance = abs(complex(params.omega**2 - 1.0, params.gamma))
+        distance = abs(complex(omega**2 - 1.0, gamma))
         raise ParameterError(
-            f"rho = {params.rho!r}, omega = {params.omega!r}, gamma = {params.gamma!r}: the forced response "
+            f"rho = {rho!r}, omega = {omega!r}, gamma = {gamma!r}: the forced response "
             f"|k| = rho / |omega^2 - 1 + i gamma| = {k_abs:.3g} clearances is beyond the simulator's accurate range "
             f"(|k| <= {K_MAX:g}); allowed: rho <= {K_MAX:g} |omega^2 - 1 + i gamma| = {K_MAX * distance:.3g}, or "
             "omega and gamma farther from the undamped resonance (omega = 1, gamma = 0)"

@@ -81,7 +81,8 @@ from ..simulation.motion import (
     REPEAT_TOL,
     WINDOW,
 )
-from ..model.params import MAX_T_END, MAX_VELOCITY, Parameters, check_range, check_velocity
+from ..model.params import (MAX_T_END, MAX_VELOCITY, Parameters, check_parameter_rows, check_range,
+                            check_velocity)
 from ..model.validation import (check_bool, check_int, check_type, complex_array, finite_array, quoted,
                                 settings_or_default)
 from ..simulation.simulator import (
@@ -92,6 +93,7 @@ from ..simulation.simulator import (
     MAX_EVENTS,
     STATUS_NAMES,
     check_forced_response,
+    check_forced_response_of,
     new_tables,
     simulate_into,
 )
@@ -114,6 +116,8 @@ __all__ = [
 
 #: Order of the parameters in the rows of a parameter array.
 PARAMETER_ORDER = ("gamma", "omega", "rho", "mu", "d", "phi", "r_ratio")
+#: The columns of a parameter row that the forced response depends on (`check_forced_response_of`'s arguments).
+_FORCING_COLUMNS = [PARAMETER_ORDER.index(name) for name in ("gamma", "omega", "rho", "phi")]
 #: Columns of the recorded impact section: time since the start of the window,
 #: impact angle, and the polar velocities just before the impact.
 SECTION_COLUMNS = ("t", "theta", "rdot", "thetadot")
@@ -631,9 +635,11 @@ def _validate_rows(rows: np.ndarray) -> None:
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise ParameterError(f"parameter row {i} = {rows[i].tolist()} is not finite")
-    # one full validation per distinct row, with the simulator's bound on the forced response
-    for row in np.unique(rows, axis=0):
-        check_forced_response(Parameters(**dict(zip(PARAMETER_ORDER, (float(x) for x in row)))))
+    # the ranges of the Parameters constructor as arrays, then the simulator's bound on the forced response
+    # once per distinct row (gamma, omega, rho, phi)
+    check_parameter_rows(rows)
+    for gamma, omega, rho, phi in np.unique(rows[:, _FORCING_COLUMNS], axis=0).tolist():
+        check_forced_response_of(gamma, omega, rho, phi)
 
 
 def _complex_values(name: str, value: Any) -> np.ndarray:

@@ -307,7 +307,7 @@ def _run_stacked(tasks: list, enough: int, compute) -> Iterator[tuple[int, dict[
             start = 0
             for j, t in zip(group, sub):
                 n = t.params.shape[0]
-                yield j, {name: arr[start : start + n].copy() for name, arr in res.items()}
+                yield j, {name: arr[start : start + n] for name, arr in res.items()}  # views: no copy
                 start += n
         i = group[-1] + 1
 

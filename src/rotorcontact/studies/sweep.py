@@ -449,7 +449,7 @@ def _assemble(load, orders, directions, carry: bool, settings: BatchSettings, ch
     """The batch result of a sweep from its finished chunks (``load(key)``), in the order of the values."""
     n = orders[0].size
     keys = _sweep_keys(directions, n, chunk_size)
-    sections = np.full((len(directions), n, settings.keep, 4), np.nan)
+    sections = np.empty((len(directions), n, settings.keep, 4))  # every step is written below
     summary = np.empty((len(directions), n, NSUM))
     for li in range(len(directions)):
         for b, block in enumerate(_blocks(n, chunk_size)):
