@@ -14,6 +14,7 @@ import sys
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from rotorcontact import ParameterError
@@ -185,3 +186,15 @@ def test_without_a_gpu_the_cuda_backend_is_refused_with_the_reason(monkeypatch):
     with pytest.raises(ParameterError, match=r"backend = 'cuda' cannot run here: numba.cuda finds no usable CUDA "
                                              r"GPU.*allowed: 'cpu'.*rotorcontact\[cuda\]"):
         make_executor(backend="cuda")
+
+
+def test_numpy_row_stack_is_given_back_where_numpy_removed_it(monkeypatch):
+    """numba-cuda compiles its np.row_stack on first use; numpy 2.5 removed that alias of np.vstack."""
+    from rotorcontact.studies.cuda_batch import restore_numpy_names
+
+    monkeypatch.delattr(np, "row_stack", raising=False)
+    assert not hasattr(np, "row_stack")
+    restore_numpy_names()
+    assert np.row_stack is np.vstack
+    restore_numpy_names()  # a second call leaves it
+    assert np.row_stack is np.vstack

@@ -29,14 +29,25 @@ import numpy as np
 from .batch import NSUM, BatchSettings, check_lanes, run_lanes
 
 __all__ = ["THREADS_PER_BLOCK", "complete_deferred", "cuda_unavailable", "launch_lanes", "require_cuda",
-           "run_lanes_cuda"]
+           "restore_numpy_names", "run_lanes_cuda"]
 
 #: Threads per block of the kernel.
 THREADS_PER_BLOCK = 128
 
 
+def restore_numpy_names() -> None:
+    """Give numpy back ``row_stack`` (an alias of ``np.vstack``, removed in numpy 2.5) where it lacks it.
+
+    numba-cuda registers its implementation of ``np.row_stack`` when it first compiles, and fails to compile
+    anything without it.
+    """
+    if not hasattr(np, "row_stack"):
+        np.row_stack = np.vstack
+
+
 def cuda_unavailable() -> str | None:
     """Why the GPU backend cannot run here, or None when it can (a GPU, its driver, and NVVM to compile for it)."""
+    restore_numpy_names()
     try:
         from numba import config, cuda
     except Exception as exc:  # numba-cuda missing or broken: its own words
@@ -109,6 +120,7 @@ def launch_lanes(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, settings: 
         Per lane, the state at the start of that step.
     """
     params, u0, du0 = check_lanes(params, u0, du0, settings)
+    restore_numpy_names()
     from numba import cuda
 
     from .cuda_kernel import lanes_kernel
