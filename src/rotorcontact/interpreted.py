@@ -78,15 +78,16 @@ def complex_quotient(a: complex, b: complex) -> complex:
 def int_power(x: float, n: int) -> float:
     """x**n for an integer n by binary powering, as numba computes ``x ** n`` (Python calls pow); 1 / x**-n
     for n < 0."""
-    if n < 0:
-        return 1.0 / int_power(x, -n)
+    inverse = n < 0  # not by recursion, which numba-cuda cannot compile
+    if inverse:
+        n = -n
     r = 1.0
     while n != 0:
         if n & 1:
             r *= x
         n >>= 1
         x *= x
-    return r
+    return 1.0 / r if inverse else r
 
 
 class _OutOfTime(BaseException):

@@ -198,3 +198,42 @@ def test_numpy_row_stack_is_given_back_where_numpy_removed_it(monkeypatch):
     assert np.row_stack is np.vstack
     restore_numpy_names()  # a second call leaves it
     assert np.row_stack is np.vstack
+
+
+def test_no_function_the_gpu_kernel_compiles_calls_itself():
+    """numba-cuda cannot compile recursion (a recursive call is an unresolved reference to its code
+    generator), and CI, without a GPU, runs the kernel only through the simulator, which compiles nothing:
+    the kernel's call graph is checked here instead, through the compiled functions it names."""
+    import types
+
+    from rotorcontact.studies.compact_batch import compact_lane
+
+    def callees(func):
+        codes, names = [func.__code__], set()
+        while codes:
+            code = codes.pop()
+            names.update(code.co_names)
+            codes.extend(c for c in code.co_consts if isinstance(c, types.CodeType))
+        found = (func.__globals__.get(name) for name in names)
+        return {f.py_func for f in found if hasattr(f, "py_func")}
+
+    graph, todo = {}, [compact_lane.py_func]
+    while todo:
+        func = todo.pop()
+        if func not in graph:
+            graph[func] = callees(func)
+            todo.extend(graph[func])
+    assert len(graph) > 20  # the lane's own functions, the simulator's and the contact phases'
+
+    def reaches(start, goal):
+        seen, todo = set(), list(graph[start])
+        while todo:
+            func = todo.pop()
+            if func is goal:
+                return True
+            if func not in seen:
+                seen.add(func)
+                todo.extend(graph[func])
+        return False
+
+    assert [f.__qualname__ for f in graph if reaches(f, f)] == []
