@@ -170,8 +170,8 @@ def test_machine_non_finite(name, value, text):
         ("mass", -50.0, "(0, inf)"),
         ("stiffness", 0.0, "(0, inf)"),
         ("stiffness", -1.0, "(0, inf)"),
-        ("clearance", 0.0, "[1e-09, inf)"),
-        ("clearance", -1e-3, "[1e-09, inf)"),
+        ("clearance", 0.0, "[1e-09, 1]"),
+        ("clearance", -1e-3, "[1e-09, 1]"),
         ("speed", 0.0, "(0, 1e+06]"),
         ("speed", -184.2, "(0, 1e+06]"),
         ("restitution", -0.1, "[0, 1]"),
@@ -418,7 +418,10 @@ def test_a_velocity_is_a_number():
 
 
 @pytest.mark.parametrize("changes, match", [
-    (dict(clearance=1e-200), r"^clearance = 1e-200 is out of range; allowed: \[1e-09, inf\)"),
+    (dict(clearance=1e-200), r"^clearance = 1e-200 is out of range; allowed: \[1e-09, 1\]$"),
+    # a slip of units: 700 km
+    (dict(clearance="0.7 Mm"), r"^clearance = 700000.0 is out of range; allowed: \[1e-09, 1\] \(m: touchdown "
+                               r"clearances are tenths of a millimetre; is the unit right\?\)"),
     (dict(clearance=1e-9, rotor_radius=0.04), r"^rotor_radius = 0.04 m is 4e\+07 clearances \(clearance = 1e-09 m\); "
                                               r"allowed: at most 1e\+06 clearances"),
     (dict(eccentricity=1e3), r"^eccentricity = 1000.0 m is 1.43e\+06 clearances"),
@@ -430,6 +433,7 @@ def test_lengths_beyond_what_the_model_resolves_are_refused(changes, match):
     with pytest.raises(ParameterError, match=match):
         Machine(**{**reference_machine().as_dict(), **changes})
     Machine(**{**reference_machine().as_dict(), "clearance": 1e-9, "rotor_radius": 1e-3, "eccentricity": 0.0})
+    Machine(**{**reference_machine().as_dict(), "clearance": 1.0})  # the largest
 
 
 def test_rows_checked_as_arrays_are_refused_exactly_where_the_constructor_refuses_and_with_its_message():

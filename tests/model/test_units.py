@@ -217,3 +217,20 @@ def test_a_unit_in_the_wrong_case_is_refused_with_its_spelling(text, spelt):
 def test_a_temperature_is_refused_as_a_unit_with_an_offset():
     with pytest.raises(ParameterError, match=r"^speed = '20 degC' has a unit with an offset \(a temperature\)"):
         quantity_in("speed", "20 degC", "rad/s")
+
+
+@pytest.mark.parametrize("text, unit, expected", [
+    ("27.6 mil", "m", 27.6 * 0.0254 / 1000),  # an inch is 25.4 mm exactly
+    ("3 mils", "um", 3 * 25.4),
+    ("1e9 N/mil", "N/m", 1e9 / (0.0254 / 1000)),
+    ("2 mil", "mm", 2 * 0.0254),
+])
+def test_a_mil_is_the_thousandth_of_an_inch_where_no_angle_is_meant(text, unit, expected):
+    assert quantity_in("x", text, unit) == pytest.approx(expected, rel=1e-15)
+
+
+def test_a_machine_takes_its_clearance_in_mils():
+    m = Machine(**{**REF_MACHINE, "clearance": "27.6 mil"})
+    assert m.clearance == pytest.approx(27.6 * 0.0254 / 1000, rel=1e-15)
+    with pytest.raises(ParameterError, match=r"friction = '0.1 mil' has units of \[length\]"):
+        quantity_in("friction", "0.1 mil", "1")

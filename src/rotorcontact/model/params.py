@@ -38,6 +38,7 @@ __all__ = [
     "MAX_CONTACT_FORCE",
     "MAX_MAGNITUDE",
     "MIN_CLEARANCE",
+    "MAX_CLEARANCE",
     "MAX_VELOCITY",
     "OPTIONAL_MACHINE_KEYS",
     "PAPER_MACHINE_KEYS",
@@ -322,6 +323,9 @@ MAX_GRAVITY = 1e6
 #: Smallest clearance of a machine, m (1 nm): far below it a drop's squared positions underflow (1e-200 m ran
 #: without end).
 MIN_CLEARANCE = 1e-9
+#: Largest clearance of a machine, m: touchdown clearances are tenths of a millimetre, so a clearance of metres
+#: is a slip of units ("0.7 Mm", 700 km, ran as a machine).
+MAX_CLEARANCE = 1.0
 #: Largest force of the compliant law at a penetration of one clearance, K_c c_r^n, N (steel on steel: about
 #: 1e5 N). Beyond it the penetrations (below 1e-7 of the clearance at 1e15 N) near the rounding of |z| and the
 #: episodes' steps grow without end; at K_c = 1e300 the forces overflow into nan. The rigid law is that limit.
@@ -332,7 +336,8 @@ _MACHINE_RULES: dict[str, dict[str, Any]] = {
     "damping": dict(low=0.0, unit="N s/m"),
     "stiffness": dict(low=0.0, low_open=True, unit="N/m"),
     "eccentricity": dict(low=0.0, unit="m"),
-    "clearance": dict(low=MIN_CLEARANCE, unit="m"),
+    "clearance": dict(low=MIN_CLEARANCE, high=MAX_CLEARANCE, unit="m",
+                      why="m: touchdown clearances are tenths of a millimetre; is the unit right?"),
     "rotor_radius": dict(low=0.0, unit="m"),
     "unbalance_phase": dict(unit="rad"),
     "speed": dict(low=0.0, low_open=True, high=MAX_SPEED, unit="rad/s",

@@ -28,6 +28,9 @@ _WRITTEN = {
 
 # a quantity's text starts with its magnitude (pint alone would read "rpm" as 1 rpm)
 _MAGNITUDE = re.compile(r"\s*[-+]?(\d|\.\d|nan|inf)", re.IGNORECASE)
+# "mil" is an angle to pint (1/6400 of a turn); in machinery, and wherever no angle is expected, it is the
+# thousandth of an inch (pint's "thou"), in which clearances and orbits are given
+_MIL = re.compile(r"\bmils?\b")
 
 
 @lru_cache(maxsize=1)
@@ -72,7 +75,8 @@ def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False)
     For an angular speed (``unit`` rad/s or rpm), a frequency in hertz
     (``"50 Hz"``) counts revolutions; any other rate without an angle
     (``"184.2 1/s"``, ``"3000/min"``) is refused, being as often meant in
-    rad/s as in revolutions.
+    rad/s as in revolutions. Elsewhere ``mil`` is the thousandth of an inch
+    (``"27.6 mil"``), not pint's angle.
 
     Raises
     ------
@@ -98,8 +102,9 @@ def quantity_in(name: str, text: str, unit: str, *, unit_required: bool = False)
             raise ParameterError(f"{name} = {text!r} has no unit; allowed: {what} with its unit, such as {example}")
     ureg = registry()
     target = _PINT_SPELLING.get(unit, unit)
+    read = text.strip() if target in _ANGULAR_SPEEDS else _MIL.sub("thou", text.strip())
     try:
-        q = ureg.Quantity(text.strip())
+        q = ureg.Quantity(read)
     except pint.errors.UndefinedUnitError as exc:
         names = [str(n) for n in exc.unit_names] if isinstance(exc.unit_names, (list, tuple)) else [str(exc.unit_names)]
         hint = "".join(f" ({n!r} is written {_spelling(ureg, n)!r})" for n in names if _spelling(ureg, n))
