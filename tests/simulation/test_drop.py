@@ -252,6 +252,18 @@ def test_a_rotor_rolling_on_a_race_comes_to_rest_and_the_run_stops_there():
                                                 - 0.5 * m.race_inertia * race ** 2, rel=1e-7)
 
 
+def test_a_rotor_let_fall_from_rest_without_spin_comes_to_rest_on_the_scale_of_its_fall():
+    """With no kinetic energy at the start the rest threshold is REST_FRACTION of m g c_r, the weight's fall
+    from the centre to the bottom (a zero threshold never stopped the run)."""
+    m = machine(eccentricity=0.0, gravity=G, polar_inertia=0.04)
+    r = run_general(m, 0j, 0j, 0.0, 0.0, 2.0)
+    assert r.status == "at-rest" and r.time_to_rest == r.t_stop < 2.0
+    _t, x, y, vx, vy, spin = r.final_state[:6]
+    above = 0.5 * m.mass * (vx * vx + vy * vy) + 0.5 * m.polar_inertia * spin * spin + m.mass * G * (y + m.clearance)
+    assert -1e-12 * m.mass * G * m.clearance <= above <= REST_FRACTION * m.mass * G * m.clearance
+    assert r.energy_dissipated == pytest.approx(m.mass * G * m.clearance, rel=1e-7)
+
+
 def test_a_rotor_rolling_to_and_fro_on_a_fixed_stator_never_rests():
     """Rolling dissipates nothing in the rigid model: the rotor swings at the bottom, its kinetic energy
     passing through zero at each turning point, and the run is not taken for rest there."""

@@ -40,7 +40,8 @@ CHATTER_VELOCITY = 1e-6
 #: nothing but rounding (MODEL.md §7, accumulation).
 CHATTER_RELATIVE = 1e-6
 #: The rotor is at rest once its energy above rest (kinetic energy of whirl and spin, and potential energy above
-#: the bottom of the wall) falls to this fraction of its kinetic energy at the start.
+#: the bottom of the wall) falls to this fraction of its kinetic energy at the start (of m g c_r, its weight's fall
+#: across the clearance, for a rotor started at rest and not spinning).
 REST_FRACTION = 1e-8
 #: The compliant law's damping D = chi / v_0 takes v_0 no smaller than this fraction of the velocity scale:
 #: episodes that start slower rebound less damped than d (MODEL.md §8).
@@ -195,7 +196,7 @@ class DropResult:
     @property
     def time_to_rest(self) -> float | None:
         """Time the rotor came to rest (its energy above rest down to `REST_FRACTION` of its kinetic energy at
-        the start), s; None if it did not within the run."""
+        the start, or of m g c_r from rest), s; None if it did not within the run."""
         return self.t_stop if self.status == "at-rest" else None
 
     def column(self, name: str) -> np.ndarray:
@@ -435,7 +436,9 @@ def run_general(machine: Machine, z0: complex, v0: complex, speed: float, fail_a
     v_scale = _velocity_scale(m, speed)
     race_args = (m.race_inertia, m.race_drag_torque, m.race_drag_coefficient) if m.has_race else (0.0, 0.0, 0.0)
     polar = m.polar_inertia or 0.0
-    rest_energy = REST_FRACTION * 0.5 * (m.mass * abs(v0) ** 2 + polar * speed * speed)
+    kinetic = 0.5 * (m.mass * abs(v0) ** 2 + polar * speed * speed)
+    # a rotor started at rest and not spinning: the scale is its weight's fall across the clearance
+    rest_energy = REST_FRACTION * (kinetic if kinetic > 0.0 else m.mass * m.g * m.clearance)
     # the compliant law's K_c, n, chi, the floor of v_0 in D, tolerance and elastic impact's duration factor;
     # K_c = 0: the rigid law
     compliant = (float(m.contact_stiffness or 0.0), m.exponent,
