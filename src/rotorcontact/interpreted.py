@@ -81,6 +81,9 @@ def int_power(x: float, n: int) -> float:
     inverse = n < 0  # not by recursion, which numba-cuda cannot compile
     if inverse:
         n = -n
+        if n < 0:  # -2**63, whose 64-bit negation is itself: the first step of powering 2**63 (a zero bit)
+            n = 1 << 62
+            x *= x
     r = 1.0
     while n != 0:
         if n & 1:

@@ -78,6 +78,16 @@ def test_every_file_exists_and_is_a_valid_image(reproduction):
     assert (out / "report.html").stat().st_size > 10_000
 
 
+def test_the_captions_state_the_papers_findings_at_its_parameters(reproduction):
+    _out, rep = reproduction
+    captions = {name: caption for name, caption, _png, _svg in rep.figures}
+    assert "B1,d near grazing at γ = 0.065" in captions["fig2_orbits"]
+    # the paper's Fig. 3: a non-smooth fold at its omega, persistence at omega = 1
+    assert f"(a) a non-smooth fold with x_P1 at ω = {rep.params.omega:g}" in captions["fig3_equilibria"]
+    assert "(b) persistence of x_P2 into x_R at ω = 1." in captions["fig3_equilibria"]
+    assert "γ_F,1..3" in captions["fig4_f1"]
+
+
 def test_report_json_has_every_key_with_a_finite_value(reproduction):
     out, _rep = reproduction
     report = json.loads((out / "report.json").read_text())
@@ -338,8 +348,13 @@ def test_reproduce_finishes_where_some_panels_do_not_exist(tmp_path):
         assert len(rep.figures) == 6 and (out / "report.json").is_file() and (out / "report.html").is_file()
         # no gamma*, or one beyond Fig. 5's zoom (0.43 at omega = 1, 0.23 at 0.8): no local estimate is drawn,
         # and Fig. 5 does not claim one
-        caption = next(c for name, c, _png, _svg in rep.figures if name == "fig5_branches")
-        assert "local estimate" not in caption
+        captions = {name: caption for name, caption, _png, _svg in rep.figures}
+        assert "local estimate" not in captions["fig5_branches"]
+        # the paper's findings are not claimed at other parameters
+        assert "near grazing at γ = 0.065" not in captions["fig2_orbits"] and "paper's values of γ" in captions["fig2_orbits"]
+        assert "γ_F,1..3" not in captions["fig4_f1"] and "γ_F found there" in captions["fig4_f1"]
+        if change == dict(omega=1.0):  # the paper's Fig. 3(b): persistence at omega = 1
+            assert "(a) persistence of x_P2 into x_R at ω = 1;" in captions["fig3_equilibria"]
 
 
 def test_reproduce_refuses_what_are_not_parameters_before_it_makes_the_folder(tmp_path):

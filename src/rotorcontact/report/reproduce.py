@@ -25,7 +25,7 @@ import numpy as np
 from .. import __version__
 from ..continuation.branches import orbit_branches
 from ..continuation.codim2 import codim2_diagram
-from ..analysis.equilibria import boundary_gamma
+from ..analysis.equilibria import boundary_gamma, classify_beb_analytic
 from ..errors import ParameterError
 from ..maps.impact_map import one_impact_orbits
 from ..analysis.local import local_analysis
@@ -212,13 +212,26 @@ def _fig2(p: Parameters, rep: Reproduction, out: Path) -> Figure:
         for ax, draw, t in zip(row, draws, titles):
             _panel(ax, lambda ax=ax, draw=draw: draw(ax), t)
     fig.tight_layout()
+    where = ("(b) the orbit B1,d near grazing at γ = 0.065; (c) the small orbit B1,a near the non-smooth "
+             "fold–Hopf bifurcation at γ = 0.1" if rep.paper else
+             "(b) the orbit B1,d at γ = 0.065; (c) the orbit B1,a at γ = 0.1 (the paper's values of γ, where at its "
+             "parameters B1,d is near grazing and B1,a near the non-smooth fold–Hopf bifurcation)")
     caption = (
-        "Fig. 2. (a) The regular equilibrium x_R at γ = 0.3; (b) the orbit B1,d near grazing at γ = 0.065; "
-        "(c) the small orbit B1,a near the non-smooth fold–Hopf bifurcation at γ = 0.1. Each in the inertial "
-        "frame Z, the co-rotating frame U (clearance circle in grey; in (c) with an inset zoomed on the small"
-        " orbit) and as r(t) over one period."
+        f"Fig. 2. (a) The regular equilibrium x_R at γ = 0.3; {where}. Each in the inertial frame Z, the "
+        "co-rotating frame U (clearance circle in grey; in (c) with an inset zoomed on the small orbit) and as "
+        "r(t) over one period."
     )
     return _save(rep, out, fig, "fig2_orbits", caption)
+
+
+def _beb_words(params: Parameters) -> str:
+    """The boundary equilibrium bifurcation at ``params``, in the words of Fig. 3's caption."""
+    kind = classify_beb_analytic(params)
+    if kind == "nonsmooth-fold":
+        return "a non-smooth fold with x_P1"
+    if kind == "persistence":
+        return "persistence of x_P2 into x_R"
+    return "a degenerate boundary equilibrium bifurcation (at a border of the ω-ranges)"
 
 
 def _fig3(p: Parameters, rep: Reproduction, out: Path) -> Figure:
@@ -228,8 +241,8 @@ def _fig3(p: Parameters, rep: Reproduction, out: Path) -> Figure:
     fig.tight_layout()
     caption = (
         "Fig. 3. r of the regular equilibrium x_R and of its partner pseudo-equilibrium against γ, solid "
-        "where admissible and dashed where virtual, with the boundary equilibrium bifurcation marked: (a) a "
-        "non-smooth fold with x_P1 at the reference ω; (b) persistence of x_P2 into x_R at ω = 1."
+        f"where admissible and dashed where virtual, with the boundary equilibrium bifurcation marked: (a) "
+        f"{_beb_words(p)} at ω = {p.omega:g}; (b) {_beb_words(p.replace(omega=1.0))} at ω = 1."
     )
     return _save(rep, out, fig, "fig3_equilibria", caption)
 
@@ -247,7 +260,8 @@ def _fig4(p: Parameters, rep: Reproduction, out: Path, g_dib: float | None) -> F
     caption = (
         "Fig. 4. The function F_1(T) whose zeros are the periods of one-impact orbits: (a) on [0, 30] at γ = "
         "0.1 and (b) on [0, 40] at γ = 0.05; (c) its zeros T_0,n,a and T_0,n,b against γ with the smooth "
-        "folds γ_F,1..3 and γ_DIB marked; (d) a sketch of the small orbits born at the boundary equilibrium."
+        f"folds {'γ_F,1..3' if rep.paper else 'γ_F found there'} and γ_DIB marked; (d) a sketch of the small "
+        "orbits born at the boundary equilibrium."
     )
     return _save(rep, out, fig, "fig4_f1", caption)
 
