@@ -351,7 +351,8 @@ def test_reproduce_finishes_where_some_panels_do_not_exist(tmp_path):
         captions = {name: caption for name, caption, _png, _svg in rep.figures}
         assert "local estimate" not in captions["fig5_branches"]
         # the paper's findings are not claimed at other parameters
-        assert "near grazing at γ = 0.065" not in captions["fig2_orbits"] and "paper's values of γ" in captions["fig2_orbits"]
+        assert "near grazing at γ = 0.065" not in captions["fig2_orbits"]
+        assert "paper's values of γ" in captions["fig2_orbits"]
         assert "γ_F,1..3" not in captions["fig4_f1"] and "γ_F found there" in captions["fig4_f1"]
         if change == dict(omega=1.0):  # the paper's Fig. 3(b): persistence at omega = 1
             assert "(a) persistence of x_P2 into x_R at ω = 1;" in captions["fig3_equilibria"]
