@@ -353,6 +353,39 @@ def test_region_labels_lie_inside_their_regions_away_from_the_curves():
         assert d * max(g1 - g0, w1 - w0) > cell, (name, x, y, d)
 
 
+def _covered(ax, text, line):
+    """How many drawn points of ``line`` fall inside the box of ``text`` on the canvas."""
+    fig = ax.figure
+    fig.canvas.draw()
+    box = text.get_window_extent(renderer=fig.canvas.get_renderer())
+    xy = line.get_xydata()
+    px = ax.transData.transform(xy[np.all(np.isfinite(xy), axis=1)])
+    # the segments between the points too, each at 20 points along it
+    s = np.linspace(0.0, 1.0, 20)[:, None, None]
+    px = (px[:-1] + s * (px[1:] - px[:-1])).reshape(-1, 2)
+    inside = (px[:, 0] >= box.x0) & (px[:, 0] <= box.x1) & (px[:, 1] >= box.y0) & (px[:, 1] <= box.y1)
+    return int(inside.sum())
+
+
+def test_the_dib_labels_sit_beside_the_curve_not_on_it():
+    diagram = codim2_diagram(REF, ("gamma", "omega"), ((0.0, 0.5), (0.6, 1.25)))
+    fig, ax = plot_codim2(REF, diagram=diagram, regions=False)
+    (dib,) = lines(ax, "curve:dib")
+    labels = [t for t in ax.texts if (t.get_gid() or "").startswith("dib:")]
+    assert {t.get_text() for t in labels} >= {"NSFH", "NSF", "Pers"}
+    for t in labels:
+        assert _covered(ax, t, dib) == 0, t.get_text()
+        # and close to the point it names: a few points from it
+        assert t.get_anncoords() == "offset points" and np.hypot(*t.get_position()) < 20.0
+
+
+def test_the_label_of_x_r_in_the_schematic_sits_off_its_path():
+    fig, ax = plot_nsfh_schematic(REF)
+    (path,) = lines(ax, "x_R-path")
+    (label,) = [t for t in ax.texts if t.get_gid() == "label:x_R"]
+    assert _covered(ax, label, path) == 0
+
+
 def test_region_label_cells_pick_the_deepest_cell_of_each_part():
     mask = np.zeros((9, 20), dtype=bool)
     mask[1:8, 1:8] = True  # a 7 x 7 square: its centre

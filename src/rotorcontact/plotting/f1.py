@@ -272,7 +272,14 @@ def plot_nsfh_schematic(params: Parameters, *, gamma: float | None = None, ax=No
                     complex(u.real.min(), u.imag.max()), complex(u.real.max(), u.imag.min())])
     k = p.k
     ax.plot([k.real], [k.imag], "o", color="k", ms=5, zorder=4, gid="x_R")
-    ax.annotate(r"$x_R$", (k.real, k.imag), textcoords="offset points", xytext=(5, -10), fontsize=9)
+    # x_R's label across the dotted path from it, on the side away from the wall and the small orbits
+    i = int(np.argmin(np.abs(path - k)))
+    tangent = path[min(i + 1, path.size - 1)] - path[max(i - 1, 0)]
+    normal = 1j * tangent / abs(tangent) if tangent != 0 else -k / abs(k)
+    if (normal * np.conj(-k)).real < 0.0:
+        normal = -normal
+    ax.annotate(r"$x_R$", (k.real, k.imag), textcoords="offset points", xytext=(11 * normal.real, 11 * normal.imag),
+                ha="center", va="center", fontsize=9, gid="label:x_R")
     ax.plot([kb.real], [kb.imag], "s", mfc="white", color="k", ms=6, zorder=4, gid="x_B")
     ax.annotate(r"$x_B$", (kb.real, kb.imag), textcoords="offset points", xytext=(5, 5), fontsize=9)
     pts = np.array(pts)
