@@ -200,7 +200,6 @@ _PARAMETER_RULES: dict[str, dict[str, Any]] = {
 }
 
 
-
 def check_parameter_rows(rows: np.ndarray) -> None:
     """Raise the `ParameterError` of the `Parameters` constructor for the first of ``rows`` that holds a value
     out of its range.

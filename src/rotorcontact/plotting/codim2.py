@@ -23,7 +23,7 @@ from ..errors import ParameterError
 from ..model.params import Parameters
 from ..model.validation import check_bool, check_float, check_params, check_type, quoted, real_array
 from .equilibria import PARAM_LABELS
-from .style import check_ax, new_axes
+from .style import check_ax, new_axes, offset_beside
 
 __all__ = ["plot_codim2", "region_label_cells", "REGION_COLORS", "CURVE_STYLES", "OTHER"]
 
@@ -125,30 +125,6 @@ def _check_labels(labels) -> None:
                              "p1 and p2 finite numbers")
 
 
-def _beside(ax, curves: list[np.ndarray], x: float, y: float, distance: float = 9.0) -> tuple[float, float]:
-    """The offset in points that puts a label of the point (x, y) of one of ``curves`` across the curve from it,
-    along the curve's normal as drawn, on the side away from the middle of that curve (outside a closed one)."""
-    to_px = ax.transData.transform
-    best = None
-    for xy in curves:
-        px = to_px(xy)
-        i = int(np.argmin(np.hypot(*(px - to_px((x, y))).T)))
-        d = float(np.hypot(*(px[i] - to_px((x, y)))))
-        if best is None or d < best[0]:
-            best = (d, px, i)
-    if best is None:
-        return (6.0, 0.0)
-    _d, px, i = best
-    tangent = px[min(i + 1, len(px) - 1)] - px[max(i - 1, 0)]
-    length = float(np.hypot(*tangent))
-    if length == 0.0:
-        return (6.0, 0.0)
-    normal = np.array([-tangent[1], tangent[0]]) / length
-    if np.dot(normal, px[i] - px.mean(axis=0)) < 0.0:
-        normal = -normal
-    return (float(distance * normal[0]), float(distance * normal[1]))
-
-
 def plot_codim2(
     params: Parameters,
     param: Sequence[str] = ("gamma", "omega"),
@@ -246,7 +222,7 @@ def plot_codim2(
     ax.set_ylim(a2, b2)
     dib = [c.xy() for c in diagram.curves.values() if c.kind == "dib" and c.xy().shape[0] >= 2]
     for text, x, y in labels:
-        ax.annotate(text, (x, y), textcoords="offset points", xytext=_beside(ax, dib, x, y), ha="center",
+        ax.annotate(text, (x, y), textcoords="offset points", xytext=offset_beside(ax, dib, x, y), ha="center",
                     va="center", fontsize=9, style="italic", gid=f"dib:{text}")
     ax.set_xlabel(PARAM_LABELS.get(diagram.param[0], diagram.param[0]))
     ax.set_ylabel(PARAM_LABELS.get(diagram.param[1], diagram.param[1]))

@@ -25,7 +25,8 @@ from ..model.params import Parameters, check_range
 from ..model.validation import check_bool, check_float, check_int, check_params, check_type, is_pair, quoted
 from ..continuation.zero_curves import F1ZeroCurves, f1_zero_curves
 from .equilibria import PARAM_LABELS
-from .style import CLEARANCE_COLOR, MAX_PLOT_POINTS, check_ax, check_limits, new_axes, orbit_tex
+from .style import (CLEARANCE_COLOR, MAX_PLOT_POINTS, check_ax, check_limits, new_axes, offset_beside,
+                    orbit_tex)
 
 __all__ = ["plot_f1", "plot_f1_zeros", "plot_nsfh_schematic", "PAIR_COLORS"]
 
@@ -272,14 +273,7 @@ def plot_nsfh_schematic(params: Parameters, *, gamma: float | None = None, ax=No
                     complex(u.real.min(), u.imag.max()), complex(u.real.max(), u.imag.min())])
     k = p.k
     ax.plot([k.real], [k.imag], "o", color="k", ms=5, zorder=4, gid="x_R")
-    # x_R's label across the dotted path from it, on the side away from the wall and the small orbits
-    i = int(np.argmin(np.abs(path - k)))
-    tangent = path[min(i + 1, path.size - 1)] - path[max(i - 1, 0)]
-    normal = 1j * tangent / abs(tangent) if tangent != 0 else -k / abs(k)
-    if (normal * np.conj(-k)).real < 0.0:
-        normal = -normal
-    ax.annotate(r"$x_R$", (k.real, k.imag), textcoords="offset points", xytext=(11 * normal.real, 11 * normal.imag),
-                ha="center", va="center", fontsize=9, gid="label:x_R")
+    x_r_at = (k.real, k.imag)
     ax.plot([kb.real], [kb.imag], "s", mfc="white", color="k", ms=6, zorder=4, gid="x_B")
     ax.annotate(r"$x_B$", (kb.real, kb.imag), textcoords="offset points", xytext=(5, 5), fontsize=9)
     pts = np.array(pts)
@@ -288,6 +282,11 @@ def plot_nsfh_schematic(params: Parameters, *, gamma: float | None = None, ax=No
     ax.set_xlim(cx - half, cx + half)
     ax.set_ylim(cy - half, cy + half)
     ax.set_aspect("equal")
+    # x_R's label across the dotted path from it, away from the wall, near which the small orbits lie
+    wall = k / abs(k)
+    ax.annotate(r"$x_R$", x_r_at, textcoords="offset points", ha="center", va="center", fontsize=9, gid="label:x_R",
+                xytext=offset_beside(ax, [np.column_stack([path.real, path.imag])], *x_r_at, distance=11.0,
+                                     away_from=(wall.real, wall.imag)))
     ax.set_xlabel(r"$\mathrm{Re}\,U$")
     ax.set_ylabel(r"$\mathrm{Im}\,U$")
     from matplotlib.lines import Line2D

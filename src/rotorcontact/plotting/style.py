@@ -216,3 +216,31 @@ def save_figure(fig, path) -> Path:
     fig.savefig(path, dpi=150, bbox_inches="tight")
     plt.close(fig)
     return path
+
+
+def offset_beside(ax, curves: Sequence[np.ndarray], x: float, y: float, *, away_from: tuple[float, float] | None = None,
+                  distance: float = 9.0) -> tuple[float, float]:
+    """The offset in points that puts a label of the point (x, y) of one of ``curves`` (arrays of (x, y) rows)
+    across the curve from it: along the curve's normal as drawn, on the side away from ``away_from`` (default:
+    the middle of that curve, so outside a closed one). Call it once the axes' limits and aspect are set."""
+    to_px = ax.transData.transform
+    at = to_px((x, y))
+    best = None
+    for xy in curves:
+        px = to_px(np.asarray(xy, dtype=float))
+        i = int(np.argmin(np.hypot(*(px - at).T)))
+        d = float(np.hypot(*(px[i] - at)))
+        if best is None or d < best[0]:
+            best = (d, px, i)
+    if best is None:
+        return (6.0, 0.0)
+    _d, px, i = best
+    tangent = px[min(i + 1, len(px) - 1)] - px[max(i - 1, 0)]
+    length = float(np.hypot(*tangent))
+    if length == 0.0:
+        return (6.0, 0.0)
+    normal = np.array([-tangent[1], tangent[0]]) / length
+    away = px.mean(axis=0) if away_from is None else to_px(away_from)
+    if np.dot(normal, px[i] - away) < 0.0:
+        normal = -normal
+    return (float(distance * normal[0]), float(distance * normal[1]))
