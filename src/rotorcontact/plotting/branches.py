@@ -47,6 +47,7 @@ __all__ = [
     "compute_branches",
     "EVENT_MARKERS",
     "EVENT_NAMES",
+    "point_style",
 ]
 
 #: Colour of each branch letter.
@@ -84,12 +85,15 @@ def compute_branches(params: Parameters, param: str = "gamma", start: float = -0
     return orbit_branches(params, param, start, stop, **kwargs)
 
 
-def _style(admissible: bool, plausible: bool, stable) -> str:
-    if not admissible:
+def point_style(b: LabelBranch, i: int) -> str:
+    """How point i of a label's branch is drawn: ``"virtual"`` (rdot < 0), ``"implausible"`` (no orbit of the
+    simulator: r > 1 between impacts, or no forward slip), else ``"plausible-stable"`` or
+    ``"plausible-unstable"`` (stability unknown counts as unstable)."""
+    if not b.admissible[i]:
         return "virtual"
-    if not plausible:
+    if not b.plausible[i]:
         return "implausible"
-    return "plausible-stable" if stable else "plausible-unstable"
+    return "plausible-stable" if b.stable[i] else "plausible-unstable"
 
 
 _LINE = {
@@ -105,7 +109,7 @@ def _draw_styled(ax, label: str, x: np.ndarray, y: np.ndarray, b: LabelBranch, c
     idx = np.arange(sl.start, sl.stop)
     if idx.size == 0:
         return
-    styles = [_style(bool(b.admissible[i]), bool(b.plausible[i]), b.stable[i]) for i in idx]
+    styles = [point_style(b, i) for i in idx]
     for style, start, stop in style_runs(styles):
         run = idx[start:stop]
         ax.plot(x[run], y[run], color=color, gid=f"{label}:{style}", **_LINE[style])
@@ -531,8 +535,7 @@ def plot_extrema(
         color = BRANCH_COLORS.get(label.split(",")[1], "k")
         for sl in b.pieces():
             idx = np.arange(sl.start, sl.stop)
-            keys = [(len(b.extrema[i][0]), _style(bool(b.admissible[i]), bool(b.plausible[i]), b.stable[i]))
-                    for i in idx]
+            keys = [(len(b.extrema[i][0]), point_style(b, i)) for i in idx]
             # a change of style alone: the runs share their end point (no gap); a change of the number of
             # extrema: the curves of extrema themselves change there
             for (count, style), start, stop in style_runs(keys, lambda key, following: key[0] == following[0]):

@@ -11,9 +11,9 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from ..errors import ParameterError  # noqa: E402
-from ..io.netcdf import check_output_folder  # noqa: E402
-from ..model.validation import check_float, check_path, check_type, is_pair, quoted, real_array  # noqa: E402
+from ..errors import ParameterError
+from ..io.netcdf import check_output_folder
+from ..model.validation import check_float, check_path, check_type, is_pair, quoted, real_array
 
 CLEARANCE_COLOR = "0.6"
 #: Suffixes of the figure files `save_figure` writes.

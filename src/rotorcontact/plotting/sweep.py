@@ -198,23 +198,15 @@ MARKED_EVENTS = {"fold": "fold", "period-doubling": "PD", "neimark-sacker": "NS"
                  "branch-point": "BP", "nsfh": "NSFH"}
 
 
-#: Line style of a continued one-impact orbit on a sweep, by its kind where admissible.
-_BRANCH_STYLES = {"stable": "-", "unstable": "--", "implausible": ":"}
-
-
-def _branch_kind(b, i: int) -> str | None:
-    """The kind of point i of a label's branch: None where virtual, ``"implausible"`` where it is no orbit of the
-    simulator (r > 1 between impacts, or no forward slip), else stable or unstable."""
-    if not b.admissible[i]:
-        return None
-    if not b.plausible[i]:
-        return "implausible"
-    return "stable" if b.stable[i] is True else "unstable"
+#: Name and line style of a continued one-impact orbit on a sweep, by its points' style
+#: (`rotorcontact.plotting.branches.point_style`; virtual points are not drawn).
+_BRANCH_STYLES = {"plausible-stable": ("stable", "-"), "plausible-unstable": ("unstable", "--"),
+                  "implausible": ("implausible", ":")}
 
 
 def _draw_branches(ax, branches, variable: str) -> None:
     from ..continuation.branches import refine_branches
-    from .branches import REFINED_POINTS
+    from .branches import REFINED_POINTS, point_style
 
     lo, hi = branches.start, branches.stop
     # beside a bifurcation the continuation's steps are coarse: refined, the runs of each kind meet there
@@ -226,13 +218,14 @@ def _draw_branches(ax, branches, variable: str) -> None:
         first = True
         for sl in b.pieces():
             idx = np.arange(sl.start, sl.stop)
-            kinds = [_branch_kind(b, i) for i in idx]
-            # a run of one kind ends on the first point of the next (no gap), not on a virtual one
-            for kind, start, stop in style_runs(kinds, lambda key, following: following is not None):
-                if kind is None:
+            styles = [point_style(b, i) for i in idx]
+            # a run of one style ends on the first point of the next (no gap), not on a virtual one
+            for style, start, stop in style_runs(styles, lambda key, following: following != "virtual"):
+                if style == "virtual":
                     continue
+                kind, ls = _BRANCH_STYLES[style]
                 run = idx[start:stop]
-                ax.plot(b.values[run], y[run], ls=_BRANCH_STYLES[kind], lw=0.9, color=color, zorder=2,
+                ax.plot(b.values[run], y[run], ls=ls, lw=0.9, color=color, zorder=2,
                         gid=f"branch:{label}:{kind}", label=f"{label} (continued)" if first else None)
                 first = False
     # events at one value (the NSFH of B1,a and B1,b) get one mark, naming every orbit
