@@ -168,6 +168,7 @@ __all__ = [
     "flight_growth",
     "period_limit",
     "searchable_t_max",
+    "admissible_orbits",
     "check_growth",
     "one_impact_orbits",
     "orbit_stability",
@@ -991,6 +992,12 @@ def searchable_t_max(params: Parameters, t_max: float) -> float:
     check_params(params)
     t_max = check_range("t_max", t_max, low=0.0, low_open=True)
     return min(t_max, period_limit(params), MAX_T_MAX)
+
+
+def admissible_orbits(params: Parameters, t_max: float) -> list[ImpactOrbit]:
+    """The admissible one-impact orbits at ``params`` with periods up to ``t_max``, or as far as they can be
+    searched there (`searchable_t_max`): those a study's simulations may reach and name."""
+    return [o for o in one_impact_orbits(params, t_max=searchable_t_max(params, t_max)) if o.admissible]
 
 
 def _check_t_max(params: Parameters, t_max) -> float:

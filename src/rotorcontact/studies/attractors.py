@@ -47,7 +47,7 @@ from ..errors import ParameterError
 from ..model.params import Machine, Parameters, check_finite
 from ..model.validation import (check_bool, check_float, check_int, check_machine, check_params, check_type, quoted,
                                 real_array)
-from .basins import DEFAULT_CHUNK, BasinGrid, _orbit_table, class_names, name_points, parse_grid
+from .basins import DEFAULT_CHUNK, BasinGrid, class_names, name_points, parse_grid
 from .batch import NSUM, PARAMETER_ORDER, BatchResult, BatchSettings, check_batch_settings, parameter_array
 from .driver import run_study
 from .execution import ChunkTask, backend_manifest, check_chunk_size, study_digest
@@ -369,10 +369,12 @@ def attractors(
         raise ParameterError(f"t_lyapunov = {t_lyapunov!r} is invalid; allowed: 0 < t_lyapunov <= 1e5")
     chunk_size = check_chunk_size(chunk_size)
     states = []
+    from ..maps.impact_map import admissible_orbits
+
     for v, p in zip(vals, path):
         try:
             states.append(grid.initial_states(p))
-            _orbit_table(p, 12.0)  # orbits that cannot be named are refused before the simulations run
+            admissible_orbits(p, 12.0)  # orbits that cannot be named are refused before the simulations run
         except ParameterError as exc:
             raise ParameterError(f"{param} = {float(v)!r}: {exc}") from None
     inside = states[0][2]

@@ -173,14 +173,6 @@ class BasinResult:
         return self.fractions.get(key, 0.0)
 
 
-def _orbit_table(params: Parameters, t_max: float):
-    """The admissible one-impact orbits with periods up to ``t_max``, or as far as they can be searched at
-    ``params`` (`rotorcontact.maps.impact_map.searchable_t_max`: strong damping shortens it)."""
-    from ..maps.impact_map import one_impact_orbits, searchable_t_max
-
-    return [o for o in one_impact_orbits(params, t_max=searchable_t_max(params, t_max)) if o.admissible]
-
-
 def classify(result: BatchResult, orbits, match_tol: float) -> tuple[np.ndarray, np.ndarray]:
     """Class codes (for `class_names` of the orbits' labels) and the index of the matched orbit (-1: none).
 
@@ -301,7 +293,9 @@ def basins(
     row = parameter_array(params)
     flat = np.flatnonzero(inside.ravel())
     n_valid = flat.size
-    _orbit_table(params, 12.0)  # orbits that cannot be named are refused before the simulations run
+    from ..maps.impact_map import admissible_orbits
+
+    admissible_orbits(params, 12.0)  # orbits that cannot be named are refused before the simulations run
     manifest = {
         "study": "basins",
         "params": params.as_dict(),
@@ -384,14 +378,17 @@ def name_points(result: BatchResult, params: Parameters, inside: np.ndarray, mat
     """Class codes of the points of a batch (0, ``"outside"``, where not ``inside``) and the orbits named.
 
     The one-impact orbits are those of the impact map at ``params`` with periods up to 1.25 times the
-    longest period found (at least 12), as far as they can be searched (`_orbit_table`); codes index
+    longest period found (at least 12), as far as they can be searched
+    (`rotorcontact.maps.impact_map.admissible_orbits`); codes index
     `class_names` of their labels.
     """
     one = (result.regime == PERIODIC) & (result.impacts_per_period == 1) & inside
     t_max = 12.0
     if one.any():
         t_max = max(t_max, 1.25 * float(np.nanmax(result.period[one])))
-    orbits = _orbit_table(params, t_max)
+    from ..maps.impact_map import admissible_orbits
+
+    orbits = admissible_orbits(params, t_max)
     codes, _matched = classify(result, orbits, match_tol)
     codes[~inside] = 0
     return codes, orbits

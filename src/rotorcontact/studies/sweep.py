@@ -151,9 +151,9 @@ def start_state(params: Parameters, start: str) -> tuple[complex, complex]:
                 f"(|k| = {abs(k):.6g} >= 1)"
             )
         return complex(k), 0j
-    from ..maps.impact_map import one_impact_orbits, searchable_t_max
+    from ..maps.impact_map import admissible_orbits
 
-    orbits = [o for o in one_impact_orbits(params, searchable_t_max(params, 12.0)) if o.admissible]
+    orbits = admissible_orbits(params, 12.0)
     for o in orbits:
         if o.label == start:
             u0, du0 = o.initial_condition()
