@@ -75,22 +75,26 @@ def complex_quotient(a: complex, b: complex) -> complex:
 
 
 @njit(cache=True)
-def int_power(x: float, n: int) -> float:
-    """x**n for an integer n by binary powering, as numba computes ``x ** n`` (Python calls pow); 1 / x**-n
-    for n < 0."""
-    inverse = n < 0  # not by recursion, which numba-cuda cannot compile
-    if inverse:
-        n = -n
-        if n < 0:  # -2**63, whose 64-bit negation is itself: the first step of powering 2**63 (a zero bit)
-            n = 1 << 62
-            x *= x
+def _positive_power(x: float, n: int) -> float:
+    """x**n for an integer n >= 0 by binary powering (`int_power`)."""
     r = 1.0
     while n != 0:
         if n & 1:
             r *= x
         n >>= 1
         x *= x
-    return 1.0 / r if inverse else r
+    return r
+
+
+@njit(cache=True)
+def int_power(x: float, n: int) -> float:
+    """x**n for an integer n by binary powering, as numba computes ``x ** n`` (Python calls pow); 1 / x**-n
+    for n < 0."""
+    if n >= 0:
+        return _positive_power(x, n)
+    if -n < 0:  # -2**63, whose 64-bit negation is itself: its first step (a zero bit) here, not by recursion
+        return 1.0 / _positive_power(x * x, 1 << 62)
+    return 1.0 / _positive_power(x, -n)
 
 
 class _OutOfTime(BaseException):
