@@ -30,7 +30,9 @@ from rotorcontact.studies.batch import (
     SECTION_BYTES,
     check_batch_settings,
     final_state,
+    lane_arguments,
     parameter_array,
+    run_lane_block,
     run_lanes,
     simulate_batch,
 )
@@ -150,6 +152,35 @@ def test_every_lane_is_run_once_whatever_the_workers(n_lanes, carry):
         alone = run_lanes(rows[lane:lane + 1], u0[lane:lane + 1], du0[lane:lane + 1], st, carry=carry)
         for g, r in zip(alone, ref):
             assert _same(g[0], r[lane])
+
+
+@pytest.mark.parametrize("carry", [False, True])
+def test_blocks_of_lanes_fill_their_rows_with_the_bits_of_one_call(carry):
+    st = BatchSettings(n_transient=120, n_record=30)
+    rows = parameter_array([REF.replace(gamma=g) for g in np.linspace(0.07, 0.19, 14)]).reshape(7, 2, -1)
+    u0 = np.linspace(-0.4, 0.4, 14).reshape(7, 2) * (1 - 0.3j)
+    du0 = np.zeros_like(u0)
+    ref = run_lanes(rows, u0, du0, st, carry=carry, parallel=False)
+    args = lane_arguments(rows, u0, du0, st, carry=carry)
+    # out of order, of uneven sizes, each written into its own rows and nowhere else
+    args[-2].fill(np.pi)
+    args[-1].fill(np.pi)
+    written = np.zeros(7, bool)
+    for start, stop in [(5, 7), (0, 1), (1, 5)]:
+        run_lane_block(args, start, stop)
+        written[start:stop] = True
+        assert np.all(args[-2][~written] == np.pi) and np.all(args[-1][~written] == np.pi)
+    for got, want in zip(args[-2:], ref):
+        assert _same(got, want)
+
+
+@pytest.mark.parametrize("start, stop", [(-1, 2), (0, 0), (3, 2), (0, 8), (7, 8), (1.5, 3)])
+def test_a_block_of_lanes_must_lie_within_the_lanes(start, stop):
+    st = BatchSettings(n_transient=10, n_record=5)
+    args = lane_arguments(parameter_array([REF] * 7).reshape(7, 1, -1), np.zeros((7, 1)), np.zeros((7, 1)), st,
+                          carry=False)
+    with pytest.raises(ParameterError, match=r"^(start|stop) = .* is invalid"):
+        run_lane_block(args, start, stop)
 
 
 def test_dealt_order_gives_each_worker_lanes_spread_over_the_batch():

@@ -529,3 +529,101 @@ def test_study_digest_is_exact_in_every_float_and_refuses_objects_it_cannot_writ
 
     with pytest.raises(ParameterError, match="type Opaque"):
         study_digest({"settings": [Opaque()]})
+
+
+def _chunk_tasks(lanes: list[int], steps: int = 2) -> list:
+    """Chunk tasks of the given lane counts, over a spread of gammas and starts."""
+    from rotorcontact.studies.batch import BatchSettings, parameter_array
+    from rotorcontact.studies.execution import ChunkTask
+    from reference_parameters import REF
+
+    st = BatchSettings(n_transient=80, n_record=20)
+    tasks = []
+    for k, n in enumerate(lanes):
+        gammas = np.linspace(0.07, 0.19, n * steps) + 0.001 * k
+        rows = parameter_array([REF.replace(gamma=g) for g in gammas]).reshape(n, steps, -1)
+        u0 = np.linspace(-0.4, 0.4, n * steps).reshape(n, steps) * (1 - 0.3j)
+        tasks.append(ChunkTask(key=f"c{k}", params=rows, u0=u0, du0=np.zeros_like(u0), carry=k % 2 == 1,
+                               settings=st))
+    return tasks
+
+
+def _lane_threads() -> list:
+    import threading
+
+    return [t for t in threading.enumerate() if t.name.startswith("rotorcontact-lanes-")]
+
+
+@pytest.mark.parametrize("threads", [1, 2, 5])
+def test_threads_in_process_give_every_chunk_the_bits_of_one_core(threads):
+    from rotorcontact.studies.execution import InProcessExecutor, run_task
+
+    tasks = _chunk_tasks([9, 1, 4, 13])
+    tasks.insert(2, _Ones("other"))
+    executor = InProcessExecutor()
+    executor.threads = threads  # Python threads: as many as asked, whatever numba's count
+    got = dict(executor.run(tasks))
+    assert sorted(got) == list(range(len(tasks)))
+    for i, task in enumerate(tasks):
+        want = run_task(task, parallel=False)
+        assert sorted(got[i]) == sorted(want)
+        for name in want:
+            assert got[i][name].tobytes() == want[name].tobytes(), (i, name)
+    assert not _lane_threads()
+
+
+def test_guided_claims_cover_every_lane_once_and_shrink_as_the_wave_runs_out():
+    from rotorcontact.studies.execution import GUIDED_SHARES, _GuidedLanes
+
+    lanes, threads = [10, 3, 200, 1, 60], 3
+    guided = _GuidedLanes(_chunk_tasks(lanes, steps=1), threads)
+    claims = []
+    while (claim := guided._claim()) is not None:
+        claims.append(claim)
+        assert len(claims) <= sum(lanes)
+    covered = [np.zeros(n, int) for n in lanes]
+    for k, first, end in claims:
+        assert 0 <= first < end <= lanes[k]
+        covered[k][first:end] += 1
+    assert all(np.all(c == 1) for c in covered)
+    # the first claim is a share of the whole wave, the last ones single lanes; a block never grows
+    # except where a chunk ended it early
+    total = sum(lanes)
+    assert claims[0][2] - claims[0][1] == min(lanes[0], -(-total // (GUIDED_SHARES * threads)))
+    assert [end - first for _, first, end in claims[-3:]] == [1, 1, 1]
+    big = [end - first for k, first, end in claims if k == 2]
+    assert big == sorted(big, reverse=True) and big[0] > 1
+
+
+def test_an_error_in_a_thread_is_raised_by_the_study_and_the_threads_end(monkeypatch):
+    from rotorcontact.studies import execution
+
+    real, calls = execution.run_lane_block, []
+
+    def failing(args, first, end):
+        calls.append(first)
+        if len(calls) == 3:
+            raise FloatingPointError("block three")
+        real(args, first, end)
+
+    monkeypatch.setattr(execution, "run_lane_block", failing)
+    executor = execution.InProcessExecutor()
+    executor.threads = 3
+    with pytest.raises(FloatingPointError, match="block three"):
+        list(executor.run(_chunk_tasks([6, 6, 6])))
+    assert not _lane_threads()
+
+
+def test_a_wave_left_early_claims_no_more_lanes_and_its_threads_end():
+    from rotorcontact.studies.execution import InProcessExecutor, _GuidedLanes
+
+    executor = InProcessExecutor()
+    executor.threads = 2
+    wave = executor.run(_chunk_tasks([1] + [8] * 12, steps=1))
+    next(wave)
+    wave.close()
+    assert not _lane_threads()
+    # and a guided pool that was told to stop hands out nothing more
+    guided = _GuidedLanes(_chunk_tasks([4]), 2)
+    guided.stop = True
+    assert guided._claim() is None

@@ -725,26 +725,8 @@ def run_lanes(
         workers (`dealt_order`; default: as many as numba's threads, at most one per lane), so that each
         thread gets lanes spread over the batch.
     """
-    params, u0, du0 = check_lanes(params, u0, du0, settings)
-    n_lanes, n_steps = params.shape[:2]
-    keep = settings.keep
-    sections = np.empty((n_lanes, n_steps, keep, 4))
-    summary = np.empty((n_lanes, n_steps, NSUM))
-    # writable C-contiguous copies where needed: one compiled signature for every call
-    args = (
-        np.require(params, dtype=np.float64, requirements=["C", "W"]),
-        np.require(u0, dtype=np.complex128, requirements=["C", "W"]),
-        np.require(du0, dtype=np.complex128, requirements=["C", "W"]),
-        bool(carry),
-        settings.n_transient,
-        settings.n_record,
-        settings.transient_time,
-        settings.record_time,
-        settings.settle,
-        settings.chatter_values,
-        sections,
-        summary,
-    )
+    args = lane_arguments(params, u0, du0, settings, carry=carry)
+    n_lanes = args[0].shape[0]
     if workers is None:
         workers = min(int(numba.get_num_threads()), n_lanes)
     workers = check_int("workers", workers, 1)
@@ -756,7 +738,48 @@ def run_lanes(
             numba.set_parallel_chunksize(old)
     else:
         _batch_serial(*args)
-    return sections, summary
+    return args[-2], args[-1]
+
+
+def lane_arguments(params: np.ndarray, u0: np.ndarray, du0: np.ndarray, settings: BatchSettings, *,
+                   carry: bool) -> tuple:
+    """The batch kernel's arguments for lanes (checked by `check_lanes`), with fresh result arrays
+    (``sections`` and ``summary``, the last two), for `run_lanes` or for blocks of lanes (`run_lane_block`)."""
+    params, u0, du0 = check_lanes(params, u0, du0, settings)
+    n_lanes, n_steps = params.shape[:2]
+    keep = settings.keep
+    # writable C-contiguous copies where needed: one compiled signature for every call
+    return (
+        np.require(params, dtype=np.float64, requirements=["C", "W"]),
+        np.require(u0, dtype=np.complex128, requirements=["C", "W"]),
+        np.require(du0, dtype=np.complex128, requirements=["C", "W"]),
+        bool(carry),
+        settings.n_transient,
+        settings.n_record,
+        settings.transient_time,
+        settings.record_time,
+        settings.settle,
+        settings.chatter_values,
+        np.empty((n_lanes, n_steps, keep, 4)),
+        np.empty((n_lanes, n_steps, NSUM)),
+    )
+
+
+def run_lane_block(args: tuple, start: int, stop: int) -> None:
+    """Lanes ``start`` to ``stop`` (excluded) of `lane_arguments`'s ``args`` on one core with the GIL released,
+    into their rows of its result arrays: the same numbers, bit for bit, as the lanes run in one call.
+
+    Raises
+    ------
+    ParameterError
+        Unless 0 <= start < stop <= the number of lanes.
+    """
+    n_lanes = args[0].shape[0]
+    check_int("start", start, 0, n_lanes - 1)
+    check_int("stop", stop, start + 1, n_lanes)
+    # slices along the first axis of C-contiguous arrays stay C-contiguous: the same compiled signature
+    block = slice(start, stop)
+    _batch_serial(args[0][block], args[1][block], args[2][block], *args[3:10], args[10][block], args[11][block])
 
 
 def simulate_batch(

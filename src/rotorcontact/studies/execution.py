@@ -60,7 +60,7 @@ from typing import Any, Iterable, Iterator
 
 import numpy as np
 
-from .batch import NSUM, BatchSettings, run_lanes
+from .batch import NSUM, BatchSettings, lane_arguments, run_lane_block, run_lanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
 from ..model.validation import check_bool, check_int, check_path, quoted
@@ -245,17 +245,20 @@ class _Executor:
         self.close(abort=exc_type is not None)
 
 
-#: Lanes per thread that the in-process executor gathers into one kernel call, stacking consecutive chunks:
-#: each call ends when its slowest thread does, and more lanes per thread even out their work.
-STACK_LANES_PER_THREAD = 16
+#: Guided self-scheduling of the in-process executor's threads: a thread claims the lanes left in the wave
+#: divided by this many times the threads (at least one lane, at most the rest of its chunk), so that claims
+#: shrink as the wave runs out and the threads finish together.
+GUIDED_SHARES = 4
 
 
 class InProcessExecutor(_Executor):
-    """Chunks in this process; the lanes of a chunk in parallel over numba's threads.
+    """Chunks in this process, over as many threads as numba has (`numba.get_num_threads`).
 
-    Consecutive chunks are stacked into one kernel call of at least `STACK_LANES_PER_THREAD` lanes per
-    thread (where the wave has them), so that the threads share out many lanes before they wait for
-    each other.
+    On one thread the chunks run one after the other. On several, the threads share out the lanes of the
+    whole wave by guided self-scheduling (`GUIDED_SHARES`): each claims a block of lanes of one chunk and
+    runs it through the single-core kernel with the GIL released (`rotorcontact.studies.batch.run_lane_block`),
+    then claims the next, so that no thread waits for another before the wave runs out. The results are
+    those of any other executor, bit for bit. Tasks of another kind run by themselves, over all threads.
     """
 
     name = "in-process"
@@ -266,8 +269,94 @@ class InProcessExecutor(_Executor):
         self.threads = int(numba.get_num_threads())
 
     def run(self, tasks):
-        enough = self.threads * STACK_LANES_PER_THREAD if self.threads > 1 else 1
-        yield from _run_stacked(tasks, enough, lambda task: run_task(task, parallel=True))
+        if self.threads == 1:
+            yield from _run_stacked(tasks, 1, lambda task: run_task(task, parallel=False))
+            return
+        for i, task in enumerate(tasks):
+            if not _has_lanes(task):
+                yield i, run_task(task, parallel=True)
+        yield from _GuidedLanes(tasks, self.threads).run()
+
+
+def _has_lanes(task: Any) -> bool:
+    return isinstance(task, ChunkTask) and task.params.shape[0] > 0
+
+
+class _GuidedLanes:
+    """The `ChunkTask` s of a wave that have lanes, their lanes claimed in blocks by ``threads`` threads (`InProcessExecutor`)."""
+
+    def __init__(self, tasks: list, threads: int) -> None:
+        self.tasks = [(i, t) for i, t in enumerate(tasks) if _has_lanes(t)]
+        self.threads = threads
+        self.lanes_left = sum(t.params.shape[0] for _, t in self.tasks)
+        self.lock = threading.Lock()
+        self.finished: queue.Queue = queue.Queue()
+        self.stop = False
+        self.current = 0  # the chunk whose lanes are being claimed ...
+        self.next_lane = 0  # ... and its first lane not yet claimed
+        self.arguments: dict[int, tuple] = {}  # kernel arguments (results included) of the chunks under way
+        self.lanes_done: dict[int, int] = {}
+
+    def _claim(self) -> tuple[int, int, int] | None:
+        """(chunk, first lane, end) of the next block, or None when none is left; under the lock."""
+        if self.stop or self.current >= len(self.tasks):
+            return None
+        k = self.current
+        task = self.tasks[k][1]
+        if self.next_lane == 0:
+            # the results of a chunk are made when its first block is claimed: a wave's are not all held at once
+            self.arguments[k] = lane_arguments(task.params, task.u0, task.du0, task.settings, carry=task.carry)
+            self.lanes_done[k] = 0
+        n_lanes = task.params.shape[0]
+        first = self.next_lane
+        size = min(n_lanes - first, max(1, -(-self.lanes_left // (GUIDED_SHARES * self.threads))))
+        self.next_lane += size
+        self.lanes_left -= size
+        if self.next_lane == n_lanes:
+            self.current += 1
+            self.next_lane = 0
+        return k, first, first + size
+
+    def _work(self) -> None:
+        try:
+            while True:
+                with self.lock:
+                    block = self._claim()
+                if block is None:
+                    return
+                k, first, end = block
+                run_lane_block(self.arguments[k], first, end)
+                with self.lock:
+                    self.lanes_done[k] += end - first
+                    if self.lanes_done[k] == self.tasks[k][1].params.shape[0]:
+                        self.finished.put(k)
+        except BaseException as exc:  # handed to the thread that yields the results, which raises it
+            with self.lock:
+                self.stop = True
+            self.finished.put(exc)
+
+    def run(self) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+        """Yields (index in the wave, arrays) for every chunk of the wave, as each is finished."""
+        if not self.tasks:
+            return
+        workers = [threading.Thread(target=self._work, name=f"rotorcontact-lanes-{n}", daemon=True)
+                   for n in range(min(self.threads, self.lanes_left))]
+        for worker in workers:
+            worker.start()
+        try:
+            for _ in range(len(self.tasks)):
+                k = self.finished.get()
+                if isinstance(k, BaseException):
+                    raise k
+                with self.lock:
+                    arguments = self.arguments.pop(k)
+                yield self.tasks[k][0], {"sections": arguments[-2], "summary": arguments[-1]}
+        finally:
+            # left early (an error, an interrupt, or the caller's): no more claims; blocks under way finish
+            with self.lock:
+                self.stop = True
+            for worker in workers:
+                worker.join()
 
 
 def _run_stacked(tasks: list, enough: int, compute) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
