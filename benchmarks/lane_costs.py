@@ -1,16 +1,17 @@
-"""How evenly the threads share a sweep: the cost of each value, and the idle share of ways of dealing lanes.
+"""How evenly the threads share a sweep: the cost of each value, and the idle share of ways of sharing lanes.
 
 Problem: the gamma sweep of sweep.py (``--n`` values; with ``--every k``, every k-th of them, a sweep of
 n/k values over the same range), each value run alone on one core
 (`rotorcontact.studies.batch.simulate_batch`, ``parallel=False``). From the measured costs it computes,
-for ``--threads`` threads and kernel calls of C lanes, the share of the threads' time spent waiting for
-the slowest thread of each call, where the lanes of a call are given to the threads
+for ``--threads`` threads, the share of the threads' time spent waiting for the slowest, where
 
-* in contiguous blocks (numba's static schedule of a ``prange`` over lanes), or
-* in turn, lane i to thread i mod T (the batch kernel's order, `rotorcontact.studies.batch.dealt_order`, under
-  a static schedule).
+* the threads claim blocks of lanes of the whole sweep as they finish the last (the present scheduling,
+  `rotorcontact.studies.guided`, whose own claims are replayed against the costs), or, over kernel calls
+  of C lanes each ending when its slowest thread does (earlier versions),
+* the lanes of a call go in contiguous blocks (numba's static schedule of a ``prange`` over lanes), or
+* in turn, lane i to thread i mod T (under a static schedule).
 
-Prints the costs' spread and one line per call size; the last line ``json: {...}``.
+Prints the costs' spread, the guided idle share and one line per call size; the last line ``json: {...}``.
 
 Run: python benchmarks/lane_costs.py [--n 4000] [--every 1] [--threads 16]
 """
@@ -18,6 +19,7 @@ Run: python benchmarks/lane_costs.py [--n 4000] [--every 1] [--threads 16]
 from __future__ import annotations
 
 import argparse
+import heapq
 import json
 import time
 
@@ -25,6 +27,7 @@ import numpy as np
 
 import rotorcontact as rc
 from rotorcontact.studies.batch import simulate_batch
+from rotorcontact.studies.guided import GuidedLanes
 from rotorcontact.studies.sweep import sweep_values
 from sweep_problem import add_problem_options
 
@@ -37,6 +40,17 @@ def idle_share(cost: np.ndarray, threads: int, call: int, dealt: bool) -> float:
         parts = [lanes[t::threads] for t in range(threads)] if dealt else np.array_split(lanes, threads)
         wall += max(part.sum() for part in parts)
     return 1.0 - cost.sum() / (threads * wall)
+
+
+def guided_idle_share(cost: np.ndarray, threads: int) -> float:
+    """Share of ``threads`` threads' time spent waiting when they claim blocks of the lanes
+    (`GuidedLanes.claim`) as they finish, each block costing the sum of its lanes."""
+    guided = GuidedLanes([(cost.size, lambda: None)], lambda *_: None, threads)
+    free = [(0.0, t) for t in range(threads)]  # (time the thread is free, thread)
+    while (block := guided.claim()) is not None:
+        at, t = heapq.heappop(free)
+        heapq.heappush(free, (at + cost[block[1]:block[2]].sum(), t))
+    return 1.0 - cost.sum() / (threads * max(at for at, _ in free))
 
 
 def main() -> None:
@@ -57,6 +71,8 @@ def main() -> None:
         cost[i] = time.perf_counter() - t0
     print(f"{timed.size} of {values.size} values timed: {1e3 * cost.mean():.2f} ms on average, "
           f"{1e3 * cost.min():.2f} to {1e3 * cost.max():.2f} ms (sd {1e3 * cost.std():.2f} ms)")
+    guided = guided_idle_share(cost, args.threads)
+    print(f"claimed in guided blocks by {args.threads} threads: idle {100 * guided:5.1f} %")
     rows = []
     for call in (64, 128, 256, 512, 1024, timed.size):
         blocks = idle_share(cost, args.threads, call, dealt=False)
@@ -65,7 +81,7 @@ def main() -> None:
         print(f"calls of {call:5d} lanes on {args.threads} threads: idle {100 * blocks:5.1f} % in contiguous "
               f"blocks, {100 * dealt:5.1f} % dealt in turn")
     print("json: " + json.dumps(dict(n=args.n, every=args.every, threads=args.threads,
-                                     mean_ms=round(1e3 * cost.mean(), 3), runs=rows)))
+                                     mean_ms=round(1e3 * cost.mean(), 3), idle_guided=round(guided, 4), runs=rows)))
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ Claims checked here:
 * an item of a batch is the single simulator run twice (transient, then the
   recorded window from the state where the transient stopped), bit for bit;
 * a chain with the state carried along is the same runs one after the other;
-* the parallel (prange) and single-core kernels agree bit for bit;
+* lanes shared out among threads and run on one core agree bit for bit;
 * the simulations of a lane share one set of tables, and an item gives the same
   bits wherever it runs in a lane, after long or short, impacting or contact runs;
 * the window's regime is `rotorcontact.simulation.motion.classify`'s verdict on the same
@@ -22,7 +22,6 @@ import pytest
 
 from rotorcontact import ParameterError, simulate
 from rotorcontact.studies.batch import (
-    dealt_order,
     PARAMETER_ORDER,
     REGIME_NAMES,
     BatchResult,
@@ -132,8 +131,8 @@ def test_parallel_and_single_core_kernels_agree_bit_for_bit():
 @pytest.mark.parametrize("carry", [False, True])
 @pytest.mark.parametrize("n_lanes", [1, 2, 3, 7])
 def test_every_lane_is_run_once_whatever_the_workers(n_lanes, carry):
-    # lanes are dealt out to the workers in turn: fewer lanes than workers, as many, and a remainder; the
-    # workers may be more than numba's threads
+    # threads share out the lanes: fewer lanes than threads, as many, and more; the threads may be more
+    # than numba's
     st = BatchSettings(n_transient=120, n_record=30)
     rows = parameter_array([REF.replace(gamma=g) for g in np.linspace(0.07, 0.19, 2 * n_lanes)])
     rows = rows.reshape(n_lanes, 2, -1)
@@ -181,17 +180,6 @@ def test_a_block_of_lanes_must_lie_within_the_lanes(start, stop):
                           carry=False)
     with pytest.raises(ParameterError, match=r"^(start|stop) = .* is invalid"):
         run_lane_block(args, start, stop)
-
-
-def test_dealt_order_gives_each_worker_lanes_spread_over_the_batch():
-    assert dealt_order(7, 3).tolist() == [0, 3, 6, 1, 4, 2, 5]
-    assert dealt_order(4, 8).tolist() == [0, 1, 2, 3] and dealt_order(5, 1).tolist() == [0, 1, 2, 3, 4]
-    for n, w in [(64, 16), (4000, 16), (100, 7)]:
-        order = dealt_order(n, w)
-        assert sorted(order.tolist()) == list(range(n))
-        # a static schedule's equal contiguous parts of the order hold lanes w apart
-        for part in np.array_split(order, w):
-            assert np.all(np.diff(part) == w)
 
 
 def test_workers_must_be_a_positive_integer():

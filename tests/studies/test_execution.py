@@ -572,29 +572,6 @@ def test_threads_in_process_give_every_chunk_the_bits_of_one_core(threads):
     assert not _lane_threads()
 
 
-def test_guided_claims_cover_every_lane_once_and_shrink_as_the_wave_runs_out():
-    from rotorcontact.studies.execution import GUIDED_SHARES, _GuidedLanes
-
-    lanes, threads = [10, 3, 200, 1, 60], 3
-    guided = _GuidedLanes(_chunk_tasks(lanes, steps=1), threads)
-    claims = []
-    while (claim := guided._claim()) is not None:
-        claims.append(claim)
-        assert len(claims) <= sum(lanes)
-    covered = [np.zeros(n, int) for n in lanes]
-    for k, first, end in claims:
-        assert 0 <= first < end <= lanes[k]
-        covered[k][first:end] += 1
-    assert all(np.all(c == 1) for c in covered)
-    # the first claim is a share of the whole wave, the last ones single lanes; a block never grows
-    # except where a chunk ended it early
-    total = sum(lanes)
-    assert claims[0][2] - claims[0][1] == min(lanes[0], -(-total // (GUIDED_SHARES * threads)))
-    assert [end - first for _, first, end in claims[-3:]] == [1, 1, 1]
-    big = [end - first for k, first, end in claims if k == 2]
-    assert big == sorted(big, reverse=True) and big[0] > 1
-
-
 def test_an_error_in_a_thread_is_raised_by_the_study_and_the_threads_end(monkeypatch):
     from rotorcontact.studies import execution
 
@@ -615,7 +592,7 @@ def test_an_error_in_a_thread_is_raised_by_the_study_and_the_threads_end(monkeyp
 
 
 def test_a_wave_left_early_claims_no_more_lanes_and_its_threads_end():
-    from rotorcontact.studies.execution import InProcessExecutor, _GuidedLanes
+    from rotorcontact.studies.execution import InProcessExecutor
 
     executor = InProcessExecutor()
     executor.threads = 2
@@ -623,7 +600,3 @@ def test_a_wave_left_early_claims_no_more_lanes_and_its_threads_end():
     next(wave)
     wave.close()
     assert not _lane_threads()
-    # and a guided pool that was told to stop hands out nothing more
-    guided = _GuidedLanes(_chunk_tasks([4]), 2)
-    guided.stop = True
-    assert guided._claim() is None

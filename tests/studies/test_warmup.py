@@ -32,20 +32,19 @@ def test_one_group_may_be_given_by_its_name():
     assert list(warm_up("simulate")) == ["simulate"]
 
 
-def test_warm_up_of_the_studies_compiles_the_kernels_of_threads_and_of_worker_processes():
-    # in a fresh process on one thread, which alone would run neither the parallel kernel nor, in a study,
-    # the single-core one of worker processes
+def test_warm_up_of_the_studies_compiles_the_batch_kernel_and_the_comparison_of_angles():
+    # in a fresh process on one thread
     import os
     import subprocess
     import sys
 
     code = ("from rotorcontact.studies.warmup import warm_up\n"
-            "from rotorcontact.studies.batch import _batch_parallel, _batch_serial\n"
+            "from rotorcontact.studies.batch import _batch_serial\n"
             "from rotorcontact.model.angles import _wrap_many\n"
             "warm_up(['studies'])\n"
-            "print(len(_batch_parallel.signatures), len(_batch_serial.signatures), len(_wrap_many.signatures))\n")
+            "print(len(_batch_serial.signatures), len(_wrap_many.signatures))\n")
     env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr
     # and the classification's comparison of angles, which a study runs on all its points at once
-    assert out.stdout.split() == ["1", "1", "1"]
+    assert out.stdout.split() == ["1", "1"]

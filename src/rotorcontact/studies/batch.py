@@ -22,7 +22,8 @@ period, irregular impacting, forward rub, backward whirl, mixed) with the rules 
 `rotorcontact.simulation.motion.classify`, applied to the window.
 
 Items are laid out as *lanes* of *steps*. Lanes are independent and run in
-parallel over cores (numba ``prange``), spread over the threads (`dealt_order`).
+parallel over cores: threads claim blocks of lanes as they finish the last
+(`rotorcontact.studies.guided`), each block through the single-core kernel.
 Within a lane the steps run in order; with ``carry=True`` each step starts from the state where the previous step
 ended (a sweep with the state carried along), otherwise every step starts from
 its own initial state.
@@ -41,7 +42,7 @@ from typing import Any, Sequence
 
 import numba
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from ..errors import ParameterError
 from .window import (
@@ -98,6 +99,7 @@ from ..simulation.simulator import (
     simulate_into,
 )
 from .compact_batch import compact_lane, ring_buffer
+from .guided import GuidedLanes
 from ..simulation.contact import ACCUMULATION, KIND_NAMES, SLIDE_FORWARD
 
 __all__ = [
@@ -292,32 +294,6 @@ def _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record
         u, du, tables = _run_item(params[lane, s], u, du, n_transient, n_record, t_transient, t_record, settle,
                                   chatter, sections[lane, s], summary[lane, s], tables)
     return tables
-
-
-@njit(cache=True, parallel=True)
-def _batch_parallel(params, u0, du0, carry, n_transient, n_record, t_transient, t_record, settle, chatter,
-                    sections, summary, order):
-    """The batch kernel: the lanes in parallel over numba's threads (``prange``), taken in the order ``order``
-    (`dealt_order`), each with its own buffers.
-
-    Neighbouring lanes (neighbouring parameter values or initial states) tend to cost alike. A static schedule
-    (numba's OpenMP and workqueue threading layers) gives each thread a contiguous part of ``order``, which
-    holds lanes spread over the whole batch rather than a block of neighbours; TBB hands out one lane at a
-    time (`run_lanes` sets a chunk size of one) to the threads as they finish.
-    """
-    for i in prange(order.size):
-        lane = order[i]
-        # the lane without tables (its first step handed back, if any, and the state where that step starts)
-        first, u, du = compact_lane(lane, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
-                                    settle, *chatter, sections, summary, ring_buffer())
-        if first >= 0:
-            _run_steps(lane, first, u, du, params, u0, du0, carry, n_transient, n_record, t_transient, t_record,
-                       settle, chatter, sections, summary, new_tables())
-
-
-def dealt_order(n_lanes: int, workers: int) -> np.ndarray:
-    """Lanes 0, w, 2w, ..., then 1, w + 1, ..., up to w - 1, ...: the lanes as dealt out in turn to ``workers``."""
-    return np.argsort(np.arange(n_lanes) % workers, kind="stable")
 
 
 @njit(cache=True, nogil=True)
@@ -718,25 +694,21 @@ def run_lanes(
     carry : bool
         Carry the state along each lane.
     parallel : bool
-        Lanes in parallel over numba's threads (``prange``), dealt out to them in turn; otherwise on one
-        core with the GIL released. The results are the same bit for bit.
+        Lanes shared out among threads in blocks (`rotorcontact.studies.guided`), each block on one core
+        with the GIL released; otherwise all on one core. The results are the same bit for bit.
     workers : int, optional
-        With ``parallel``, the lanes are taken in the order of their dealing out in turn to this many
-        workers (`dealt_order`; default: as many as numba's threads, at most one per lane), so that each
-        thread gets lanes spread over the batch.
+        With ``parallel``, the threads that share out the lanes (default: as many as numba's,
+        `numba.get_num_threads`); at most one per lane is started.
     """
     args = lane_arguments(params, u0, du0, settings, carry=carry)
     n_lanes = args[0].shape[0]
     if workers is None:
-        workers = min(int(numba.get_num_threads()), n_lanes)
-    workers = check_int("workers", workers, 1)
+        workers = int(numba.get_num_threads())
+    workers = min(check_int("workers", workers, 1), n_lanes)
     if parallel and workers > 1:
-        old = numba.set_parallel_chunksize(1)  # a lane at a time where the threading layer schedules dynamically
-        try:
-            _batch_parallel(*args, dealt_order(n_lanes, workers))
-        finally:
-            numba.set_parallel_chunksize(old)
-    else:
+        for _ in GuidedLanes([(n_lanes, lambda: args)], run_lane_block, workers).run():
+            pass
+    elif n_lanes:
         _batch_serial(*args)
     return args[-2], args[-1]
 
@@ -792,7 +764,7 @@ def simulate_batch(
     parallel: bool = True,
     **kwargs: Any,
 ) -> BatchResult:
-    """Simulate many (parameters, initial state) pairs in one compiled, parallel call.
+    """Simulate many (parameters, initial state) pairs through the compiled batch kernel, in parallel.
 
     Parameters
     ----------
@@ -811,8 +783,9 @@ def simulate_batch(
         ``u0`` and ``du0`` give one state per chain (or one per item, of
         which the first of each chain is used). Chains run in parallel.
     parallel : bool
-        Run over all cores (numba ``prange``); False runs on one core. Both
-        give the same results bit for bit.
+        Run over numba's threads (`numba.get_num_threads`, all cores by default), which share out the
+        lanes (`rotorcontact.studies.guided`); False runs on one core. Both give the same results bit for
+        bit.
 
     Returns
     -------

@@ -54,6 +54,7 @@ import time
 import warnings
 from concurrent.futures import CancelledError
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from collections.abc import Mapping, MutableMapping
 from typing import Any, Iterable, Iterator
@@ -61,6 +62,7 @@ from typing import Any, Iterable, Iterator
 import numpy as np
 
 from .batch import NSUM, BatchSettings, lane_arguments, run_lane_block, run_lanes
+from .guided import GuidedLanes
 from ..errors import ParameterError
 from .netcdf import read_finished, umask_permissions, write_netcdf
 from ..model.validation import check_bool, check_int, check_path, quoted
@@ -245,19 +247,14 @@ class _Executor:
         self.close(abort=exc_type is not None)
 
 
-#: Guided self-scheduling of the in-process executor's threads: a thread claims the lanes left in the wave
-#: divided by this many times the threads (at least one lane, at most the rest of its chunk), so that claims
-#: shrink as the wave runs out and the threads finish together.
-GUIDED_SHARES = 4
-
-
 class InProcessExecutor(_Executor):
     """Chunks in this process, over as many threads as numba has (`numba.get_num_threads`).
 
     On one thread the chunks run one after the other. On several, the threads share out the lanes of the
-    whole wave by guided self-scheduling (`GUIDED_SHARES`): each claims a block of lanes of one chunk and
-    runs it through the single-core kernel with the GIL released (`rotorcontact.studies.batch.run_lane_block`),
-    then claims the next, so that no thread waits for another before the wave runs out. The results are
+    whole wave by guided self-scheduling (`rotorcontact.studies.guided`): each claims a block of lanes of
+    one chunk and runs it through the single-core kernel with the GIL released
+    (`rotorcontact.studies.batch.run_lane_block`), then claims the next, so that no thread waits for another
+    before the wave runs out. The results are
     those of any other executor, bit for bit. Tasks of another kind run by themselves, over all threads.
     """
 
@@ -275,88 +272,21 @@ class InProcessExecutor(_Executor):
         for i, task in enumerate(tasks):
             if not _has_lanes(task):
                 yield i, run_task(task, parallel=True)
-        yield from _GuidedLanes(tasks, self.threads).run()
+        yield from _guided_wave(tasks, self.threads)
 
 
 def _has_lanes(task: Any) -> bool:
     return isinstance(task, ChunkTask) and task.params.shape[0] > 0
 
 
-class _GuidedLanes:
-    """The `ChunkTask` s of a wave that have lanes, their lanes claimed in blocks by ``threads`` threads (`InProcessExecutor`)."""
-
-    def __init__(self, tasks: list, threads: int) -> None:
-        self.tasks = [(i, t) for i, t in enumerate(tasks) if _has_lanes(t)]
-        self.threads = threads
-        self.lanes_left = sum(t.params.shape[0] for _, t in self.tasks)
-        self.lock = threading.Lock()
-        self.finished: queue.Queue = queue.Queue()
-        self.stop = False
-        self.current = 0  # the chunk whose lanes are being claimed ...
-        self.next_lane = 0  # ... and its first lane not yet claimed
-        self.arguments: dict[int, tuple] = {}  # kernel arguments (results included) of the chunks under way
-        self.lanes_done: dict[int, int] = {}
-
-    def _claim(self) -> tuple[int, int, int] | None:
-        """(chunk, first lane, end) of the next block, or None when none is left; under the lock."""
-        if self.stop or self.current >= len(self.tasks):
-            return None
-        k = self.current
-        task = self.tasks[k][1]
-        if self.next_lane == 0:
-            # the results of a chunk are made when its first block is claimed: a wave's are not all held at once
-            self.arguments[k] = lane_arguments(task.params, task.u0, task.du0, task.settings, carry=task.carry)
-            self.lanes_done[k] = 0
-        n_lanes = task.params.shape[0]
-        first = self.next_lane
-        size = min(n_lanes - first, max(1, -(-self.lanes_left // (GUIDED_SHARES * self.threads))))
-        self.next_lane += size
-        self.lanes_left -= size
-        if self.next_lane == n_lanes:
-            self.current += 1
-            self.next_lane = 0
-        return k, first, first + size
-
-    def _work(self) -> None:
-        try:
-            while True:
-                with self.lock:
-                    block = self._claim()
-                if block is None:
-                    return
-                k, first, end = block
-                run_lane_block(self.arguments[k], first, end)
-                with self.lock:
-                    self.lanes_done[k] += end - first
-                    if self.lanes_done[k] == self.tasks[k][1].params.shape[0]:
-                        self.finished.put(k)
-        except BaseException as exc:  # handed to the thread that yields the results, which raises it
-            with self.lock:
-                self.stop = True
-            self.finished.put(exc)
-
-    def run(self) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
-        """Yields (index in the wave, arrays) for every chunk of the wave, as each is finished."""
-        if not self.tasks:
-            return
-        workers = [threading.Thread(target=self._work, name=f"rotorcontact-lanes-{n}", daemon=True)
-                   for n in range(min(self.threads, self.lanes_left))]
-        for worker in workers:
-            worker.start()
-        try:
-            for _ in range(len(self.tasks)):
-                k = self.finished.get()
-                if isinstance(k, BaseException):
-                    raise k
-                with self.lock:
-                    arguments = self.arguments.pop(k)
-                yield self.tasks[k][0], {"sections": arguments[-2], "summary": arguments[-1]}
-        finally:
-            # left early (an error, an interrupt, or the caller's): no more claims; blocks under way finish
-            with self.lock:
-                self.stop = True
-            for worker in workers:
-                worker.join()
+def _guided_wave(tasks: list, threads: int) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
+    """The chunks of a wave that have lanes, their lanes shared out among ``threads`` threads
+    (`rotorcontact.studies.guided`); yields (index in the wave, arrays) as each chunk is finished."""
+    chunks = [(i, t) for i, t in enumerate(tasks) if _has_lanes(t)]
+    jobs = [(t.params.shape[0], partial(lane_arguments, t.params, t.u0, t.du0, t.settings, carry=t.carry))
+            for _, t in chunks]
+    for k, args in GuidedLanes(jobs, run_lane_block, threads).run():
+        yield chunks[k][0], {"sections": args[-2], "summary": args[-1]}
 
 
 def _run_stacked(tasks: list, enough: int, compute) -> Iterator[tuple[int, dict[str, np.ndarray]]]:

@@ -33,13 +33,10 @@ def _studies() -> None:
     from ..studies.sweep import sweep
 
     p = Parameters.reference()
-    # both batch kernels, whatever this process's threads: the parallel one, which a study's process runs on
-    # its threads, and the single-core one, which worker processes (joblib, Dask) and one thread run
+    # the batch kernel, which a study's threads and its worker processes (joblib, Dask) all run
     rows = parameter_array([p, p]).reshape(2, 1, -1)
     u0 = np.array([[0j], [0.5 + 0j]])
-    for parallel in (True, False):
-        run_lanes(rows, u0, np.zeros_like(u0), BatchSettings(n_transient=5, n_record=5), carry=False,
-                  parallel=parallel, workers=2)
+    run_lanes(rows, u0, np.zeros_like(u0), BatchSettings(n_transient=5, n_record=5), carry=False, parallel=False)
     # the classification compares the angles of all of a study's points in one call (basins of periodic
     # orbits, attractors): interpreted, that call takes about 0.4 s per 250,000 points
     angle_difference(np.zeros(2), np.zeros(2))
