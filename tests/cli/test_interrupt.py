@@ -86,3 +86,31 @@ def test_ctrl_c_ends_every_worker_and_exits_with_one_line(tmp_path, execution, w
     assert stdout == ""
     # no worker outlives the command
     assert _wait_for(lambda: not _session(proc.pid), timeout=60), [p.cmdline() for p in _session(proc.pid)]
+
+
+def test_ctrl_c_during_a_study_on_this_process_threads_exits_promptly_with_one_line(tmp_path):
+    # the threads of this process share out the chunks' lanes (studies.guided): an interrupt ends the
+    # command at once, whatever its threads are running
+    out = tmp_path / "study.nc"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "rotorcontact.cli.main", *STUDY, "--out", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+    )
+    try:
+        chunks = tmp_path / "study.nc.chunks"
+        started = _wait_for(lambda: chunks.exists() and any(chunks.glob("*.npz")), timeout=240)
+        assert started and proc.poll() is None, proc.communicate(timeout=60)
+        os.killpg(proc.pid, signal.SIGINT)
+        sent = time.monotonic()
+        stdout, stderr = proc.communicate(timeout=120)
+        waited = time.monotonic() - sent
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+    assert proc.returncode == 130, stderr
+    lines = [line for line in stderr.splitlines() if line.strip() and not line.startswith("note:")]
+    assert lines == ["rotorcontact sweep: interrupted"], stderr
+    assert stdout == ""
+    # the whole study is about 2e8 impacts: a minute or more on 2 cores
+    assert waited < 20.0, waited

@@ -4,6 +4,7 @@ runs out; errors raised to the caller; no thread left running."""
 from __future__ import annotations
 
 import itertools
+import signal
 import threading
 import time
 
@@ -165,6 +166,29 @@ def test_threads_that_cannot_all_be_started_stop_the_work(monkeypatch):
     monkeypatch.undo()
     assert guided.stopped.is_set() and not _lane_threads()
     assert counts[0].max() <= 1
+
+
+@pytest.mark.skipif(not hasattr(signal, "pthread_kill"), reason="POSIX signals to a thread")
+def test_an_interrupt_of_the_waiting_thread_stops_the_claims_and_ends_the_threads():
+    # Ctrl-C in a Python session: SIGINT, and so KeyboardInterrupt, in the main thread, which waits for
+    # the results; about a second of work, interrupted at its third block
+    assert threading.current_thread() is threading.main_thread()
+    blocks = itertools.count()
+
+    def interrupting(prepared, first, end):
+        if next(blocks) == 2:
+            signal.pthread_kill(threading.main_thread().ident, signal.SIGINT)
+        time.sleep(0.001 * (end - first))
+        _count(prepared, first, end)
+
+    jobs, counts = _counting_jobs([2000])
+    guided = GuidedLanes(jobs, interrupting, 2)
+    with pytest.raises(KeyboardInterrupt):
+        for _ in guided.run():
+            pass
+    assert guided.stopped.is_set() and not _lane_threads()
+    # the claims stopped: far from every lane was run, none twice
+    assert counts[0].max() <= 1 and counts[0].sum() < 2000
 
 
 def test_no_jobs_is_no_work():
