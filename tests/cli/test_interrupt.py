@@ -35,6 +35,16 @@ def _session(sid: int) -> list:
     return out
 
 
+def _start(args: list) -> subprocess.Popen:
+    """The command in a session of its own, with Ctrl-C's default action: a shell that runs the tests in the
+    background (``pytest &``) has them ignore SIGINT, and a child inherits that."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "rotorcontact.cli.main", *args],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+
+
 def _wait_for(predicate, timeout: float) -> bool:
     end = time.monotonic() + timeout
     while time.monotonic() < end:
@@ -56,10 +66,7 @@ def _wait_for(predicate, timeout: float) -> bool:
 )
 def test_ctrl_c_ends_every_worker_and_exits_with_one_line(tmp_path, execution, whole_group):
     out = tmp_path / "study.nc"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "rotorcontact.cli.main", *STUDY, *execution, "--out", str(out)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-    )
+    proc = _start([*STUDY, *execution, "--out", str(out)])
     try:
         # the study runs once its chunk folder exists and its workers are up
         started = _wait_for(
@@ -92,10 +99,7 @@ def test_ctrl_c_during_a_study_on_this_process_threads_exits_promptly_with_one_l
     # the threads of this process share out the chunks' lanes (studies.guided): an interrupt ends the
     # command at once, whatever its threads are running
     out = tmp_path / "study.nc"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "rotorcontact.cli.main", *STUDY, "--out", str(out)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-    )
+    proc = _start([*STUDY, "--out", str(out)])
     try:
         chunks = tmp_path / "study.nc.chunks"
         started = _wait_for(lambda: chunks.exists() and any(chunks.glob("*.npz")), timeout=240)

@@ -600,3 +600,18 @@ def test_a_wave_left_early_claims_no_more_lanes_and_its_threads_end():
     next(wave)
     wave.close()
     assert not _lane_threads()
+
+
+def test_a_study_left_by_an_exception_between_two_chunks_ends_its_threads():
+    # the wave's generator is left suspended (and kept alive by the test's own reference, as a traceback
+    # would): leaving the executor stops its threads instead of letting them run the wave out
+    from rotorcontact.studies.execution import InProcessExecutor
+
+    with pytest.raises(ValueError, match="the caller failed"):
+        with InProcessExecutor() as executor:
+            executor.threads = 2
+            wave = executor.run(_chunk_tasks([1] + [8] * 12, steps=1))
+            next(wave)
+            raise ValueError("the caller failed")
+    assert not _lane_threads()
+    del wave

@@ -264,6 +264,7 @@ class InProcessExecutor(_Executor):
         import numba
 
         self.threads = int(numba.get_num_threads())
+        self._guided: GuidedLanes | None = None
 
     def run(self, tasks):
         if self.threads == 1:
@@ -272,21 +273,24 @@ class InProcessExecutor(_Executor):
         for i, task in enumerate(tasks):
             if not _has_lanes(task):
                 yield i, run_task(task, parallel=True)
-        yield from _guided_wave(tasks, self.threads)
+        # the chunks that have lanes, their lanes shared out among the threads
+        chunks = [(i, t) for i, t in enumerate(tasks) if _has_lanes(t)]
+        jobs = [(t.params.shape[0], partial(lane_arguments, t.params, t.u0, t.du0, t.settings, carry=t.carry))
+                for _, t in chunks]
+        self._guided = GuidedLanes(jobs, run_lane_block, self.threads)
+        for k, args in self._guided.run():
+            yield chunks[k][0], {"sections": args[-2], "summary": args[-1]}
+
+    def close(self, abort: bool = False) -> None:
+        # a study left by an exception while this wave's generator is suspended keeps it alive (its traceback
+        # holds it): its threads are stopped here rather than left to run the wave out
+        guided, self._guided = self._guided, None
+        if guided is not None:
+            guided.stop()
 
 
 def _has_lanes(task: Any) -> bool:
     return isinstance(task, ChunkTask) and task.params.shape[0] > 0
-
-
-def _guided_wave(tasks: list, threads: int) -> Iterator[tuple[int, dict[str, np.ndarray]]]:
-    """The chunks of a wave that have lanes, their lanes shared out among ``threads`` threads
-    (`rotorcontact.studies.guided`); yields (index in the wave, arrays) as each chunk is finished."""
-    chunks = [(i, t) for i, t in enumerate(tasks) if _has_lanes(t)]
-    jobs = [(t.params.shape[0], partial(lane_arguments, t.params, t.u0, t.du0, t.settings, carry=t.carry))
-            for _, t in chunks]
-    for k, args in GuidedLanes(jobs, run_lane_block, threads).run():
-        yield chunks[k][0], {"sections": args[-2], "summary": args[-1]}
 
 
 def _run_stacked(tasks: list, enough: int, compute) -> Iterator[tuple[int, dict[str, np.ndarray]]]:

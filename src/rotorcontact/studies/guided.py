@@ -60,8 +60,9 @@ class GuidedLanes:
         self.lanes_left = sum(n for n, _ in self.jobs)
         self.lock = threading.Lock()
         self.finished: queue.Queue = queue.Queue()
-        self.stopped = threading.Event()  # no more claims (set without the lock: see `run`)
+        self.stopped = threading.Event()  # no more claims (set without the lock: see `stop`)
         self.started = False
+        self.workers: list[threading.Thread] = []
         self.current = 0  # the job whose lanes are being claimed ...
         self.next_lane = 0  # ... and its first lane not yet claimed
         self.prepared: dict[int, Any] = {}  # the jobs under way
@@ -113,7 +114,8 @@ class GuidedLanes:
         """Yields (job index, prepared job) for every job, as each is finished.
 
         An error in a thread is raised here. Leaving the iteration early (an error, an interrupt, or the
-        caller's own choice) stops the claims; the blocks under way finish before it returns.
+        caller's own choice) stops the claims; the blocks under way finish before it returns. A caller that
+        leaves it without closing it (an exception raised while it is suspended keeps it alive) calls `stop`.
 
         Raises
         ------
@@ -125,32 +127,35 @@ class GuidedLanes:
         self.started = True
         if not self.jobs:
             return
-        workers: list[threading.Thread] = []
         try:
             for n in range(min(self.threads, self.lanes_left)):
                 worker = threading.Thread(target=self._work, name=f"rotorcontact-lanes-{n}", daemon=True)
                 worker.start()
-                workers.append(worker)
+                self.workers.append(worker)
             for _ in range(len(self.jobs)):
-                k = self._next_finished(workers)
+                k = self._next_finished()
                 if isinstance(k, BaseException):
                     raise k
                 with self.lock:
                     prepared = self.prepared.pop(k)
                 yield k, prepared
         finally:
-            # no lock here: this may run in any thread (a generator let go in a reference cycle is closed
-            # by the garbage collector, possibly in a worker that holds the lock)
-            self.stopped.set()
-            for worker in workers:
-                if worker is not threading.current_thread():
-                    worker.join()
+            self.stop()
 
-    def _next_finished(self, workers: list[threading.Thread]) -> Any:
+    def stop(self) -> None:
+        """Stop the claims and wait for the blocks under way; the threads have ended when it returns."""
+        # no lock here: this may run in any thread (a generator let go in a reference cycle is closed by the
+        # garbage collector, possibly in a worker that holds the lock)
+        self.stopped.set()
+        for worker in self.workers:
+            if worker is not threading.current_thread():
+                worker.join()
+
+    def _next_finished(self) -> Any:
         """The next finished job (or a thread's error); an error if every thread ended without one."""
         while True:
             try:
                 return self.finished.get(timeout=_POLL_S)
             except queue.Empty:
-                if not any(worker.is_alive() for worker in workers) and self.finished.empty():
+                if not any(worker.is_alive() for worker in self.workers) and self.finished.empty():
                     raise RuntimeError("the threads ended with jobs unfinished") from None
