@@ -18,7 +18,8 @@ speed-up that T fully independent single-core runs reach on this machine
 (shared caches, memory bandwidth, clock speed under load, a virtual machine's
 neighbours), the ceiling for any threads or workers.
 
-Prints numba's version and threading layer, then, per run: wall time, speed-up over the first run (one thread by
+Prints numba's version and threading layer (which the studies' threads, Python threads, do not use), then,
+per run: wall time, speed-up over the first run (one thread by
 default), parallel efficiency, impacts per second, the CPU time of this
 process's threads in user and in system (kernel) mode and its minor page
 faults (time spent in the kernel, on page faults or locks, grows with
@@ -28,8 +29,11 @@ line ``json: {...}`` with the same figures. Targets (issue: start-up and
 speed): at least 13x over one core on 16 cores; executors within 15 % of the
 in-process threads.
 
+``--executors joblib,dask-local`` (any of joblib, dask-local, joblib-warm, dask-running) runs only those;
+joblib-warm reuses the workers that the joblib run started.
+
 Run: python benchmarks/scaling.py [--n 4000] [--transient 4000] [--record 1000]
-     [--threads 1,2,4,8,16] [--executors] [--ceiling] [--ceiling-values 200]
+     [--threads 1,2,4,8,16] [--executors [RUNS]] [--ceiling] [--ceiling-values 200]
 The kernels must be compiled beforehand (``rotorcontact warmup --only studies``,
 or any earlier run); a short run loads them first so that no timing includes it.
 """
@@ -75,6 +79,10 @@ def same_bits(a, b) -> bool:
         and np.ascontiguousarray(a[n].values).tobytes() == np.ascontiguousarray(b[n].values).tobytes()
         for n in names
     )
+
+
+#: The executor runs of ``--executors``.
+EXECUTOR_RUNS = ("joblib", "dask-local", "joblib-warm", "dask-running")
 
 
 def run_options(transient: int, record: int) -> dict:
@@ -146,13 +154,19 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     add_problem_options(ap, n=4000)
     ap.add_argument("--threads", default=None, help="comma-separated thread counts (default 1, 2, 4, ... cores)")
-    ap.add_argument("--executors", action="store_true", help="also joblib and a Dask LocalCluster")
+    ap.add_argument("--executors", nargs="?", const=",".join(EXECUTOR_RUNS), default=None,
+                    help="also joblib and a Dask LocalCluster; optionally a comma-separated choice of "
+                         f"{', '.join(EXECUTOR_RUNS)} (default: all)")
     ap.add_argument("--ceiling", action="store_true", help="first measure the machine's own ceiling")
     ap.add_argument("--ceiling-values", type=int, default=200, help="values of each process's piece")
     args = ap.parse_args()
     cores = available_cores()
     threads = [int(t) for t in args.threads.split(",")] if args.threads else default_threads(cores)
     threads = [t for t in threads if 1 <= t <= numba.config.NUMBA_NUM_THREADS]
+    chosen = args.executors.split(",") if args.executors else []
+    unknown = sorted(set(chosen) - set(EXECUTOR_RUNS))
+    if unknown:
+        raise SystemExit(f"--executors: {unknown[0]!r} is not one of {', '.join(EXECUTOR_RUNS)}")
     if not threads:
         raise SystemExit(f"--threads: no count between 1 and numba's {numba.config.NUMBA_NUM_THREADS} threads")
     p = rc.Parameters.reference()
@@ -204,6 +218,8 @@ def main() -> None:
                 ("joblib-warm", dict(n_jobs=t), "the same workers again, started"),
                 ("dask-running", "cluster", "a running cluster whose workers have run a chunk"))
         for runner, extra, how in runs:
+            if runner not in chosen:
+                continue
             with contextlib.ExitStack() as stack:
                 if extra == "cluster":
                     extra = dict(scheduler=stack.enter_context(running_cluster(t)))
