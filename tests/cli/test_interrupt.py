@@ -54,6 +54,29 @@ def _wait_for(predicate, timeout: float) -> bool:
     return False
 
 
+def _interrupted(proc: subprocess.Popen, ready, interrupt) -> tuple[str, str, float]:
+    """Once ``ready()`` holds, ``interrupt()``; the command's output and the seconds it took to end after
+    the interrupt. The command is killed if it is still running when this returns."""
+    try:
+        assert _wait_for(ready, timeout=240) and proc.poll() is None, proc.communicate(timeout=60)
+        interrupt()
+        sent = time.monotonic()
+        stdout, stderr = proc.communicate(timeout=120)
+        return stdout, stderr, time.monotonic() - sent
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def _check_interrupted(proc: subprocess.Popen, stdout: str, stderr: str) -> None:
+    """Status 130, one line on stderr, nothing on stdout."""
+    assert proc.returncode == 130, stderr
+    lines = [line for line in stderr.splitlines() if line.strip() and not line.startswith("note:")]
+    assert lines == ["rotorcontact sweep: interrupted"], stderr
+    assert stdout == ""
+
+
 @pytest.mark.parametrize(
     "execution, whole_group",
     [
@@ -65,32 +88,25 @@ def _wait_for(predicate, timeout: float) -> bool:
     ids=["joblib-terminal", "joblib-parent-only", "dask-terminal", "joblib-more-jobs-than-cores"],
 )
 def test_ctrl_c_ends_every_worker_and_exits_with_one_line(tmp_path, execution, whole_group):
-    out = tmp_path / "study.nc"
-    proc = _start([*STUDY, *execution, "--out", str(out)])
-    try:
-        # the study runs once its chunk folder exists and its workers are up
-        started = _wait_for(
-            lambda: (tmp_path / "study.nc.chunks").exists() and len(_session(proc.pid)) >= 3, timeout=240
-        )
-        assert started and proc.poll() is None, proc.communicate(timeout=60)
+    proc = _start([*STUDY, *execution, "--out", str(tmp_path / "study.nc")])
+
+    def interrupt():
         time.sleep(1.0)
         # at most one worker per core, besides the command and the resource trackers
-        workers = [p for p in _session(proc.pid) if p.pid != proc.pid and "resource_tracker" not in " ".join(p.cmdline())]
+        workers = [p for p in _session(proc.pid)
+                   if p.pid != proc.pid and "resource_tracker" not in " ".join(p.cmdline())]
         assert len(workers) <= min(int(execution[-1]), available_cores()), \
             [p.cmdline() for p in workers]
         if whole_group:
             os.killpg(proc.pid, signal.SIGINT)
         else:
             os.kill(proc.pid, signal.SIGINT)
-        stdout, stderr = proc.communicate(timeout=120)
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
-    assert proc.returncode == 130, stderr
-    lines = [line for line in stderr.splitlines() if line.strip() and not line.startswith("note:")]
-    assert lines == ["rotorcontact sweep: interrupted"], stderr
-    assert stdout == ""
+
+    # the study runs once its chunk folder exists and its workers are up
+    stdout, stderr, _ = _interrupted(
+        proc, lambda: (tmp_path / "study.nc.chunks").exists() and len(_session(proc.pid)) >= 3, interrupt
+    )
+    _check_interrupted(proc, stdout, stderr)
     # no worker outlives the command
     assert _wait_for(lambda: not _session(proc.pid), timeout=60), [p.cmdline() for p in _session(proc.pid)]
 
@@ -98,23 +114,10 @@ def test_ctrl_c_ends_every_worker_and_exits_with_one_line(tmp_path, execution, w
 def test_ctrl_c_during_a_study_on_this_process_threads_exits_promptly_with_one_line(tmp_path):
     # the threads of this process share out the chunks' lanes (studies.guided): an interrupt ends the
     # command at once, whatever its threads are running
-    out = tmp_path / "study.nc"
-    proc = _start([*STUDY, "--out", str(out)])
-    try:
-        chunks = tmp_path / "study.nc.chunks"
-        started = _wait_for(lambda: chunks.exists() and any(chunks.glob("*.npz")), timeout=240)
-        assert started and proc.poll() is None, proc.communicate(timeout=60)
-        os.killpg(proc.pid, signal.SIGINT)
-        sent = time.monotonic()
-        stdout, stderr = proc.communicate(timeout=120)
-        waited = time.monotonic() - sent
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
-    assert proc.returncode == 130, stderr
-    lines = [line for line in stderr.splitlines() if line.strip() and not line.startswith("note:")]
-    assert lines == ["rotorcontact sweep: interrupted"], stderr
-    assert stdout == ""
+    proc = _start([*STUDY, "--out", str(tmp_path / "study.nc")])
+    chunks = tmp_path / "study.nc.chunks"
+    stdout, stderr, waited = _interrupted(proc, lambda: chunks.exists() and any(chunks.glob("*.npz")),
+                                          lambda: os.killpg(proc.pid, signal.SIGINT))
+    _check_interrupted(proc, stdout, stderr)
     # the whole study is about 2e8 impacts: a minute or more on 2 cores
     assert waited < 20.0, waited
