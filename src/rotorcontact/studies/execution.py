@@ -254,8 +254,8 @@ class InProcessExecutor(_Executor):
     whole wave by guided self-scheduling (`rotorcontact.studies.guided`): each claims a block of lanes of
     one chunk and runs it through the single-core kernel with the GIL released
     (`rotorcontact.studies.batch.run_lane_block`), then claims the next, so that no thread waits for another
-    before the wave runs out. The results are
-    those of any other executor, bit for bit. Tasks of another kind run by themselves, over all threads.
+    before the wave runs out. The results are those of any other executor, bit for bit. Tasks of another
+    kind run by themselves, over all threads.
     """
 
     name = "in-process"
