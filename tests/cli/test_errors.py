@@ -130,6 +130,42 @@ def test_too_many_local_workers_are_capped_with_a_note(capsys):
     assert capsys.readouterr().err == ""
 
 
+@pytest.mark.parametrize("value", ["-2", "0", "1.5", "x"])
+def test_every_refused_worker_count_says_the_same_thing_is_allowed(value, capsys):
+    from rotorcontact.cli.main import build_parser
+    from rotorcontact.cli.scale import scale_kwargs
+    from rotorcontact.errors import ParameterError
+
+    args = build_parser().parse_args([*SWEEP, "--n", "3", "--n-jobs", value])
+    with pytest.raises(ParameterError, match=r"; allowed: an integer from 1 to 1000000, or -1 for one per core$"):
+        scale_kwargs(args)
+
+
+@pytest.mark.parametrize("value", ["0", "-3", "1.5", "four", ""])
+def test_a_numba_thread_count_that_is_not_a_whole_number_of_at_least_one_is_bad_input(value, monkeypatch, capsys):
+    monkeypatch.setenv("NUMBA_NUM_THREADS", value)
+    assert main(["simulate", "--t-end", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"rotorcontact simulate: error: NUMBA_NUM_THREADS = {value!r} is invalid; allowed: a whole "
+                   "number >= 1 (the threads of numba and of the studies in this process), or unset for one "
+                   "per core\n")
+
+
+def test_a_zero_numba_thread_count_is_one_line_not_numbas_traceback(tmp_path):
+    # numba itself cannot be imported with it: the command must say so before anything imports numba
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "NUMBA_NUM_THREADS": "0"}
+    out = subprocess.run([sys.executable, "-m", "rotorcontact.cli.main", "basins", "--grid", "plane:4",
+                          "--no-progress", "--out", str(tmp_path / "b.nc")],
+                         env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 2, out.stderr
+    assert out.stderr.startswith("rotorcontact basins: error: NUMBA_NUM_THREADS = '0' is invalid")
+    assert len(out.stderr.splitlines()) == 1 and out.stdout == ""
+
+
 # ---------------------------------------------------------------------------
 # a failed simulation: exit status 1, and nothing claims a regime
 # ---------------------------------------------------------------------------

@@ -121,3 +121,23 @@ def test_ctrl_c_during_a_study_on_this_process_threads_exits_promptly_with_one_l
     _check_interrupted(proc, stdout, stderr)
     # the whole study is about 2e8 impacts: a minute or more on 2 cores
     assert waited < 20.0, waited
+
+
+def test_a_second_ctrl_c_while_a_local_dask_cluster_shuts_down_changes_nothing(tmp_path):
+    # the second interrupt used to cut the cluster's shutdown short: its finalizers then took about 10 s at
+    # exit and wrote every worker's end to stderr
+    proc = _start([*STUDY, "--scheduler", "local", "--n-jobs", "2", "--out", str(tmp_path / "study.nc")])
+
+    def twice():
+        os.killpg(proc.pid, signal.SIGINT)
+        time.sleep(0.1)
+        os.killpg(proc.pid, signal.SIGINT)
+
+    stdout, stderr, waited = _interrupted(
+        proc, lambda: (tmp_path / "study.nc.chunks").exists() and len(_session(proc.pid)) >= 3, twice
+    )
+    # one line: the cluster was shut down, not left to its finalizers, and no interrupt was lost in Dask's
+    # callback on garbage collections (local_cluster turns it off)
+    _check_interrupted(proc, stdout, stderr)
+    assert waited < 8.0, waited
+    assert _wait_for(lambda: not _session(proc.pid), timeout=60), [p.cmdline() for p in _session(proc.pid)]

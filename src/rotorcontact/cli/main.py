@@ -94,8 +94,24 @@ def main(argv: list[str] | None = None) -> int:
         return 130
 
 
+def check_numba_threads_variable() -> None:
+    """Refuse a ``NUMBA_NUM_THREADS`` that is set but not a whole number >= 1 (numba itself fails to import
+    with 0, and with text it warns and falls back to all cores)."""
+    text = os.environ.get("NUMBA_NUM_THREADS")
+    if text is None:
+        return
+    try:
+        threads = int(text.strip())
+    except ValueError:
+        threads = 0
+    if threads < 1:
+        raise ParameterError(f"NUMBA_NUM_THREADS = {text!r} is invalid; allowed: a whole number >= 1 (the "
+                             "threads of numba and of the studies in this process), or unset for one per core")
+
+
 def _run(args: argparse.Namespace, command: str) -> int:
     try:
+        check_numba_threads_variable()
         return int(args.func(args) or 0)
     except ParameterError as exc:
         print(f"{command}: error: {exc}", file=sys.stderr)

@@ -63,6 +63,8 @@ def parse_float(
         Whether the bound itself is excluded.
     why : str, optional
         Reason for the upper bound, shown in the error of a value above it.
+    allowed : str, optional
+        What the error says is allowed (default: the range), where only some values of the range are.
 
     Returns
     -------
@@ -89,7 +91,8 @@ def parse_float(
     return value
 
 
-def parse_int(name: str, text: str, low: int, high: int, *, why: str | None = None) -> int:
+def parse_int(name: str, text: str, low: int, high: int, *, why: str | None = None,
+              allowed: str | None = None) -> int:
     """Parse an integer in [low, high] from a command-line string.
 
     Every count a subcommand takes (values, points, events, seeds, workers)
@@ -106,6 +109,8 @@ def parse_int(name: str, text: str, low: int, high: int, *, why: str | None = No
         Smallest and largest allowed values.
     why : str, optional
         Reason for the upper bound, shown in the error of a value above it.
+    allowed : str, optional
+        What the error says is allowed (default: the range), where only some values of the range are.
 
     Returns
     -------
@@ -117,7 +122,7 @@ def parse_int(name: str, text: str, low: int, high: int, *, why: str | None = No
         If ``text`` is not an integer or lies outside [low, high].
     """
     option = f"--{name.replace('_', '-')}"
-    allowed = f"an integer from {low} to {high}"
+    allowed = allowed or f"an integer from {low} to {high}"
     try:
         value = int(text)
     except (TypeError, ValueError):

@@ -138,9 +138,10 @@ def executor_kwargs(args: argparse.Namespace) -> dict[str, Any]:
 
     n_jobs = None
     if args.n_jobs is not None:
-        n_jobs = parse_int("n-jobs", args.n_jobs, -1, MAX_JOBS)
+        allowed = f"an integer from 1 to {MAX_JOBS}, or -1 for one per core"
+        n_jobs = parse_int("n-jobs", args.n_jobs, -1, MAX_JOBS, allowed=allowed)
         if n_jobs == 0:
-            raise ParameterError("--n-jobs = 0 is invalid; allowed: an integer >= 1, or -1 for one per core")
+            raise ParameterError(f"--n-jobs = 0 is out of range; allowed: {allowed}")
         if args.scheduler is None or args.scheduler == "local":
             n, capped = local_workers(n_jobs)
             if capped:

@@ -442,7 +442,10 @@ def local_cluster(n_workers: int, processes: bool = True, **kwargs: Any) -> Any:
     """A `distributed.LocalCluster` of ``n_workers`` single-threaded workers, without a dashboard.
 
     Its scheduler serves Dask's HTTP routes on a free port of 127.0.0.1 rather than on 8787, which another
-    cluster may hold (Dask would then warn on stderr and take another port).
+    cluster may hold (Dask would then warn on stderr and take another port). Dask's diagnosis of garbage
+    collections, which its scheduler turns on in this process, is turned off again: its callback runs
+    Python code at every collection, and a Ctrl-C that lands in it is lost (Python reports it as an
+    exception ignored in the callback).
 
     Parameters
     ----------
@@ -454,9 +457,12 @@ def local_cluster(n_workers: int, processes: bool = True, **kwargs: Any) -> Any:
         Further arguments of `distributed.LocalCluster` (``protocol``, for example).
     """
     from distributed import LocalCluster
+    from distributed.gc import disable_gc_diagnosis
 
-    return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=processes, dashboard_address=None,
-                        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, **kwargs)
+    cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=processes, dashboard_address=None,
+                           scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, **kwargs)
+    disable_gc_diagnosis(force=True)
+    return cluster
 
 
 class DaskExecutor(_Executor):
@@ -588,23 +594,42 @@ class DaskExecutor(_Executor):
             if self._cluster is not None:
                 self._cluster.close()
             return
-        # an interrupt or an error: no waiting for running tasks, and no shutdown chatter on stderr
+        # an interrupt or an error: no waiting for running tasks, and no shutdown chatter on stderr; a second
+        # Ctrl-C meanwhile would cut the shutdown short and leave the cluster to its finalizers, which take
+        # seconds at exit and report every worker's end: each step runs to its end, with Ctrl-C ignored
         quiet = logging.getLogger("distributed")
         level = quiet.level
         quiet.setLevel(logging.CRITICAL + 1)
         try:
-            with warnings.catch_warnings(), contextlib.suppress(BaseException):
+            with warnings.catch_warnings(), _interrupts_ignored():
                 warnings.simplefilter("ignore")
-                if self.client is not None and self._futures:
-                    self.client.cancel(self._futures, force=True)
+                with contextlib.suppress(BaseException):
+                    if self.client is not None and self._futures:
+                        self.client.cancel(self._futures, force=True)
                 self._futures = []
-                _kill(self._workers)
+                with contextlib.suppress(BaseException):
+                    _kill(self._workers)
                 if self.client is not None and self._own_client:
-                    self.client.close(timeout=5)
+                    with contextlib.suppress(BaseException):
+                        self.client.close(timeout=5)
                 if self._cluster is not None:
-                    self._cluster.close(timeout=10)
+                    with contextlib.suppress(BaseException):
+                        self._cluster.close(timeout=10)
         finally:
             quiet.setLevel(level)
+
+
+@contextlib.contextmanager
+def _interrupts_ignored() -> Iterator[None]:
+    """Ignore SIGINT (Ctrl-C) meanwhile, where this is the main thread (the only one that may set it)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def _await_worker(client: Any, address: str) -> None:
