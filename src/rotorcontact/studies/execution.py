@@ -457,12 +457,23 @@ def local_cluster(n_workers: int, processes: bool = True, **kwargs: Any) -> Any:
         Further arguments of `distributed.LocalCluster` (``protocol``, for example).
     """
     from distributed import LocalCluster
-    from distributed.gc import disable_gc_diagnosis
 
     cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=processes, dashboard_address=None,
                            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, **kwargs)
-    disable_gc_diagnosis(force=True)
+    _gc_diagnosis_off()
     return cluster
+
+
+def _gc_diagnosis_off() -> None:
+    """Turn Dask's diagnosis of garbage collections off in this process (`local_cluster`)."""
+    try:
+        from distributed.gc import disable_gc_diagnosis
+    except ImportError:  # distributed before 2024.2 keeps it in utils_perf
+        try:
+            from distributed.utils_perf import disable_gc_diagnosis
+        except ImportError:  # pragma: no cover - a version without it has no callback to turn off
+            return
+    disable_gc_diagnosis(force=True)
 
 
 class DaskExecutor(_Executor):
