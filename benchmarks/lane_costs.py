@@ -5,8 +5,9 @@ n/k values over the same range), each value run alone on one core
 (`rotorcontact.studies.batch.simulate_batch`, ``parallel=False``). From the measured costs it computes,
 for ``--threads`` threads, the share of the threads' time spent waiting for the slowest, where
 
-* the threads claim blocks of lanes of the whole sweep as they finish the last (the present scheduling,
-  `rotorcontact.studies.guided`, whose own claims are replayed against the costs), or, over kernel calls
+* the threads claim blocks of lanes of the sweep's chunks (``--chunk`` values each, the sweep's default) as
+  they finish the last (the present scheduling, `rotorcontact.studies.guided`, whose own claims are
+  replayed against the costs), or, over kernel calls
   of C lanes each ending when its slowest thread does (earlier versions),
 * the lanes of a call go in contiguous blocks (numba's static schedule of a ``prange`` over lanes), or
 * in turn, lane i to thread i mod T (under a static schedule).
@@ -28,7 +29,7 @@ import numpy as np
 import rotorcontact as rc
 from rotorcontact.studies.batch import simulate_batch
 from rotorcontact.studies.guided import GuidedLanes
-from rotorcontact.studies.sweep import sweep_values
+from rotorcontact.studies.sweep import DEFAULT_CHUNK_INDEPENDENT, sweep_values
 from sweep_problem import add_problem_options
 
 
@@ -42,14 +43,17 @@ def idle_share(cost: np.ndarray, threads: int, call: int, dealt: bool) -> float:
     return 1.0 - cost.sum() / (threads * wall)
 
 
-def guided_idle_share(cost: np.ndarray, threads: int) -> float:
+def guided_idle_share(cost: np.ndarray, threads: int, chunk: int) -> float:
     """Share of ``threads`` threads' time spent waiting when they claim blocks of the lanes
-    (`GuidedLanes.claim`) as they finish, each block costing the sum of its lanes."""
-    guided = GuidedLanes([(cost.size, lambda: None)], lambda *_: None, threads)
+    (`GuidedLanes.claim`) as they finish, in chunks of ``chunk`` lanes (the in-process executor's jobs, a
+    block never crossing a chunk's end), each block costing the sum of its lanes."""
+    starts = range(0, cost.size, chunk)
+    guided = GuidedLanes([(min(chunk, cost.size - a), lambda: None) for a in starts], lambda *_: None, threads)
     free = [(0.0, t) for t in range(threads)]  # (time the thread is free, thread)
     while (block := guided.claim()) is not None:
         at, t = heapq.heappop(free)
-        heapq.heappush(free, (at + cost[block[1]:block[2]].sum(), t))
+        first = starts[block[0]] + block[1]
+        heapq.heappush(free, (at + cost[first:first + block[2] - block[1]].sum(), t))
     return 1.0 - cost.sum() / (threads * max(at for at, _ in free))
 
 
@@ -58,6 +62,8 @@ def main() -> None:
     add_problem_options(ap, n=4000)
     ap.add_argument("--every", type=int, default=1, help="take every k-th value")
     ap.add_argument("--threads", type=int, default=16)
+    ap.add_argument("--chunk", type=int, default=DEFAULT_CHUNK_INDEPENDENT,
+                    help="values per chunk of the sweep in process (default: the sweep's)")
     args = ap.parse_args()
     p = rc.Parameters.reference()
     values = sweep_values(args.lo, args.hi, args.n)
@@ -71,8 +77,8 @@ def main() -> None:
         cost[i] = time.perf_counter() - t0
     print(f"{timed.size} of {values.size} values timed: {1e3 * cost.mean():.2f} ms on average, "
           f"{1e3 * cost.min():.2f} to {1e3 * cost.max():.2f} ms (sd {1e3 * cost.std():.2f} ms)")
-    guided = guided_idle_share(cost, args.threads)
-    print(f"claimed in guided blocks by {args.threads} threads: idle {100 * guided:5.1f} %")
+    guided = guided_idle_share(cost, args.threads, args.chunk)
+    print(f"claimed in guided blocks by {args.threads} threads, chunks of {args.chunk}: idle {100 * guided:5.1f} %")
     rows = []
     for call in (64, 128, 256, 512, 1024, timed.size):
         blocks = idle_share(cost, args.threads, call, dealt=False)

@@ -167,6 +167,8 @@ def main() -> None:
     unknown = sorted(set(chosen) - set(EXECUTOR_RUNS))
     if unknown:
         raise SystemExit(f"--executors: {unknown[0]!r} is not one of {', '.join(EXECUTOR_RUNS)}")
+    if "joblib-warm" in chosen and "joblib" not in chosen:
+        raise SystemExit("--executors: joblib-warm reuses the workers of the joblib run; name joblib too")
     if not threads:
         raise SystemExit(f"--threads: no count between 1 and numba's {numba.config.NUMBA_NUM_THREADS} threads")
     p = rc.Parameters.reference()

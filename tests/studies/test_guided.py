@@ -191,6 +191,45 @@ def test_an_interrupt_of_the_waiting_thread_stops_the_claims_and_ends_the_thread
     assert counts[0].max() <= 1 and counts[0].sum() < 2000
 
 
+def test_a_generator_collected_in_a_thread_that_holds_the_lock_does_not_deadlock():
+    # the run() generator is left in a reference cycle; the garbage collector closes it in a thread that
+    # prepares a job (under the lock) while the other thread waits for that lock: stop() must not join it
+    import gc
+
+    dropped = threading.Event()
+
+    def prepare_collect():
+        gc.collect()
+        return 2
+
+    def block(prepared, first, end):
+        if prepared == 1:
+            dropped.wait(5)
+            time.sleep(0.1 if first == 0 else 0.3)
+
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        guided = GuidedLanes([(1, lambda: 0), (2, lambda: 1), (1, prepare_collect)], block, 2)
+        results = guided.run()
+        assert next(results)[0] == 0
+
+        class Cycle:
+            pass
+
+        cycle = Cycle()
+        cycle.self, cycle.results = cycle, results
+        del results, cycle
+        dropped.set()
+        for worker in list(guided.workers):
+            worker.join(timeout=30)
+        assert not any(worker.is_alive() for worker in guided.workers)
+        assert guided.stopped.is_set()
+    finally:
+        if was_enabled:
+            gc.enable()
+
+
 def test_no_jobs_is_no_work():
     assert list(GuidedLanes([], _count, 4).run()) == []
 

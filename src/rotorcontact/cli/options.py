@@ -63,8 +63,6 @@ def parse_float(
         Whether the bound itself is excluded.
     why : str, optional
         Reason for the upper bound, shown in the error of a value above it.
-    allowed : str, optional
-        What the error says is allowed (default: the range), where only some values of the range are.
 
     Returns
     -------
@@ -109,6 +107,8 @@ def parse_int(name: str, text: str, low: int, high: int, *, why: str | None = No
         Smallest and largest allowed values.
     why : str, optional
         Reason for the upper bound, shown in the error of a value above it.
+    allowed : str, optional
+        What the error says is allowed (default: the range), where only some values of the range are.
     allowed : str, optional
         What the error says is allowed (default: the range), where only some values of the range are.
 

@@ -7,8 +7,8 @@ kernel (`rotorcontact.studies.batch`). The cut is fixed by the study and its
 from the same inputs, so the results are identical bit for bit whichever
 CPU executor runs them:
 
-* ``n_jobs=None`` and no scheduler: in this process, over all cores through
-  numba's threads;
+* ``n_jobs=None`` and no scheduler: in this process, on as many threads as numba's thread count
+  (`InProcessExecutor`, all cores by default);
 * ``n_jobs=N``: N joblib worker processes, one core each;
 * ``scheduler="local"`` (a `distributed.LocalCluster` started and stopped here)
   or ``scheduler="tcp://host:port"`` (an existing Dask cluster, whose workers
@@ -255,7 +255,7 @@ class InProcessExecutor(_Executor):
     one chunk and runs it through the single-core kernel with the GIL released
     (`rotorcontact.studies.batch.run_lane_block`), then claims the next, so that no thread waits for another
     before the wave runs out. The results are those of any other executor, bit for bit. Tasks of another
-    kind run by themselves, over all threads.
+    kind (`run_task`) compute themselves in this process, one after the other, before the chunks' lanes.
     """
 
     name = "in-process"

@@ -143,13 +143,17 @@ class GuidedLanes:
             self.stop()
 
     def stop(self) -> None:
-        """Stop the claims and wait for the blocks under way; the threads have ended when it returns."""
-        # no lock here: this may run in any thread (a generator let go in a reference cycle is closed by the
-        # garbage collector, possibly in a worker that holds the lock)
-        self.stopped.set()
+        """Stop the claims and wait for the blocks under way; the threads have ended when it returns.
+
+        Called in one of the threads themselves (a generator let go in a reference cycle is closed by the
+        garbage collector wherever a collection starts, possibly in a thread that holds `lock`), it only
+        stops the claims: the other threads may be waiting for that lock, and the threads end by themselves.
+        """
+        self.stopped.set()  # no lock: see above
+        if threading.current_thread() in self.workers:
+            return
         for worker in self.workers:
-            if worker is not threading.current_thread():
-                worker.join()
+            worker.join()
 
     def _next_finished(self) -> Any:
         """The next finished job (or a thread's error); an error if every thread ended without one."""
