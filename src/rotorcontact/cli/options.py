@@ -109,8 +109,6 @@ def parse_int(name: str, text: str, low: int, high: int, *, why: str | None = No
         Reason for the upper bound, shown in the error of a value above it.
     allowed : str, optional
         What the error says is allowed (default: the range), where only some values of the range are.
-    allowed : str, optional
-        What the error says is allowed (default: the range), where only some values of the range are.
 
     Returns
     -------
